@@ -1,0 +1,34 @@
+# Two entry points for a fresh Debian 12 machine: `make demo` and `make test`.
+# Both install the Debian packages they need first (scripts/install_deps.sh, as root).
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+CMAKE_FLAGS ?=
+DEMO_INPUT ?= test_data/samp11-utm-ground.pcd
+DEMO_OUTPUT ?= $(BUILD_DIR)/demo/samp11-utm-ground.ply
+
+.PHONY: all deps configure build test demo bench format clean
+
+all: build
+
+deps:
+	@bash scripts/install_deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) >/dev/null
+
+build: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+test: build
+	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+demo: build
+	@mkdir -p $(dir $(DEMO_OUTPUT))
+	@$(BUILD_DIR)/pcd_to_mesh $(DEMO_INPUT) $(DEMO_OUTPUT)
+	@echo "demo mesh written to $(DEMO_OUTPUT)"
+
+format:
+	@clang-format -i $$(git ls-files '*.cpp' '*.hpp' '*.h')
+
+clean:
+	@rm -rf $(BUILD_DIR)

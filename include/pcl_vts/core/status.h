@@ -1,0 +1,56 @@
+// Status and diagnostics returned by every core entry point: a code a caller can
+// test, a message that names the values involved, and counts of the recoverable
+// oddities (dropped, merged) that are not errors. No exception crosses the core API.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace pcl_vts {
+
+enum class StatusCode {
+  OK = 0,
+  EMPTY_INPUT,       ///< no point at all (or none left after dropping non-finite ones)
+  NON_FINITE,        ///< a value that must be finite is not (parameters)
+  TOO_FEW_POINTS,    ///< fewer than 3 distinct XY positions
+  ALL_COLLINEAR,     ///< every distinct XY position lies on one line
+  COORDINATE_RANGE,  ///< coordinates too large or extent too small to grid safely
+  INVALID_PARAMETER, ///< an option out of its documented range
+  IO_ERROR,          ///< reading or writing a file failed
+  INTERNAL_ERROR     ///< a post-condition check failed: a bug, please report
+};
+
+/// Short upper-case name of a code, e.g. "ALL_COLLINEAR".
+const char*
+statusCodeName(StatusCode code);
+
+struct [[nodiscard]] Status {
+  StatusCode code = StatusCode::OK;
+  std::string message;
+
+  bool ok() const { return code == StatusCode::OK; }
+  static Status success() { return {}; }
+  static Status error(StatusCode c, std::string msg) { return {c, std::move(msg)}; }
+  /// "ALL_COLLINEAR: all 12 distinct points lie on one line"
+  std::string toString() const;
+};
+
+/// What happened to the input on its way to the mesh.
+struct Diagnostics {
+  std::size_t points_in = 0;            ///< points handed to the pipeline
+  std::size_t non_finite_dropped = 0;   ///< NaN/Inf in x, y or z: skipped
+  std::size_t duplicates_merged = 0;    ///< points folded into another with equal XY
+  std::size_t distinct_points = 0;      ///< vertices of the triangulation
+  std::size_t hull_vertices = 0;        ///< vertices on the convex hull (collinear kept)
+  std::size_t triangles = 0;            ///< triangles output
+  std::size_t cells = 0;                ///< grid cells (nx * ny)
+  double cell_size = 0.0;               ///< grid cell edge length actually used
+  std::size_t local_searches = 0;       ///< third-point searches settled in the edge rectangle
+  std::size_t widened_searches = 0;     ///< searches that needed the widening stage
+  std::size_t cells_visited = 0;        ///< grid cells whose points were tested
+  double seconds_grid = 0.0;            ///< input conditioning + grid build
+  double seconds_hull = 0.0;            ///< convex hull
+  double seconds_triangulate = 0.0;     ///< region growing
+};
+
+} // namespace pcl_vts

@@ -1,0 +1,63 @@
+// The one place the pipeline order is written: condition input -> grid ->
+// triangulate (-> trim boundary -> fill holes, later stages). Adapters (PCL class,
+// CLI) call runVtsPipeline and map vertex ids back to their own inputs.
+#pragma once
+
+#include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/core/status.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace pcl_vts {
+
+/// Which z survives when several input points share the same XY exactly.
+enum class DuplicateRule {
+  LOWEST_Z,  ///< keep the lowest point (default: terrain under vegetation returns)
+  HIGHEST_Z, ///< keep the highest point
+  MEAN_Z,    ///< one vertex at the mean z; its source is the first such point
+  FIRST      ///< keep the point that comes first in the input
+};
+
+/// Parses "lowest" | "highest" | "mean" | "first"; false on anything else.
+bool
+parseDuplicateRule(const char* text, DuplicateRule& rule);
+const char*
+duplicateRuleName(DuplicateRule rule);
+
+struct VtsOptions {
+  /// Grid cell edge length in input XY units; 0 = derived from the point density
+  /// (docs/decisions.md). Must be finite and >= 0.
+  double cell_size = 0.0;
+  DuplicateRule duplicate_rule = DuplicateRule::LOWEST_Z;
+  /// Validate the output against its post-conditions (triangle count, twins, CCW)
+  /// before returning; a failure is INTERNAL_ERROR. Cheap (linear).
+  bool check_output = true;
+};
+
+/// Checks every option; the message names the offending value.
+Status
+validateOptions(const VtsOptions& options);
+
+struct VtsResult {
+  /// Vertices are the distinct XY positions (merged z applied); triangles are CCW,
+  /// tiling exactly the convex hull; halfedges give the twins.
+  TriangleMesh mesh;
+  /// Per mesh vertex: index of the input point it came from.
+  std::vector<std::uint32_t> source_index;
+  /// Per input point: the mesh vertex that represents it (merged duplicates point to
+  /// the same vertex), or INVALID_ID for dropped (non-finite) points.
+  std::vector<VertexId> input_to_vertex;
+  /// Convex hull, CCW, as mesh vertex ids (collinear boundary points included).
+  std::vector<VertexId> hull;
+  Diagnostics diagnostics;
+};
+
+/// Triangulates n points given as xyz triples (3n doubles). Never throws.
+/// On error, result.mesh is empty and the status says why.
+Status
+runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
+               VtsResult& result);
+
+} // namespace pcl_vts
