@@ -1,7 +1,8 @@
 // Filtered exact predicates. Fast path: Shewchuk's stage-A error bounds, widened by an
 // absolute term that covers gradual underflow. Slow path: expansion arithmetic when
 // every coordinate lies in [2^-200, 2^200] (then no product underflows or overflows),
-// otherwise exact rationals (Boost.Multiprecision), so any finite double is exact.
+// otherwise big integers (Boost.Multiprecision cpp_int on the doubles scaled by
+// 2^1074), so any finite double is exact.
 #include <pcl_vts/core/predicates.h>
 
 #include <boost/multiprecision/cpp_int.hpp>
@@ -43,54 +44,47 @@ allInExpansionRange(const std::array<const Point2*, N>& pts)
   });
 }
 
-using Rational = boost::multiprecision::cpp_rational;
+using BigInt = boost::multiprecision::cpp_int;
 
-Rational
-exactRational(double v)
+/// v * 2^1074 as an integer: exact for every finite double (all are multiples of
+/// 2^-1074), so the determinants below are evaluated exactly in integers.
+BigInt
+scaledInteger(double v)
 {
-  // v = m * 2^e with an integer m of at most 53 bits: exact in a rational.
   int e = 0;
   const double m = std::frexp(v, &e);
-  const auto mi = static_cast<long long>(std::ldexp(m, 53));
-  Rational r(mi);
-  e -= 53;
-  if (e > 0)
-    r *= Rational(boost::multiprecision::cpp_int(1) << e);
-  else if (e < 0)
-    r /= Rational(boost::multiprecision::cpp_int(1) << -e);
+  BigInt r = static_cast<long long>(std::ldexp(m, 53));
+  const int shift = e - 53 + 1074;
+  if (shift >= 0)
+    r <<= shift;
+  else
+    r /= BigInt(1) << -shift; // exact: the low bits are zero
   return r;
 }
 
 int
-rationalSign(const Rational& r)
+orientBigInt(const Point2& a, const Point2& b, const Point2& c)
 {
-  return r.sign();
+  const BigInt cx = scaledInteger(c.x), cy = scaledInteger(c.y);
+  const BigInt acx = scaledInteger(a.x) - cx, acy = scaledInteger(a.y) - cy;
+  const BigInt bcx = scaledInteger(b.x) - cx, bcy = scaledInteger(b.y) - cy;
+  const BigInt det = acx * bcy - acy * bcx;
+  return det.sign();
 }
 
 int
-orientRational(const Point2& a, const Point2& b, const Point2& c)
+incircleBigInt(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
 {
-  const Rational acx = exactRational(a.x) - exactRational(c.x);
-  const Rational acy = exactRational(a.y) - exactRational(c.y);
-  const Rational bcx = exactRational(b.x) - exactRational(c.x);
-  const Rational bcy = exactRational(b.y) - exactRational(c.y);
-  return rationalSign(acx * bcy - acy * bcx);
-}
-
-int
-incircleRational(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
-{
-  const Rational dx = exactRational(d.x), dy = exactRational(d.y);
-  const Rational adx = exactRational(a.x) - dx, ady = exactRational(a.y) - dy;
-  const Rational bdx = exactRational(b.x) - dx, bdy = exactRational(b.y) - dy;
-  const Rational cdx = exactRational(c.x) - dx, cdy = exactRational(c.y) - dy;
-  const Rational alift = adx * adx + ady * ady;
-  const Rational blift = bdx * bdx + bdy * bdy;
-  const Rational clift = cdx * cdx + cdy * cdy;
-  const Rational det = alift * (bdx * cdy - cdx * bdy) +
-                       blift * (cdx * ady - adx * cdy) +
-                       clift * (adx * bdy - bdx * ady);
-  return rationalSign(det);
+  const BigInt dx = scaledInteger(d.x), dy = scaledInteger(d.y);
+  const BigInt adx = scaledInteger(a.x) - dx, ady = scaledInteger(a.y) - dy;
+  const BigInt bdx = scaledInteger(b.x) - dx, bdy = scaledInteger(b.y) - dy;
+  const BigInt cdx = scaledInteger(c.x) - dx, cdy = scaledInteger(c.y) - dy;
+  const BigInt alift = adx * adx + ady * ady;
+  const BigInt blift = bdx * bdx + bdy * bdy;
+  const BigInt clift = cdx * cdx + cdy * cdy;
+  const BigInt det = alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy) +
+                     clift * (adx * bdy - bdx * ady);
+  return det.sign();
 }
 
 using detail::Expansion;
@@ -146,7 +140,7 @@ orient2dExact(const Point2& a, const Point2& b, const Point2& c)
 {
   if (allInExpansionRange<3>({&a, &b, &c}))
     return toSign(orientExpansion(a, b, c));
-  return toSign(orientRational(a, b, c));
+  return toSign(orientBigInt(a, b, c));
 }
 
 Sign
@@ -154,7 +148,7 @@ incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d
 {
   if (allInExpansionRange<4>({&a, &b, &c, &d}))
     return toSign(incircleExpansion(a, b, c, d));
-  return toSign(incircleRational(a, b, c, d));
+  return toSign(incircleBigInt(a, b, c, d));
 }
 
 } // namespace detail

@@ -20,12 +20,12 @@ using CellId = std::uint32_t;
 /// Marks "no vertex", "no twin" (boundary) or "no cell".
 constexpr std::uint32_t INVALID_ID = std::numeric_limits<std::uint32_t>::max();
 
-//        v2 = triangles[3t+2]
-//          /\
-//  e=3t+2 /  \ e=3t+1        halfedge e goes from triangles[e] to triangles[next(e)]
-//        /    \
-//   v0  /______\  v1         next(3t) = 3t+1, next(3t+2) = 3t
-//         e=3t
+//            v2 = triangles[3t+2]
+//            /  \    .
+//   e = 3t+2 /    \   e = 3t+1   halfedge e goes from triangles[e] to
+//          /      \  .           triangles[next(e)]
+//        v0 ------ v1           next(3t) = 3t+1, next(3t+2) = 3t
+//            e = 3t
 inline HalfedgeId
 nextHalfedge(HalfedgeId e)
 {

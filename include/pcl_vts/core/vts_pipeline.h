@@ -3,6 +3,7 @@
 // CLI) call runVtsPipeline and map vertex ids back to their own inputs.
 #pragma once
 
+#include <pcl_vts/core/merge_duplicates.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 
@@ -11,20 +12,6 @@
 #include <vector>
 
 namespace pcl_vts {
-
-/// Which z survives when several input points share the same XY exactly.
-enum class DuplicateRule {
-  LOWEST_Z,  ///< keep the lowest point (default: terrain under vegetation returns)
-  HIGHEST_Z, ///< keep the highest point
-  MEAN_Z,    ///< one vertex at the mean z; its source is the first such point
-  FIRST      ///< keep the point that comes first in the input
-};
-
-/// Parses "lowest" | "highest" | "mean" | "first"; false on anything else.
-bool
-parseDuplicateRule(const char* text, DuplicateRule& rule);
-const char*
-duplicateRuleName(DuplicateRule rule);
 
 struct VtsOptions {
   /// Grid cell edge length in input XY units; 0 = derived from the point density

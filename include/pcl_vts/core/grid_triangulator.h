@@ -1,0 +1,30 @@
+// Stage 2: Delaunay triangulation by region growing (VTS, thesis section 3.6). From a
+// seed hull edge, every open edge of the growing region asks the mediatrix search for
+// its third point on the open side; each answer is the unique Delaunay triangle of the
+// perturbed point set, so triangles never overlap and the pool empties exactly when
+// the hull is tiled. Hull edges are never searched: they bound the triangulation.
+#pragma once
+
+#include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/cell_pyramid.h>
+#include <pcl_vts/core/mediatrix_search.h>
+#include <pcl_vts/core/status.h>
+
+#include <vector>
+
+namespace pcl_vts {
+
+/// Triangulates the grid points.
+/// \param[in] grid distinct points in cell order
+/// \param[in] pyramid occupancy pyramid of grid
+/// \param[in] hull CCW convex hull of grid.points (convexHull), at least 3 vertices
+/// \param[out] triangles 3 grid point ids per triangle, CCW
+/// \param[out] halfedges twin per halfedge, INVALID_ID on the hull
+/// \param[out] stats search statistics
+/// \return INTERNAL_ERROR if the region growing failed to tile the hull (a bug)
+Status
+triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
+                const std::vector<VertexId>& hull, std::vector<VertexId>& triangles,
+                std::vector<HalfedgeId>& halfedges, SearchStats& stats);
+
+} // namespace pcl_vts

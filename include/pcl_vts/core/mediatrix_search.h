@@ -1,0 +1,86 @@
+// Stage 2, the heart of VTS: for a directed edge a->b, find the point p on its left
+// whose circle through a, b, p is empty (under the tie-break of incirclePerturbed).
+// All circles through a and b have their centre on the edge's mediatrix; the search
+// first scans the rectangle of cells supported by the edge, then, if the best circle
+// found so far is not covered, widens best-first over the occupancy pyramid until no
+// unvisited cell can hold a point inside or on the best circle (docs/algorithm.md).
+#pragma once
+
+#include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/cell_pyramid.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace pcl_vts {
+
+struct SearchStats {
+  std::size_t local = 0;         ///< searches settled inside the edge rectangle
+  std::size_t widened = 0;       ///< searches that needed the pyramid stage
+  std::size_t cells_visited = 0; ///< cells whose points were tested
+};
+
+/// A disk that certainly contains the exact circumcircle (closed) of a, b, p.
+struct SafeDisk {
+  double cx = 0.0;
+  double cy = 0.0;
+  double radius = 0.0;
+  bool valid = false; ///< false: too ill-conditioned to bound; nothing is pruned
+};
+
+/// Circumcircle of (a, b, p), counter-clockwise, inflated by a rigorous bound on the
+/// floating-point error of its centre and radius.
+SafeDisk
+safeCircumdisk(const Point2& a, const Point2& b, const Point2& p);
+
+/// Reusable search state (one per thread): the block heap.
+class MediatrixSearch {
+public:
+  MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid);
+
+  /// The Delaunay third point of the edge a->b on its left side (grid point ids), or
+  /// INVALID_ID when no point lies strictly left of the line a b.
+  VertexId
+  findThirdPoint(VertexId a, VertexId b);
+
+  const SearchStats& stats() const { return stats_; }
+
+private:
+  struct Block {
+    double key; ///< squared distance from the edge midpoint (lower bound)
+    std::uint32_t level;
+    std::uint32_t i;
+    std::uint32_t j;
+  };
+  struct Window {
+    std::uint32_t i0, i1, j0, j1; ///< inclusive; empty when i0 > i1
+    bool contains(std::uint32_t i, std::uint32_t j) const
+    {
+      return i >= i0 && i <= i1 && j >= j0 && j <= j1;
+    }
+  };
+  struct Query {
+    VertexId a, b;
+    Point2 pa, pb;
+    VertexId best = INVALID_ID;
+    SafeDisk disk;
+  };
+
+  void
+  testCell(CellId cell, Query& q);
+  bool
+  diskInsideWindow(const SafeDisk& disk, const Window& w) const;
+  void
+  widen(Query& q, const Window& done);
+  /// World rectangle of a block, widened by the grid slack.
+  void
+  blockBounds(const Block& b, double& x0, double& y0, double& x1, double& y1) const;
+
+  const CellGrid& grid_;
+  const CellPyramid& pyramid_;
+  std::vector<Block> heap_;
+  SearchStats stats_;
+};
+
+} // namespace pcl_vts

@@ -1,0 +1,170 @@
+// Template bodies of pcl::VTSGridTriangulation (declared in vts_grid_triangulation.h).
+// Thin by design: select points, copy to doubles, run the core, map ids back. No
+// geometric decision is made here (STYLE.md 2.2).
+#pragma once
+
+#include <pcl_vts/core/status.h>
+#include <pcl_vts/core/vts_pipeline.h>
+#include <pcl_vts/vts_grid_triangulation.h>
+
+#include <pcl/console/print.h>
+#include <pcl/conversions.h>
+#include <pcl/types.h>
+
+#include <cstddef>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+template <typename PointInT>
+void pcl::VTSGridTriangulation<PointInT>::reconstruct(pcl::PolygonMesh& output)
+{
+  if (!checkInput()) {
+    output.cloud.width = output.cloud.height = 0;
+    output.cloud.data.clear();
+    output.polygons.clear();
+    return;
+  }
+  SurfaceReconstruction<PointInT>::reconstruct(output);
+}
+
+template <typename PointInT>
+void pcl::VTSGridTriangulation<PointInT>::reconstruct(
+    PointCloudIn& points, std::vector<pcl::Vertices>& polygons)
+{
+  if (!checkInput()) {
+    points.clear();
+    polygons.clear();
+    return;
+  }
+  SurfaceReconstruction<PointInT>::reconstruct(points, polygons);
+}
+
+template <typename PointInT>
+bool pcl::VTSGridTriangulation<PointInT>::checkInput()
+{
+  // SurfaceReconstruction::reconstruct reads input_->header before initCompute()
+  // checks input_, so a missing cloud must be caught here.
+  if (input_)
+    return true;
+  diagnostics_ = pcl_vts::Diagnostics{};
+  fail(pcl_vts::Status::error(pcl_vts::StatusCode::EMPTY_INPUT,
+                              "no input cloud: call setInputCloud() first"),
+       "reconstruct");
+  return false;
+}
+
+template <typename PointInT>
+void pcl::VTSGridTriangulation<PointInT>::performReconstruction(
+    pcl::PolygonMesh& output)
+{
+  // The base class has already copied the whole input_ into output.cloud.
+  if (!triangulate(output.polygons))
+    return;
+  const pcl::PCLPointField* z_field = nullptr;
+  for (const pcl::PCLPointField& field : output.cloud.fields)
+    if (field.name == "z")
+      z_field = &field;
+  // Every PCL xyz point type has a float z, so the guard never fires in practice.
+  if (!z_field || z_field->datatype != pcl::PCLPointField::FLOAT32)
+    return;
+  const std::size_t z_offset = z_field->offset;
+  const std::size_t point_step = output.cloud.point_step;
+  forEachChangedZ([&](pcl::index_t id, float z) {
+    std::memcpy(
+        &output.cloud.data[static_cast<std::size_t>(id) * point_step + z_offset], &z,
+        sizeof(float));
+  });
+}
+
+template <typename PointInT>
+void pcl::VTSGridTriangulation<PointInT>::performReconstruction(
+    PointCloudIn& points, std::vector<pcl::Vertices>& polygons)
+{
+  points = *input_;
+  if (!triangulate(polygons))
+    return;
+  forEachChangedZ([&](pcl::index_t id, float z) { points[id].z = z; });
+}
+
+template <typename PointInT>
+bool pcl::VTSGridTriangulation<PointInT>::triangulate(
+    std::vector<pcl::Vertices>& polygons)
+{
+  polygons.clear();
+  diagnostics_ = pcl_vts::Diagnostics{};
+  result_ = pcl_vts::VtsResult{};
+
+  pcl_vts::VtsOptions options;
+  options.cell_size = cell_size_;
+  options.duplicate_rule = duplicate_rule_;
+  pcl_vts::Status status = pcl_vts::validateOptions(options);
+  if (!status.ok()) {
+    fail(std::move(status));
+    return false;
+  }
+
+  // float -> double is exact; the core is translation-exact, so no offset here.
+  const pcl::Indices& indices = *indices_;
+  const std::size_t cloud_size = input_->size();
+  xyz_.resize(3 * indices.size());
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    const pcl::index_t id = indices[i];
+    if (id < 0 || static_cast<std::size_t>(id) >= cloud_size) {
+      fail(pcl_vts::Status::error(pcl_vts::StatusCode::INVALID_PARAMETER,
+                                  "indices[" + std::to_string(i) +
+                                      "] = " + std::to_string(id) +
+                                      " is outside the input cloud of " +
+                                      std::to_string(cloud_size) + " points"));
+      return false;
+    }
+    const PointInT& p = (*input_)[id];
+    xyz_[3 * i] = p.x;
+    xyz_[3 * i + 1] = p.y;
+    xyz_[3 * i + 2] = p.z;
+  }
+
+  status = pcl_vts::runVtsPipeline(xyz_.data(), indices.size(), options, result_);
+  diagnostics_ = result_.diagnostics;
+  if (!status.ok()) {
+    fail(std::move(status));
+    return false;
+  }
+
+  const std::vector<pcl_vts::VertexId>& triangles = result_.mesh.triangles;
+  polygons.resize(triangles.size() / 3);
+  for (std::size_t t = 0; t < polygons.size(); ++t) {
+    pcl::Indices& ids = polygons[t].vertices;
+    ids.resize(3);
+    for (std::size_t k = 0; k < 3; ++k)
+      ids[k] = indices[result_.source_index[triangles[3 * t + k]]];
+  }
+  last_status_ = pcl_vts::Status::success();
+  return true;
+}
+
+template <typename PointInT>
+template <typename Apply>
+void pcl::VTSGridTriangulation<PointInT>::forEachChangedZ(Apply apply) const
+{
+  const pcl::Indices& indices = *indices_;
+  for (std::size_t v = 0; v < result_.source_index.size(); ++v) {
+    const pcl::index_t id = indices[result_.source_index[v]];
+    const auto z = static_cast<float>(result_.mesh.z[v]);
+    if (z != (*input_)[id].z)
+      apply(id, z);
+  }
+}
+
+template <typename PointInT>
+void pcl::VTSGridTriangulation<PointInT>::fail(pcl_vts::Status status,
+                                               const char* method)
+{
+  last_status_ = std::move(status);
+  PCL_ERROR("[pcl::%s::%s] %s\n", getClassName().c_str(), method,
+            last_status_.toString().c_str());
+}
+
+#define PCL_INSTANTIATE_VTSGridTriangulation(T) \
+  template class pcl::VTSGridTriangulation<T>;

@@ -1,0 +1,102 @@
+#include <pcl_vts/core/cell_grid.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace pcl_vts {
+namespace {
+
+constexpr double EPS = std::numeric_limits<double>::epsilon();
+// Hard ceiling on grid cells, whatever the cell size asked for.
+constexpr double MAX_CELLS_PER_POINT = 64.0;
+constexpr double MAX_CELLS_FLOOR = 1 << 22;
+constexpr double MAX_CELLS_ABSOLUTE = 1u << 30;
+
+} // namespace
+
+double
+defaultCellSize(double width, double height, std::size_t n)
+{
+  const double k = DEFAULT_POINTS_PER_CELL;
+  const double count = static_cast<double>(std::max<std::size_t>(n, 1));
+  const double by_area = std::sqrt(width * height * k / count);
+  const double by_length = std::max(width, height) * k / count;
+  const double size = std::max(by_area, by_length);
+  return size > 0.0 ? size : 1.0;
+}
+
+Status
+buildCellGrid(const std::vector<Point2>& points, double cell_size, CellGrid& grid,
+              std::vector<std::uint32_t>& order)
+{
+  const std::size_t n = points.size();
+  double xmin = std::numeric_limits<double>::infinity(), ymin = xmin;
+  double xmax = -xmin, ymax = -xmin;
+  for (const Point2& p : points) {
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.y);
+    ymax = std::max(ymax, p.y);
+  }
+  if (n == 0)
+    xmin = xmax = ymin = ymax = 0.0;
+  const double width = xmax - xmin, height = ymax - ymin;
+  const double size = cell_size > 0.0 ? cell_size : defaultCellSize(width, height, n);
+  const double nx = std::floor(width / size) + 1.0;
+  const double ny = std::floor(height / size) + 1.0;
+  const double limit = std::min(
+      MAX_CELLS_ABSOLUTE,
+      std::max(MAX_CELLS_FLOOR, MAX_CELLS_PER_POINT * static_cast<double>(n)));
+  if (!(nx * ny <= limit))
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "cell_size = " + std::to_string(size) + " gives " +
+                             std::to_string(nx * ny) + " cells for " +
+                             std::to_string(n) + " points (limit " +
+                             std::to_string(limit) +
+                             "); use a larger cell size, or 0 for automatic");
+
+  grid.origin_x = xmin;
+  grid.origin_y = ymin;
+  grid.cell_size = size;
+  grid.inv_cell_size = 1.0 / size;
+  grid.nx = static_cast<std::uint32_t>(nx);
+  grid.ny = static_cast<std::uint32_t>(ny);
+  // Rounding in (x - origin) * inv and in origin + i * size stays within a few ulps
+  // of the largest magnitude involved.
+  grid.slack = 8.0 * EPS *
+               (std::fabs(xmin) + std::fabs(ymin) + width + height + 2.0 * size);
+
+  // Counting sort by cell.
+  std::vector<CellId> cell_of(n);
+  grid.cell_start.assign(grid.cellCount() + 1, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    cell_of[k] = grid.cellOf(points[k]);
+    ++grid.cell_start[cell_of[k] + 1];
+  }
+  for (std::size_t c = 0; c < grid.cellCount(); ++c)
+    grid.cell_start[c + 1] += grid.cell_start[c];
+  order.resize(n);
+  {
+    std::vector<std::uint32_t> fill(grid.cell_start.begin(), grid.cell_start.end() - 1);
+    for (std::size_t k = 0; k < n; ++k)
+      order[fill[cell_of[k]]++] = static_cast<std::uint32_t>(k);
+  }
+  // Lexicographic inside each cell (cells hold a handful of points).
+  const auto lex = [&points](std::uint32_t a, std::uint32_t b) {
+    return lexLess(points[a], points[b]) || (points[a] == points[b] && a < b);
+  };
+  for (std::size_t c = 0; c < grid.cellCount(); ++c) {
+    const auto first = order.begin() + grid.cell_start[c];
+    const auto last = order.begin() + grid.cell_start[c + 1];
+    if (last - first > 1)
+      std::sort(first, last, lex);
+  }
+  grid.points.resize(n);
+  for (std::size_t k = 0; k < n; ++k)
+    grid.points[k] = points[order[k]];
+  return Status::success();
+}
+
+} // namespace pcl_vts

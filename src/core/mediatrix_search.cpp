@@ -1,0 +1,216 @@
+#include <pcl_vts/core/mediatrix_search.h>
+#include <pcl_vts/core/predicates.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pcl_vts {
+namespace {
+
+constexpr double U = 0x1p-53; // unit roundoff
+// Relative slack on comparisons of squared distances computed in floating point.
+constexpr double CMP_SLACK = 1e-9;
+// Below this |D| / (|u| |v|) the centre cannot be bounded usefully: no pruning.
+constexpr double MIN_SINE = 1e-12;
+// Edge-vector lengths for which no intermediate product under- or overflows.
+constexpr double MIN_LENGTH = 1e-90;
+constexpr double MAX_LENGTH = 1e90;
+// The edge rectangle is skipped (straight to widening) when larger than this.
+constexpr std::size_t MAX_LOCAL_CELLS = 64;
+
+double
+squaredDistanceToRect(double px, double py, double x0, double y0, double x1,
+                      double y1)
+{
+  const double dx = std::max({x0 - px, 0.0, px - x1});
+  const double dy = std::max({y0 - py, 0.0, py - y1});
+  return dx * dx + dy * dy;
+}
+
+bool
+heapGreater(double a, double b)
+{
+  return a > b;
+}
+
+} // namespace
+
+SafeDisk
+safeCircumdisk(const Point2& a, const Point2& b, const Point2& p)
+{
+  SafeDisk disk;
+  const double ux = b.x - a.x, uy = b.y - a.y;
+  const double vx = p.x - a.x, vy = p.y - a.y;
+  const double u2 = ux * ux + uy * uy, v2 = vx * vx + vy * vy;
+  const double ulen = std::sqrt(u2), vlen = std::sqrt(v2);
+  if (!(ulen >= MIN_LENGTH && ulen <= MAX_LENGTH && vlen >= MIN_LENGTH &&
+        vlen <= MAX_LENGTH))
+    return disk;
+  const double uv = ulen * vlen;
+  const double d = ux * vy - uy * vx;
+  if (!(d > MIN_SINE * uv))
+    return disk;
+  // Centre relative to a: (vy |u|^2 - uy |v|^2, ux |v|^2 - vx |u|^2) / 2d.
+  const double ox = (vy * u2 - uy * v2) / (2.0 * d);
+  const double oy = (ux * v2 - vx * u2) / (2.0 * d);
+  const double r = std::sqrt(ox * ox + oy * oy);
+  // First-order bound: rounding of the differences, numerators and d, amplified by
+  // the conditioning |u||v| / d (docs/algorithm.md).
+  const double err = 32.0 * U * (uv * (ulen + vlen) / d + r * (uv / d + 1.0));
+  disk.cx = a.x + ox;
+  disk.cy = a.y + oy;
+  disk.radius = r + err + 8.0 * U * (std::fabs(disk.cx) + std::fabs(disk.cy) + r);
+  disk.valid = std::isfinite(disk.radius) && std::isfinite(disk.cx) &&
+               std::isfinite(disk.cy);
+  return disk;
+}
+
+MediatrixSearch::MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid)
+: grid_(grid), pyramid_(pyramid)
+{}
+
+void
+MediatrixSearch::testCell(CellId cell, Query& q)
+{
+  ++stats_.cells_visited;
+  const std::uint32_t end = grid_.cell_start[cell + 1];
+  for (std::uint32_t k = grid_.cell_start[cell]; k < end; ++k) {
+    if (k == q.a || k == q.b)
+      continue;
+    const Point2& p = grid_.points[k];
+    if (q.best != INVALID_ID) {
+      // Outside the safe disk means strictly outside the exact circle: no tie.
+      if (q.disk.valid) {
+        const double dx = p.x - q.disk.cx, dy = p.y - q.disk.cy;
+        if (dx * dx + dy * dy > q.disk.radius * q.disk.radius * (1.0 + CMP_SLACK))
+          continue;
+      }
+      if (orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
+        continue;
+      if (incirclePerturbed(q.pa, q.pb, grid_.points[q.best], p) != Sign::POSITIVE)
+        continue;
+    }
+    else if (orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
+      continue;
+    q.best = k;
+    q.disk = safeCircumdisk(q.pa, q.pb, p);
+  }
+}
+
+bool
+MediatrixSearch::diskInsideWindow(const SafeDisk& disk, const Window& w) const
+{
+  if (!disk.valid || w.i0 > w.i1)
+    return false;
+  const double reach = disk.radius + grid_.slack;
+  return grid_.column(disk.cx - reach) >= w.i0 && grid_.column(disk.cx + reach) <= w.i1 &&
+         grid_.row(disk.cy - reach) >= w.j0 && grid_.row(disk.cy + reach) <= w.j1;
+}
+
+void
+MediatrixSearch::blockBounds(const Block& b, double& x0, double& y0, double& x1,
+                             double& y1) const
+{
+  const double span = grid_.cell_size * static_cast<double>(1u << b.level);
+  x0 = grid_.origin_x + span * b.i - grid_.slack;
+  y0 = grid_.origin_y + span * b.j - grid_.slack;
+  x1 = grid_.origin_x + span * (b.i + 1) + grid_.slack;
+  y1 = grid_.origin_y + span * (b.j + 1) + grid_.slack;
+}
+
+void
+MediatrixSearch::widen(Query& q, const Window& done)
+{
+  const double mx = 0.5 * (q.pa.x + q.pb.x), my = 0.5 * (q.pa.y + q.pb.y);
+  const double ex = q.pb.x - q.pa.x, ey = q.pb.y - q.pa.y;
+  const auto cmp = [](const Block& l, const Block& r) { return heapGreater(l.key, r.key); };
+
+  heap_.clear();
+  const auto top = static_cast<std::uint32_t>(pyramid_.levels.size() - 1);
+  heap_.push_back({0.0, top, 0, 0});
+  while (!heap_.empty()) {
+    std::pop_heap(heap_.begin(), heap_.end(), cmp);
+    const Block blk = heap_.back();
+    heap_.pop_back();
+
+    double x0, y0, x1, y1;
+    blockBounds(blk, x0, y0, x1, y1);
+    if (q.best != INVALID_ID && q.disk.valid) {
+      // Blocks come out nearest the edge midpoint first: once one lies beyond every
+      // point of the disk, so do all the rest.
+      const double reach = std::hypot(q.disk.cx - mx, q.disk.cy - my) + q.disk.radius;
+      if (blk.key > reach * reach * (1.0 + CMP_SLACK))
+        break;
+      const double r2 = q.disk.radius * q.disk.radius * (1.0 + CMP_SLACK);
+      if (squaredDistanceToRect(q.disk.cx, q.disk.cy, x0, y0, x1, y1) > r2)
+        continue;
+    }
+    // Skip blocks lying in the closed right half-plane of a->b (certified bound).
+    bool maybe_left = false;
+    const double cx[4] = {x0, x1, x0, x1}, cy[4] = {y0, y0, y1, y1};
+    for (int k = 0; k < 4 && !maybe_left; ++k) {
+      const double dx = cx[k] - q.pa.x, dy = cy[k] - q.pa.y;
+      const double cross = ex * dy - ey * dx;
+      const double bound = 8.0 * U * (std::fabs(ex * dy) + std::fabs(ey * dx));
+      maybe_left = cross + bound > 0.0;
+    }
+    if (!maybe_left)
+      continue;
+
+    if (blk.level == 0) {
+      if (!done.contains(blk.i, blk.j))
+        testCell(grid_.cellId(blk.i, blk.j), q);
+      continue;
+    }
+    const std::uint32_t child_level = blk.level - 1;
+    const CellPyramid::Level& fine = pyramid_.levels[child_level];
+    for (std::uint32_t cj = 2 * blk.j; cj < std::min(2 * blk.j + 2, fine.ny); ++cj)
+      for (std::uint32_t ci = 2 * blk.i; ci < std::min(2 * blk.i + 2, fine.nx); ++ci) {
+        if (!pyramid_.occupied(child_level, ci, cj))
+          continue;
+        Block child{0.0, child_level, ci, cj};
+        double bx0, by0, bx1, by1;
+        blockBounds(child, bx0, by0, bx1, by1);
+        child.key = squaredDistanceToRect(mx, my, bx0, by0, bx1, by1);
+        heap_.push_back(child);
+        std::push_heap(heap_.begin(), heap_.end(), cmp);
+      }
+  }
+}
+
+VertexId
+MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
+{
+  Query q;
+  q.a = a;
+  q.b = b;
+  q.pa = grid_.points[a];
+  q.pb = grid_.points[b];
+
+  // The rectangle supported by the edge: the cells spanned by a and b, dilated by one.
+  const std::uint32_t ia = grid_.column(q.pa.x), ib = grid_.column(q.pb.x);
+  const std::uint32_t ja = grid_.row(q.pa.y), jb = grid_.row(q.pb.y);
+  Window w{std::min(ia, ib) > 0 ? std::min(ia, ib) - 1 : 0,
+           std::min(std::max(ia, ib) + 1, grid_.nx - 1),
+           std::min(ja, jb) > 0 ? std::min(ja, jb) - 1 : 0,
+           std::min(std::max(ja, jb) + 1, grid_.ny - 1)};
+  const std::size_t cells =
+      static_cast<std::size_t>(w.i1 - w.i0 + 1) * static_cast<std::size_t>(w.j1 - w.j0 + 1);
+  if (cells > MAX_LOCAL_CELLS) {
+    w = Window{1, 0, 1, 0};
+  }
+  else {
+    for (std::uint32_t j = w.j0; j <= w.j1; ++j)
+      for (std::uint32_t i = w.i0; i <= w.i1; ++i)
+        testCell(grid_.cellId(i, j), q);
+    if (q.best != INVALID_ID && diskInsideWindow(q.disk, w)) {
+      ++stats_.local;
+      return q.best;
+    }
+  }
+  ++stats_.widened;
+  widen(q, w);
+  return q.best;
+}
+
+} // namespace pcl_vts

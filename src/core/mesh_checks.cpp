@@ -1,0 +1,287 @@
+// Checkers over mesh arrays. Each one is linear (or sorts once), never trusts the
+// data it checks (ids are range-checked before use) and, on failure, names the first
+// offending triangle, halfedge or vertex. Geometry goes through the exact predicates.
+#include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/predicates.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <tuple>
+#include <vector>
+
+namespace pcl_vts {
+namespace {
+
+void
+setWhy(std::string* why, const std::string& text)
+{
+  if (why)
+    *why = text;
+}
+
+std::string
+triangleText(const TriangleMesh& mesh, TriangleId t)
+{
+  std::ostringstream out;
+  out << "triangle " << t << " (vertices " << mesh.triangles[3 * t] << ", "
+      << mesh.triangles[3 * t + 1] << ", " << mesh.triangles[3 * t + 2] << ")";
+  return out.str();
+}
+
+std::string
+halfedgeText(const TriangleMesh& mesh, HalfedgeId e)
+{
+  std::ostringstream out;
+  out << "halfedge " << e << " (" << mesh.triangles[e] << " -> "
+      << mesh.triangles[nextHalfedge(e)] << ", triangle " << triangleOf(e) << ")";
+  return out.str();
+}
+
+/// Triangles come in threes and every id names an existing vertex.
+bool
+trianglesWellFormed(const TriangleMesh& mesh, std::string* why)
+{
+  if (mesh.xy.size() != mesh.z.size()) {
+    std::ostringstream out;
+    out << "xy has " << mesh.xy.size() << " vertices but z has " << mesh.z.size();
+    setWhy(why, out.str());
+    return false;
+  }
+  if (mesh.triangles.size() % 3 != 0) {
+    std::ostringstream out;
+    out << "triangles has " << mesh.triangles.size() << " ids, not a multiple of 3";
+    setWhy(why, out.str());
+    return false;
+  }
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    if (mesh.triangles[i] >= mesh.xy.size()) {
+      std::ostringstream out;
+      out << triangleText(mesh, static_cast<TriangleId>(i / 3)) << " uses vertex "
+          << mesh.triangles[i] << " but the mesh has " << mesh.xy.size()
+          << " vertices";
+      setWhy(why, out.str());
+      return false;
+    }
+  }
+  return true;
+}
+
+/// One entry per halfedge: unordered vertex pair first, then the direction.
+struct EdgeUse {
+  std::uint64_t key;
+  VertexId from;
+  HalfedgeId e;
+};
+
+std::vector<EdgeUse>
+sortedEdgeUses(const TriangleMesh& mesh)
+{
+  std::vector<EdgeUse> uses;
+  uses.reserve(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto e = static_cast<HalfedgeId>(i);
+    const VertexId from = mesh.triangles[e];
+    const VertexId to = mesh.triangles[nextHalfedge(e)];
+    const std::uint64_t lo = std::min(from, to);
+    const std::uint64_t hi = std::max(from, to);
+    uses.push_back({(lo << 32) | hi, from, e});
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
+    return std::tie(a.key, a.from, a.e) < std::tie(b.key, b.from, b.e);
+  });
+  return uses;
+}
+
+} // namespace
+
+bool
+allTrianglesCcw(const TriangleMesh& mesh, std::string* why)
+{
+  if (!trianglesWellFormed(mesh, why))
+    return false;
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const Point2& a = mesh.xy[mesh.triangles[3 * t]];
+    const Point2& b = mesh.xy[mesh.triangles[3 * t + 1]];
+    const Point2& c = mesh.xy[mesh.triangles[3 * t + 2]];
+    const Sign s = orient2d(a, b, c);
+    if (s != Sign::POSITIVE) {
+      setWhy(why, triangleText(mesh, static_cast<TriangleId>(t)) +
+                      (s == Sign::ZERO ? " is degenerate (collinear)"
+                                       : " is clockwise"));
+      return false;
+    }
+  }
+  return true;
+}
+
+bool
+halfedgesConsistent(const TriangleMesh& mesh, std::string* why)
+{
+  if (!trianglesWellFormed(mesh, why))
+    return false;
+  const std::size_t count = mesh.triangles.size();
+  if (mesh.halfedges.size() != count) {
+    std::ostringstream out;
+    out << "halfedges has " << mesh.halfedges.size() << " entries, triangles has "
+        << count;
+    setWhy(why, out.str());
+    return false;
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto e = static_cast<HalfedgeId>(i);
+    const HalfedgeId twin = mesh.halfedges[e];
+    if (twin == INVALID_ID)
+      continue;
+    std::ostringstream out;
+    if (twin >= count)
+      out << halfedgeText(mesh, e) << " has twin " << twin << ", out of range";
+    else if (twin == e)
+      out << halfedgeText(mesh, e) << " is its own twin";
+    else if (mesh.halfedges[twin] != e)
+      out << halfedgeText(mesh, e) << " has twin " << twin
+          << " whose twin is " << mesh.halfedges[twin];
+    else if (mesh.triangles[twin] != mesh.triangles[nextHalfedge(e)] ||
+             mesh.triangles[nextHalfedge(twin)] != mesh.triangles[e])
+      out << halfedgeText(mesh, e) << " has twin " << halfedgeText(mesh, twin)
+          << " that does not run the other way";
+    else
+      continue;
+    setWhy(why, out.str());
+    return false;
+  }
+  return true;
+}
+
+bool
+isEdgeManifold(const TriangleMesh& mesh, std::string* why)
+{
+  if (!trianglesWellFormed(mesh, why))
+    return false;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto e = static_cast<HalfedgeId>(i);
+    if (mesh.triangles[e] == mesh.triangles[nextHalfedge(e)]) {
+      setWhy(why, halfedgeText(mesh, e) + " joins a vertex to itself");
+      return false;
+    }
+  }
+  const std::vector<EdgeUse> uses = sortedEdgeUses(mesh);
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i + 1;
+    while (j < uses.size() && uses[j].key == uses[i].key)
+      ++j;
+    const auto lo = static_cast<VertexId>(uses[i].key >> 32);
+    const auto hi = static_cast<VertexId>(uses[i].key & 0xffffffffu);
+    if (j - i > 2) {
+      std::ostringstream out;
+      out << "edge " << lo << "-" << hi << " is used by " << (j - i)
+          << " triangles (" << triangleOf(uses[i].e) << ", "
+          << triangleOf(uses[i + 1].e) << ", " << triangleOf(uses[i + 2].e) << ")";
+      setWhy(why, out.str());
+      return false;
+    }
+    if (j - i == 2 && uses[i].from == uses[i + 1].from) {
+      std::ostringstream out;
+      out << "edge " << uses[i].from << " -> "
+          << (uses[i].from == lo ? hi : lo) << " is used in the same direction by "
+          << "triangles " << triangleOf(uses[i].e) << " and "
+          << triangleOf(uses[i + 1].e);
+      setWhy(why, out.str());
+      return false;
+    }
+    i = j;
+  }
+  return true;
+}
+
+bool
+isDelaunay(const TriangleMesh& mesh, std::string* why)
+{
+  if (!halfedgesConsistent(mesh, why))
+    return false;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto e = static_cast<HalfedgeId>(i);
+    const HalfedgeId twin = mesh.halfedges[e];
+    // Each interior edge once; boundary edges are Delaunay by definition.
+    if (twin == INVALID_ID || twin < e)
+      continue;
+    const VertexId a = mesh.triangles[e];
+    const VertexId b = mesh.triangles[nextHalfedge(e)];
+    const VertexId c = mesh.triangles[prevHalfedge(e)];
+    const VertexId d = mesh.triangles[prevHalfedge(twin)];
+    if (incircle(mesh.xy[a], mesh.xy[b], mesh.xy[c], mesh.xy[d]) == Sign::POSITIVE) {
+      std::ostringstream out;
+      out << "edge " << a << "-" << b << " is not Delaunay: vertex " << d
+          << " (across, " << triangleText(mesh, triangleOf(twin))
+          << ") lies strictly inside the circumcircle of "
+          << triangleText(mesh, triangleOf(e));
+      setWhy(why, out.str());
+      return false;
+    }
+  }
+  return true;
+}
+
+bool
+allVerticesUsed(const TriangleMesh& mesh, std::string* why)
+{
+  if (!trianglesWellFormed(mesh, why))
+    return false;
+  std::vector<bool> used(mesh.xy.size(), false);
+  for (const VertexId v : mesh.triangles)
+    used[v] = true;
+  const auto unused = std::find(used.begin(), used.end(), false);
+  if (unused != used.end()) {
+    std::ostringstream out;
+    out << "vertex " << (unused - used.begin()) << " is used by no triangle";
+    setWhy(why, out.str());
+    return false;
+  }
+  return true;
+}
+
+long long
+eulerCharacteristic(const TriangleMesh& mesh)
+{
+  std::vector<VertexId> vertices(mesh.triangles);
+  std::sort(vertices.begin(), vertices.end());
+  const auto v = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
+  const std::vector<EdgeUse> uses = sortedEdgeUses(mesh);
+  long long edges = 0;
+  for (std::size_t i = 0; i < uses.size(); ++i)
+    if (i == 0 || uses[i].key != uses[i - 1].key)
+      ++edges;
+  return static_cast<long long>(v) - edges +
+         static_cast<long long>(mesh.triangleCount());
+}
+
+std::size_t
+boundaryEdgeCount(const TriangleMesh& mesh)
+{
+  return static_cast<std::size_t>(
+      std::count(mesh.halfedges.begin(), mesh.halfedges.end(), INVALID_ID));
+}
+
+double
+twiceArea(const TriangleMesh& mesh)
+{
+  // Neumaier summation: millions of small positive terms, sum compared at 1e-9.
+  double sum = 0.0;
+  double compensation = 0.0;
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const Point2& a = mesh.xy[mesh.triangles[3 * t]];
+    const Point2& b = mesh.xy[mesh.triangles[3 * t + 1]];
+    const Point2& c = mesh.xy[mesh.triangles[3 * t + 2]];
+    const double term = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    const double next = sum + term;
+    if (std::abs(sum) >= std::abs(term))
+      compensation += (sum - next) + term;
+    else
+      compensation += (term - next) + sum;
+    sum = next;
+  }
+  return sum + compensation;
+}
+
+} // namespace pcl_vts

@@ -1,0 +1,30 @@
+#include <pcl_vts/core/status.h>
+
+namespace pcl_vts {
+
+const char*
+statusCodeName(StatusCode code)
+{
+  switch (code) {
+  case StatusCode::OK: return "OK";
+  case StatusCode::EMPTY_INPUT: return "EMPTY_INPUT";
+  case StatusCode::NON_FINITE: return "NON_FINITE";
+  case StatusCode::TOO_FEW_POINTS: return "TOO_FEW_POINTS";
+  case StatusCode::ALL_COLLINEAR: return "ALL_COLLINEAR";
+  case StatusCode::COORDINATE_RANGE: return "COORDINATE_RANGE";
+  case StatusCode::INVALID_PARAMETER: return "INVALID_PARAMETER";
+  case StatusCode::IO_ERROR: return "IO_ERROR";
+  case StatusCode::INTERNAL_ERROR: return "INTERNAL_ERROR";
+  }
+  return "UNKNOWN";
+}
+
+std::string
+Status::toString() const
+{
+  if (ok())
+    return "OK";
+  return std::string(statusCodeName(code)) + ": " + message;
+}
+
+} // namespace pcl_vts

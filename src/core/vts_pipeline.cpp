@@ -1,0 +1,179 @@
+#include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/cell_pyramid.h>
+#include <pcl_vts/core/convex_hull.h>
+#include <pcl_vts/core/grid_triangulator.h>
+#include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/vts_pipeline.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace pcl_vts {
+namespace {
+
+// Beyond this magnitude the search's floating-point disk bounds would overflow.
+constexpr double MAX_ABS_COORDINATE = 1e60;
+
+using Clock = std::chrono::steady_clock;
+
+double
+secondsSince(Clock::time_point start)
+{
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string
+formatNumber(double v)
+{
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+/// Drops points with a non-finite coordinate; rejects magnitudes the grid cannot hold.
+Status
+conditionInput(const double* xyz, std::size_t n, std::vector<Point2>& xy,
+               std::vector<double>& z, std::vector<std::uint32_t>& source,
+               Diagnostics& diag)
+{
+  xy.reserve(n);
+  z.reserve(n);
+  source.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
+      ++diag.non_finite_dropped;
+      continue;
+    }
+    if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE)
+      return Status::error(StatusCode::COORDINATE_RANGE,
+                           "point " + std::to_string(k) + " has XY (" + formatNumber(x) +
+                               ", " + formatNumber(y) + "), beyond +-" +
+                               formatNumber(MAX_ABS_COORDINATE) +
+                               "; shift or rescale the coordinates");
+    xy.push_back({x, y});
+    z.push_back(h);
+    source.push_back(static_cast<std::uint32_t>(k));
+  }
+  if (xy.empty())
+    return Status::error(StatusCode::EMPTY_INPUT,
+                         n == 0 ? std::string("the input has no points")
+                                : "none of the " + std::to_string(n) +
+                                      " input points has finite x, y and z");
+  return Status::success();
+}
+
+} // namespace
+
+Status
+validateOptions(const VtsOptions& options)
+{
+  if (!std::isfinite(options.cell_size) || options.cell_size < 0.0)
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "cell_size = " + formatNumber(options.cell_size) +
+                             " must be finite and >= 0 (0 = automatic)");
+  switch (options.duplicate_rule) {
+  case DuplicateRule::LOWEST_Z:
+  case DuplicateRule::HIGHEST_Z:
+  case DuplicateRule::MEAN_Z:
+  case DuplicateRule::FIRST: break;
+  default:
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "duplicate_rule = " +
+                             std::to_string(static_cast<int>(options.duplicate_rule)) +
+                             " is not a DuplicateRule");
+  }
+  return Status::success();
+}
+
+Status
+runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
+               VtsResult& result)
+{
+  result = VtsResult{};
+  Diagnostics& diag = result.diagnostics;
+  diag.points_in = n;
+  if (Status s = validateOptions(options); !s.ok())
+    return s;
+  if (n >= INVALID_ID)
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         std::to_string(n) + " points exceed the 32-bit vertex id range");
+  if (n > 0 && xyz == nullptr)
+    return Status::error(StatusCode::INVALID_PARAMETER, "null point array");
+
+  // Grid: condition, bucket, merge duplicates.
+  auto start = Clock::now();
+  std::vector<Point2> xy;
+  std::vector<double> z;
+  std::vector<std::uint32_t> source;
+  if (Status s = conditionInput(xyz, n, xy, z, source, diag); !s.ok())
+    return s;
+  CellGrid grid;
+  std::vector<std::uint32_t> order;
+  if (Status s = buildCellGrid(xy, options.cell_size, grid, order); !s.ok())
+    return s;
+  std::vector<double> vz(order.size());
+  std::vector<std::uint32_t> vsource(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    vz[k] = z[order[k]];
+    vsource[k] = source[order[k]];
+  }
+  std::vector<VertexId> slot_to_vertex;
+  diag.duplicates_merged =
+      mergeDuplicates(grid, options.duplicate_rule, vz, vsource, slot_to_vertex);
+  diag.distinct_points = grid.points.size();
+  diag.cells = grid.cellCount();
+  diag.cell_size = grid.cell_size;
+  result.input_to_vertex.assign(n, INVALID_ID);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    result.input_to_vertex[source[order[k]]] = slot_to_vertex[k];
+  { // release what is no longer needed before the triangulation allocates
+    std::vector<Point2>().swap(xy);
+    std::vector<double>().swap(z);
+    std::vector<std::uint32_t>().swap(source);
+    std::vector<std::uint32_t>().swap(order);
+    std::vector<VertexId>().swap(slot_to_vertex);
+  }
+  CellPyramid pyramid;
+  buildCellPyramid(grid, pyramid);
+  diag.seconds_grid = secondsSince(start);
+
+  start = Clock::now();
+  if (Status s = convexHull(grid.points, result.hull); !s.ok()) {
+    result.input_to_vertex.clear();
+    return s;
+  }
+  diag.hull_vertices = result.hull.size();
+  diag.seconds_hull = secondsSince(start);
+
+  start = Clock::now();
+  TriangleMesh& mesh = result.mesh;
+  SearchStats stats;
+  Status grown = triangulateGrid(grid, pyramid, result.hull, mesh.triangles,
+                                 mesh.halfedges, stats);
+  diag.seconds_triangulate = secondsSince(start);
+  diag.local_searches = stats.local;
+  diag.widened_searches = stats.widened;
+  diag.cells_visited = stats.cells_visited;
+  if (!grown.ok()) {
+    result.mesh = TriangleMesh{};
+    return grown;
+  }
+  mesh.xy = std::move(grid.points);
+  mesh.z = std::move(vz);
+  result.source_index = std::move(vsource);
+  diag.triangles = mesh.triangleCount();
+
+  if (options.check_output) {
+    std::string why;
+    if (!halfedgesConsistent(mesh, &why) || !allTrianglesCcw(mesh, &why)) {
+      result.mesh = TriangleMesh{};
+      return Status::error(StatusCode::INTERNAL_ERROR, "output check failed: " + why);
+    }
+  }
+  return Status::success();
+}
+
+} // namespace pcl_vts
