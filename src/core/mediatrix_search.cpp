@@ -80,7 +80,7 @@ MediatrixSearch::testCell(CellId cell, Query& q)
     const Point2& p = grid_.points[k];
     if (q.best != INVALID_ID) {
       // Outside the safe disk means strictly outside the exact circle: no tie.
-      if (q.disk.valid) {
+      if (q.disk_fresh && q.disk.valid) {
         const double dx = p.x - q.disk.cx, dy = p.y - q.disk.cy;
         if (dx * dx + dy * dy > q.disk.radius * q.disk.radius * (1.0 + CMP_SLACK))
           continue;
@@ -93,7 +93,16 @@ MediatrixSearch::testCell(CellId cell, Query& q)
     else if (orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
       continue;
     q.best = k;
-    q.disk = safeCircumdisk(q.pa, q.pb, p);
+    q.disk_fresh = false; // computed when needed: most candidates are replaced soon
+  }
+}
+
+void
+MediatrixSearch::Query::refreshDisk(const CellGrid& grid)
+{
+  if (best != INVALID_ID && !disk_fresh) {
+    disk = safeCircumdisk(pa, pb, grid.points[best]);
+    disk_fresh = true;
   }
 }
 
@@ -135,6 +144,7 @@ MediatrixSearch::widen(Query& q, const Window& done)
 
     double x0, y0, x1, y1;
     blockBounds(blk, x0, y0, x1, y1);
+    q.refreshDisk(grid_);
     if (q.best != INVALID_ID && q.disk.valid) {
       // Blocks come out nearest the edge midpoint first: once one lies beyond every
       // point of the disk, so do all the rest.
@@ -200,9 +210,20 @@ MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
     w = Window{1, 0, 1, 0};
   }
   else {
+    // Nearest circumcentre first: start at the cell where the mediatrix enters the
+    // open side (half an edge length from the midpoint), then the rest of the window.
+    const double half = 0.5;
+    const double fx = 0.5 * (q.pa.x + q.pb.x) - half * (q.pb.y - q.pa.y);
+    const double fy = 0.5 * (q.pa.y + q.pb.y) + half * (q.pb.x - q.pa.x);
+    const std::uint32_t fi = std::clamp(grid_.column(fx), w.i0, w.i1);
+    const std::uint32_t fj = std::clamp(grid_.row(fy), w.j0, w.j1);
+    testCell(grid_.cellId(fi, fj), q);
+    q.refreshDisk(grid_);
     for (std::uint32_t j = w.j0; j <= w.j1; ++j)
       for (std::uint32_t i = w.i0; i <= w.i1; ++i)
-        testCell(grid_.cellId(i, j), q);
+        if (i != fi || j != fj)
+          testCell(grid_.cellId(i, j), q);
+    q.refreshDisk(grid_);
     if (q.best != INVALID_ID && diskInsideWindow(q.disk, w)) {
       ++stats_.local;
       return q.best;

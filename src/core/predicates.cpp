@@ -16,11 +16,6 @@
 namespace pcl_vts {
 namespace {
 
-constexpr double EPS = 0x1p-53;
-constexpr double CCW_ERR_BOUND_A = (3.0 + 16.0 * EPS) * EPS;
-constexpr double ICC_ERR_BOUND_A = (10.0 + 96.0 * EPS) * EPS;
-// Bound on the absolute error a subnormal intermediate can add (see file comment).
-constexpr double UNDERFLOW_SLACK = 0x1p-1060;
 
 Sign
 toSign(int s)
@@ -124,20 +119,67 @@ incircleExpansion(const Point2& a, const Point2& b, const Point2& c, const Point
   return detail::expansionSign(det);
 }
 
+/// True when a - b is exactly representable (its rounding error is zero).
+bool
+exactDifference(double a, double b)
+{
+  double x, y;
+  detail::twoSum(a, -b, x, y);
+  return y == 0.0;
+}
+
+/// Orientation when the coordinate differences are exact doubles.
+int
+orientExactDifferences(double acx, double acy, double bcx, double bcy)
+{
+  double det[4];
+  const int len = detail::crossZeroelim(acx, bcy, acy, bcx, det);
+  return detail::signOf(len, det);
+}
+
+/// lift * cross, lift = dx^2 + dy^2, for one row of the in-circle determinant.
+int
+liftedRow(double dx, double dy, const double* cross, int clen, double* out)
+{
+  double x1[8], x2[16], y1[8], y2[16];
+  const int l1 = detail::scaleZeroelim(clen, cross, dx, x1);
+  const int l2 = detail::scaleZeroelim(l1, x1, dx, x2);
+  const int m1 = detail::scaleZeroelim(clen, cross, dy, y1);
+  const int m2 = detail::scaleZeroelim(m1, y1, dy, y2);
+  return detail::sumZeroelim(l2, x2, m2, y2, out);
+}
+
+/// In-circle determinant when the coordinate differences are exact doubles
+/// (Shewchuk's stage B, which is then exact), on stack arrays.
+int
+incircleExactDifferences(double adx, double ady, double bdx, double bdy, double cdx,
+                         double cdy)
+{
+  double bc[4], ca[4], ab[4];
+  const int bcl = detail::crossZeroelim(bdx, cdy, cdx, bdy, bc);
+  const int cal = detail::crossZeroelim(cdx, ady, adx, cdy, ca);
+  const int abl = detail::crossZeroelim(adx, bdy, bdx, ady, ab);
+  double adet[32], bdet[32], cdet[32], abdet[64], fin[96];
+  const int al = liftedRow(adx, ady, bc, bcl, adet);
+  const int bl = liftedRow(bdx, bdy, ca, cal, bdet);
+  const int cl = liftedRow(cdx, cdy, ab, abl, cdet);
+  const int abl2 = detail::sumZeroelim(al, adet, bl, bdet, abdet);
+  const int fl = detail::sumZeroelim(abl2, abdet, cl, cdet, fin);
+  return detail::signOf(fl, fin);
+}
+
 } // namespace
 
 namespace detail {
 
-PredicateCounters&
-predicateCounters()
-{
-  thread_local PredicateCounters counters;
-  return counters;
-}
 
 Sign
 orient2dExact(const Point2& a, const Point2& b, const Point2& c)
 {
+  if (allInExpansionRange<3>({&a, &b, &c}) && exactDifference(a.x, c.x) &&
+      exactDifference(a.y, c.y) && exactDifference(b.x, c.x) &&
+      exactDifference(b.y, c.y))
+    return toSign(orientExactDifferences(a.x - c.x, a.y - c.y, b.x - c.x, b.y - c.y));
   if (allInExpansionRange<3>({&a, &b, &c}))
     return toSign(orientExpansion(a, b, c));
   return toSign(orientBigInt(a, b, c));
@@ -146,7 +188,13 @@ orient2dExact(const Point2& a, const Point2& b, const Point2& c)
 Sign
 incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
 {
-  if (allInExpansionRange<4>({&a, &b, &c, &d}))
+  const bool in_range = allInExpansionRange<4>({&a, &b, &c, &d});
+  if (in_range && exactDifference(a.x, d.x) && exactDifference(a.y, d.y) &&
+      exactDifference(b.x, d.x) && exactDifference(b.y, d.y) &&
+      exactDifference(c.x, d.x) && exactDifference(c.y, d.y))
+    return toSign(incircleExactDifferences(a.x - d.x, a.y - d.y, b.x - d.x, b.y - d.y,
+                                           c.x - d.x, c.y - d.y));
+  if (in_range)
     return toSign(incircleExpansion(a, b, c, d));
   return toSign(incircleBigInt(a, b, c, d));
 }
@@ -154,56 +202,8 @@ incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d
 } // namespace detail
 
 Sign
-orient2d(const Point2& a, const Point2& b, const Point2& c)
+incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
 {
-  const double detleft = (a.x - c.x) * (b.y - c.y);
-  const double detright = (a.y - c.y) * (b.x - c.x);
-  const double det = detleft - detright;
-  const double errbound =
-      CCW_ERR_BOUND_A * (std::fabs(detleft) + std::fabs(detright)) + UNDERFLOW_SLACK;
-  if (det > errbound)
-    return Sign::POSITIVE;
-  if (-det > errbound)
-    return Sign::NEGATIVE;
-  ++detail::predicateCounters().orient_exact;
-  return detail::orient2dExact(a, b, c);
-}
-
-Sign
-incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
-{
-  const double adx = a.x - d.x, ady = a.y - d.y;
-  const double bdx = b.x - d.x, bdy = b.y - d.y;
-  const double cdx = c.x - d.x, cdy = c.y - d.y;
-  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-  const double cdxady = cdx * ady, adxcdy = adx * cdy;
-  const double adxbdy = adx * bdy, bdxady = bdx * ady;
-  const double alift = adx * adx + ady * ady;
-  const double blift = bdx * bdx + bdy * bdy;
-  const double clift = cdx * cdx + cdy * cdy;
-  const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) +
-                     clift * (adxbdy - bdxady);
-  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
-                           (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
-                           (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
-  // The lifts bound the squared differences, hence how far an underflowed product
-  // can be amplified.
-  const double errbound = ICC_ERR_BOUND_A * permanent +
-                          UNDERFLOW_SLACK * (1.0 + alift + blift + clift);
-  if (det > errbound)
-    return Sign::POSITIVE;
-  if (-det > errbound)
-    return Sign::NEGATIVE;
-  ++detail::predicateCounters().incircle_exact;
-  return detail::incircleExact(a, b, c, d);
-}
-
-Sign
-incirclePerturbed(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
-{
-  const Sign s = incircle(a, b, c, d);
-  if (s != Sign::ZERO)
-    return s;
   // Lifting p to |p|^2 + eps_p changes the determinant by eps_p times p's cofactor in
   // the lift column; the largest eps with a non-zero cofactor decides the sign.
   struct Term {

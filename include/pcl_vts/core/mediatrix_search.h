@@ -64,7 +64,9 @@ private:
     VertexId a, b;
     Point2 pa, pb;
     VertexId best = INVALID_ID;
-    SafeDisk disk;
+    SafeDisk disk;       ///< of best, when disk_fresh
+    bool disk_fresh = false;
+    void refreshDisk(const CellGrid& grid);
   };
 
   void

@@ -12,16 +12,77 @@ namespace pcl_vts {
 /// Sign of a determinant: also reads as CW/COLLINEAR/CCW or OUTSIDE/ON/INSIDE.
 enum class Sign : int { NEGATIVE = -1, ZERO = 0, POSITIVE = 1 };
 
+namespace detail {
+/// The exact slow paths (they bypass the filter); exposed for tests.
+Sign
+orient2dExact(const Point2& a, const Point2& b, const Point2& c);
+Sign
+incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+
+constexpr double UNIT_ROUNDOFF = 0x1p-53;
+constexpr double CCW_ERR_BOUND_A = (3.0 + 16.0 * UNIT_ROUNDOFF) * UNIT_ROUNDOFF;
+constexpr double ICC_ERR_BOUND_A = (10.0 + 96.0 * UNIT_ROUNDOFF) * UNIT_ROUNDOFF;
+// Absolute error a subnormal intermediate can add; keeps the filter sound under
+// gradual underflow (Shewchuk's bounds assume none).
+constexpr double UNDERFLOW_SLACK = 0x1p-1060;
+
+inline double
+absValue(double v)
+{
+  return v < 0.0 ? -v : v;
+}
+} // namespace detail
+
 /// Orientation of (a, b, c): POSITIVE when c lies left of the directed line a->b
 /// (counter-clockwise triangle), ZERO when collinear. Exact.
-Sign
-orient2d(const Point2& a, const Point2& b, const Point2& c);
+inline Sign
+orient2d(const Point2& a, const Point2& b, const Point2& c)
+{
+  // Shewchuk's stage-A filter inline; the exact evaluation is out of line.
+  const double detleft = (a.x - c.x) * (b.y - c.y);
+  const double detright = (a.y - c.y) * (b.x - c.x);
+  const double det = detleft - detright;
+  const double errbound =
+      detail::CCW_ERR_BOUND_A * (detail::absValue(detleft) + detail::absValue(detright)) +
+      detail::UNDERFLOW_SLACK;
+  if (det > errbound)
+    return Sign::POSITIVE;
+  if (-det > errbound)
+    return Sign::NEGATIVE;
+  return detail::orient2dExact(a, b, c);
+}
 
 /// In-circle test: for a counter-clockwise triangle (a, b, c), POSITIVE when d lies
 /// strictly inside its circumcircle, ZERO on it, NEGATIVE outside (sign flips for a
 /// clockwise triangle). Exact.
-Sign
-incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+inline Sign
+incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
+{
+  using detail::absValue;
+  const double adx = a.x - d.x, ady = a.y - d.y;
+  const double bdx = b.x - d.x, bdy = b.y - d.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+  const double cdxady = cdx * ady, adxcdy = adx * cdy;
+  const double adxbdy = adx * bdy, bdxady = bdx * ady;
+  const double alift = adx * adx + ady * ady;
+  const double blift = bdx * bdx + bdy * bdy;
+  const double clift = cdx * cdx + cdy * cdy;
+  const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) +
+                     clift * (adxbdy - bdxady);
+  const double permanent = (absValue(bdxcdy) + absValue(cdxbdy)) * alift +
+                           (absValue(cdxady) + absValue(adxcdy)) * blift +
+                           (absValue(adxbdy) + absValue(bdxady)) * clift;
+  // The lifts bound the squared differences, hence how far an underflowed product
+  // can be amplified.
+  const double errbound = detail::ICC_ERR_BOUND_A * permanent +
+                          detail::UNDERFLOW_SLACK * (1.0 + alift + blift + clift);
+  if (det > errbound)
+    return Sign::POSITIVE;
+  if (-det > errbound)
+    return Sign::NEGATIVE;
+  return detail::incircleExact(a, b, c, d);
+}
 
 /// In-circle test under symbolic perturbation: each point is lifted to
 /// |p|^2 + eps^rank(p), where rank is the lexicographic order of the points
@@ -29,21 +90,14 @@ incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
 /// ZERO; returns ZERO only when all four points are collinear. Every Delaunay
 /// triangulation decided with it is the unique triangulation of the perturbed set.
 Sign
-incirclePerturbed(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
 
-namespace detail {
-/// The exact slow paths, exposed for tests (they bypass the filter).
-Sign
-orient2dExact(const Point2& a, const Point2& b, const Point2& c);
-Sign
-incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
-/// Counters of calls that fell through the filter (per thread).
-struct PredicateCounters {
-  unsigned long long orient_exact = 0;
-  unsigned long long incircle_exact = 0;
-};
-PredicateCounters&
-predicateCounters();
-} // namespace detail
+inline Sign
+incirclePerturbed(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
+{
+  const Sign s = incircle(a, b, c, d);
+  return s != Sign::ZERO ? s : incirclePerturbedTie(a, b, c, d);
+}
+
 
 } // namespace pcl_vts
