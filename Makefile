@@ -5,6 +5,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 DEMO_INPUT ?= test_data/samp11-utm-ground.pcd
 DEMO_OUTPUT ?= $(BUILD_DIR)/demo/samp11-utm-ground.ply
+BENCH_MAX_N ?= 1000000
 
 .PHONY: all deps configure build test demo bench format clean
 
@@ -26,6 +27,9 @@ demo: build
 	@mkdir -p $(dir $(DEMO_OUTPUT))
 	@$(BUILD_DIR)/pcd_to_mesh $(DEMO_INPUT) $(DEMO_OUTPUT)
 	@echo "demo mesh written to $(DEMO_OUTPUT)"
+
+bench: build
+	@bash tools/bench/run_bench.sh $(BUILD_DIR) $(BENCH_MAX_N)
 
 format:
 	@clang-format -i $$(git ls-files '*.cpp' '*.hpp' '*.h')
