@@ -16,8 +16,7 @@ constexpr double MAX_CELLS_ABSOLUTE = 1u << 30;
 
 } // namespace
 
-double
-defaultCellSize(double width, double height, std::size_t n)
+double defaultCellSize(double width, double height, std::size_t n)
 {
   const double k = DEFAULT_POINTS_PER_CELL;
   const double count = static_cast<double>(std::max<std::size_t>(n, 1));
@@ -27,9 +26,8 @@ defaultCellSize(double width, double height, std::size_t n)
   return size > 0.0 ? size : 1.0;
 }
 
-Status
-buildCellGrid(const std::vector<Point2>& points, double cell_size, CellGrid& grid,
-              std::vector<std::uint32_t>& order)
+Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
+                     CellGrid& grid, std::vector<std::uint32_t>& order)
 {
   const std::size_t n = points.size();
   double xmin = std::numeric_limits<double>::infinity(), ymin = xmin;
@@ -46,16 +44,15 @@ buildCellGrid(const std::vector<Point2>& points, double cell_size, CellGrid& gri
   const double size = cell_size > 0.0 ? cell_size : defaultCellSize(width, height, n);
   const double nx = std::floor(width / size) + 1.0;
   const double ny = std::floor(height / size) + 1.0;
-  const double limit = std::min(
-      MAX_CELLS_ABSOLUTE,
-      std::max(MAX_CELLS_FLOOR, MAX_CELLS_PER_POINT * static_cast<double>(n)));
+  const double limit =
+      std::min(MAX_CELLS_ABSOLUTE,
+               std::max(MAX_CELLS_FLOOR, MAX_CELLS_PER_POINT * static_cast<double>(n)));
   if (!(nx * ny <= limit))
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "cell_size = " + std::to_string(size) + " gives " +
-                             std::to_string(nx * ny) + " cells for " +
-                             std::to_string(n) + " points (limit " +
-                             std::to_string(limit) +
-                             "); use a larger cell size, or 0 for automatic");
+    return Status::error(
+        StatusCode::INVALID_PARAMETER,
+        "cell_size = " + std::to_string(size) + " gives " + std::to_string(nx * ny) +
+            " cells for " + std::to_string(n) + " points (limit " +
+            std::to_string(limit) + "); use a larger cell size, or 0 for automatic");
 
   grid.origin_x = xmin;
   grid.origin_y = ymin;
@@ -65,8 +62,8 @@ buildCellGrid(const std::vector<Point2>& points, double cell_size, CellGrid& gri
   grid.ny = static_cast<std::uint32_t>(ny);
   // Rounding in (x - origin) * inv and in origin + i * size stays within a few ulps
   // of the largest magnitude involved.
-  grid.slack = 8.0 * EPS *
-               (std::fabs(xmin) + std::fabs(ymin) + width + height + 2.0 * size);
+  grid.slack =
+      8.0 * EPS * (std::fabs(xmin) + std::fabs(ymin) + width + height + 2.0 * size);
 
   // Counting sort by cell.
   std::vector<CellId> cell_of(n);

@@ -2,8 +2,7 @@
 
 namespace pcl_vts {
 
-void
-buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid)
+void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid)
 {
   pyramid.levels.clear();
   CellPyramid::Level base;

@@ -11,22 +11,29 @@ namespace {
 
 /// Extreme points in 8 directions, in counter-clockwise order (W, SW, S, SE, E, NE,
 /// N, NW). They are input points, so their polygon lies inside the hull.
-std::vector<VertexId>
-extremeOctagon(const std::vector<Point2>& p)
+std::vector<VertexId> extremeOctagon(const std::vector<Point2>& p)
 {
   std::array<VertexId, 8> ext{};
   std::array<double, 8> best{};
   best.fill(-std::numeric_limits<double>::infinity());
   const auto score = [](const Point2& q, int d) {
     switch (d) {
-    case 0: return -q.x;
-    case 1: return -(q.x + q.y);
-    case 2: return -q.y;
-    case 3: return q.x - q.y;
-    case 4: return q.x;
-    case 5: return q.x + q.y;
-    case 6: return q.y;
-    default: return q.y - q.x;
+    case 0:
+      return -q.x;
+    case 1:
+      return -(q.x + q.y);
+    case 2:
+      return -q.y;
+    case 3:
+      return q.x - q.y;
+    case 4:
+      return q.x;
+    case 5:
+      return q.x + q.y;
+    case 6:
+      return q.y;
+    default:
+      return q.y - q.x;
     }
   };
   for (VertexId v = 0; v < p.size(); ++v)
@@ -45,9 +52,8 @@ extremeOctagon(const std::vector<Point2>& p)
 }
 
 /// True when q lies strictly inside the polygon (strictly left of every edge).
-bool
-strictlyInside(const std::vector<Point2>& p, const std::vector<VertexId>& poly,
-               const Point2& q)
+bool strictlyInside(const std::vector<Point2>& p, const std::vector<VertexId>& poly,
+                    const Point2& q)
 {
   for (std::size_t k = 0; k < poly.size(); ++k)
     if (orient2d(p[poly[k]], p[poly[(k + 1) % poly.size()]], q) != Sign::POSITIVE)
@@ -57,8 +63,7 @@ strictlyInside(const std::vector<Point2>& p, const std::vector<VertexId>& poly,
 
 } // namespace
 
-Status
-convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull)
+Status convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull)
 {
   hull.clear();
   const std::size_t n = points.size();

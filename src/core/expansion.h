@@ -11,8 +11,7 @@ namespace pcl_vts::detail {
 using Expansion = std::vector<double>;
 
 /// x + y == a + b exactly, x = fl(a + b).
-inline void
-twoSum(double a, double b, double& x, double& y)
+inline void twoSum(double a, double b, double& x, double& y)
 {
   x = a + b;
   const double bv = x - a;
@@ -21,16 +20,14 @@ twoSum(double a, double b, double& x, double& y)
 }
 
 /// x + y == a * b exactly, x = fl(a * b) (no underflow assumed).
-inline void
-twoProduct(double a, double b, double& x, double& y)
+inline void twoProduct(double a, double b, double& x, double& y)
 {
   x = a * b;
   y = std::fma(a, b, -x);
 }
 
 /// e + b, zero components removed.
-inline Expansion
-growExpansion(const Expansion& e, double b)
+inline Expansion growExpansion(const Expansion& e, double b)
 {
   Expansion h;
   h.reserve(e.size() + 1);
@@ -47,8 +44,7 @@ growExpansion(const Expansion& e, double b)
   return h;
 }
 
-inline Expansion
-expansionSum(const Expansion& e, const Expansion& f)
+inline Expansion expansionSum(const Expansion& e, const Expansion& f)
 {
   Expansion h = e;
   for (const double fi : f)
@@ -57,8 +53,7 @@ expansionSum(const Expansion& e, const Expansion& f)
 }
 
 /// e * b.
-inline Expansion
-scaleExpansion(const Expansion& e, double b)
+inline Expansion scaleExpansion(const Expansion& e, double b)
 {
   Expansion h;
   if (e.empty() || b == 0.0)
@@ -85,8 +80,7 @@ scaleExpansion(const Expansion& e, double b)
   return h;
 }
 
-inline Expansion
-expansionProduct(const Expansion& e, const Expansion& f)
+inline Expansion expansionProduct(const Expansion& e, const Expansion& f)
 {
   Expansion h{0.0};
   for (const double fi : f)
@@ -94,8 +88,7 @@ expansionProduct(const Expansion& e, const Expansion& f)
   return h;
 }
 
-inline Expansion
-negate(Expansion e)
+inline Expansion negate(Expansion e)
 {
   for (double& v : e)
     v = -v;
@@ -103,8 +96,7 @@ negate(Expansion e)
 }
 
 /// a - b exactly, as a two-component expansion.
-inline Expansion
-exactDiff(double a, double b)
+inline Expansion exactDiff(double a, double b)
 {
   double x, y;
   twoSum(a, -b, x, y);
@@ -114,8 +106,7 @@ exactDiff(double a, double b)
 }
 
 /// Sign of an expansion: the sign of its largest (last non-zero) component.
-inline int
-expansionSign(const Expansion& e)
+inline int expansionSign(const Expansion& e)
 {
   for (auto it = e.rbegin(); it != e.rend(); ++it)
     if (*it != 0.0)
@@ -132,8 +123,7 @@ namespace pcl_vts::detail {
 
 /// h = e + f (both non-overlapping, increasing magnitude); returns the length of h.
 /// h must hold elen + flen doubles and must not alias e or f.
-inline int
-sumZeroelim(int elen, const double* e, int flen, const double* f, double* h)
+inline int sumZeroelim(int elen, const double* e, int flen, const double* f, double* h)
 {
   int ei = 0, fi = 0, hi = 0;
   double q = 0.0;
@@ -161,8 +151,7 @@ sumZeroelim(int elen, const double* e, int flen, const double* f, double* h)
 }
 
 /// h = e * b; h must hold 2 * elen doubles.
-inline int
-scaleZeroelim(int elen, const double* e, double b, double* h)
+inline int scaleZeroelim(int elen, const double* e, double b, double* h)
 {
   int hi = 0;
   double q, hh;
@@ -185,8 +174,7 @@ scaleZeroelim(int elen, const double* e, double b, double* h)
 }
 
 /// a * b - c * d exactly, as at most 4 components in h.
-inline int
-crossZeroelim(double a, double b, double c, double d, double* h)
+inline int crossZeroelim(double a, double b, double c, double d, double* h)
 {
   double p[2], m[2];
   twoProduct(a, b, p[1], p[0]);
@@ -197,8 +185,7 @@ crossZeroelim(double a, double b, double c, double d, double* h)
   return sumZeroelim(2, pe, 2, me, h);
 }
 
-inline int
-signOf(int len, const double* e)
+inline int signOf(int len, const double* e)
 {
   for (int i = len - 1; i >= 0; --i)
     if (e[i] != 0.0)

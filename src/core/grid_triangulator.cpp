@@ -8,10 +8,12 @@ namespace {
 /// The growing triangulation: flat arrays plus, per vertex, the list of its outgoing
 /// open halfedges (those still waiting for the triangle on their right).
 class RegionGrowth {
-public:
+ public:
   RegionGrowth(std::size_t vertices, std::size_t expected_triangles,
                std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges)
-  : triangles_(triangles), halfedges_(halfedges), open_head_(vertices, INVALID_ID)
+      : triangles_(triangles)
+      , halfedges_(halfedges)
+      , open_head_(vertices, INVALID_ID)
   {
     triangles_.clear();
     halfedges_.clear();
@@ -69,7 +71,7 @@ public:
       }
   }
 
-private:
+ private:
   void unlink(VertexId v, HalfedgeId prev, HalfedgeId h)
   {
     if (prev == INVALID_ID)
@@ -86,10 +88,10 @@ private:
 
 } // namespace
 
-Status
-triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
-                const std::vector<VertexId>& hull, std::vector<VertexId>& triangles,
-                std::vector<HalfedgeId>& halfedges, SearchStats& stats)
+Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
+                       const std::vector<VertexId>& hull,
+                       std::vector<VertexId>& triangles,
+                       std::vector<HalfedgeId>& halfedges, SearchStats& stats)
 {
   const std::size_t n = grid.points.size();
   const std::size_t h = hull.size();
@@ -136,9 +138,10 @@ triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   }
   stats = search.stats();
   if (triangles.size() != 3 * expected)
-    return Status::error(StatusCode::INTERNAL_ERROR,
-                         "region growing produced " + std::to_string(triangles.size() / 3) +
-                             " triangles, expected 2n - h - 2 = " + std::to_string(expected));
+    return Status::error(
+        StatusCode::INTERNAL_ERROR,
+        "region growing produced " + std::to_string(triangles.size() / 3) +
+            " triangles, expected 2n - h - 2 = " + std::to_string(expected));
   return Status::success();
 }
 

@@ -18,25 +18,22 @@ constexpr double MAX_LENGTH = 1e90;
 // The edge rectangle is skipped (straight to widening) when larger than this.
 constexpr std::size_t MAX_LOCAL_CELLS = 64;
 
-double
-squaredDistanceToRect(double px, double py, double x0, double y0, double x1,
-                      double y1)
+double squaredDistanceToRect(double px, double py, double x0, double y0, double x1,
+                             double y1)
 {
   const double dx = std::max({x0 - px, 0.0, px - x1});
   const double dy = std::max({y0 - py, 0.0, py - y1});
   return dx * dx + dy * dy;
 }
 
-bool
-heapGreater(double a, double b)
+bool heapGreater(double a, double b)
 {
   return a > b;
 }
 
 } // namespace
 
-SafeDisk
-safeCircumdisk(const Point2& a, const Point2& b, const Point2& p)
+SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& p)
 {
   SafeDisk disk;
   const double ux = b.x - a.x, uy = b.y - a.y;
@@ -60,17 +57,17 @@ safeCircumdisk(const Point2& a, const Point2& b, const Point2& p)
   disk.cx = a.x + ox;
   disk.cy = a.y + oy;
   disk.radius = r + err + 8.0 * U * (std::fabs(disk.cx) + std::fabs(disk.cy) + r);
-  disk.valid = std::isfinite(disk.radius) && std::isfinite(disk.cx) &&
-               std::isfinite(disk.cy);
+  disk.valid =
+      std::isfinite(disk.radius) && std::isfinite(disk.cx) && std::isfinite(disk.cy);
   return disk;
 }
 
 MediatrixSearch::MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid)
-: grid_(grid), pyramid_(pyramid)
+    : grid_(grid)
+    , pyramid_(pyramid)
 {}
 
-void
-MediatrixSearch::testCell(CellId cell, Query& q)
+void MediatrixSearch::testCell(CellId cell, Query& q)
 {
   ++stats_.cells_visited;
   const std::uint32_t end = grid_.cell_start[cell + 1];
@@ -89,16 +86,14 @@ MediatrixSearch::testCell(CellId cell, Query& q)
         continue;
       if (incirclePerturbed(q.pa, q.pb, grid_.points[q.best], p) != Sign::POSITIVE)
         continue;
-    }
-    else if (orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
+    } else if (orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
       continue;
     q.best = k;
     q.disk_fresh = false; // computed when needed: most candidates are replaced soon
   }
 }
 
-void
-MediatrixSearch::Query::refreshDisk(const CellGrid& grid)
+void MediatrixSearch::Query::refreshDisk(const CellGrid& grid)
 {
   if (best != INVALID_ID && !disk_fresh) {
     disk = safeCircumdisk(pa, pb, grid.points[best]);
@@ -106,19 +101,18 @@ MediatrixSearch::Query::refreshDisk(const CellGrid& grid)
   }
 }
 
-bool
-MediatrixSearch::diskInsideWindow(const SafeDisk& disk, const Window& w) const
+bool MediatrixSearch::diskInsideWindow(const SafeDisk& disk, const Window& w) const
 {
   if (!disk.valid || w.i0 > w.i1)
     return false;
   const double reach = disk.radius + grid_.slack;
-  return grid_.column(disk.cx - reach) >= w.i0 && grid_.column(disk.cx + reach) <= w.i1 &&
-         grid_.row(disk.cy - reach) >= w.j0 && grid_.row(disk.cy + reach) <= w.j1;
+  return grid_.column(disk.cx - reach) >= w.i0 &&
+         grid_.column(disk.cx + reach) <= w.i1 && grid_.row(disk.cy - reach) >= w.j0 &&
+         grid_.row(disk.cy + reach) <= w.j1;
 }
 
-void
-MediatrixSearch::blockBounds(const Block& b, double& x0, double& y0, double& x1,
-                             double& y1) const
+void MediatrixSearch::blockBounds(const Block& b, double& x0, double& y0, double& x1,
+                                  double& y1) const
 {
   const double span = grid_.cell_size * static_cast<double>(1u << b.level);
   x0 = grid_.origin_x + span * b.i - grid_.slack;
@@ -127,12 +121,13 @@ MediatrixSearch::blockBounds(const Block& b, double& x0, double& y0, double& x1,
   y1 = grid_.origin_y + span * (b.j + 1) + grid_.slack;
 }
 
-void
-MediatrixSearch::widen(Query& q, const Window& done)
+void MediatrixSearch::widen(Query& q, const Window& done)
 {
   const double mx = 0.5 * (q.pa.x + q.pb.x), my = 0.5 * (q.pa.y + q.pb.y);
   const double ex = q.pb.x - q.pa.x, ey = q.pb.y - q.pa.y;
-  const auto cmp = [](const Block& l, const Block& r) { return heapGreater(l.key, r.key); };
+  const auto cmp = [](const Block& l, const Block& r) {
+    return heapGreater(l.key, r.key);
+  };
 
   heap_.clear();
   const auto top = static_cast<std::uint32_t>(pyramid_.levels.size() - 1);
@@ -188,8 +183,7 @@ MediatrixSearch::widen(Query& q, const Window& done)
   }
 }
 
-VertexId
-MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
+VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
 {
   Query q;
   q.a = a;
@@ -204,12 +198,11 @@ MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
            std::min(std::max(ia, ib) + 1, grid_.nx - 1),
            std::min(ja, jb) > 0 ? std::min(ja, jb) - 1 : 0,
            std::min(std::max(ja, jb) + 1, grid_.ny - 1)};
-  const std::size_t cells =
-      static_cast<std::size_t>(w.i1 - w.i0 + 1) * static_cast<std::size_t>(w.j1 - w.j0 + 1);
+  const std::size_t cells = static_cast<std::size_t>(w.i1 - w.i0 + 1) *
+                            static_cast<std::size_t>(w.j1 - w.j0 + 1);
   if (cells > MAX_LOCAL_CELLS) {
     w = Window{1, 0, 1, 0};
-  }
-  else {
+  } else {
     // Nearest circumcentre first: start at the cell where the mediatrix enters the
     // open side (half an edge length from the midpoint), then the rest of the window.
     const double half = 0.5;

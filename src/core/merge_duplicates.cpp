@@ -4,8 +4,7 @@
 
 namespace pcl_vts {
 
-bool
-parseDuplicateRule(const char* text, DuplicateRule& rule)
+bool parseDuplicateRule(const char* text, DuplicateRule& rule)
 {
   if (text == nullptr)
     return false;
@@ -22,14 +21,17 @@ parseDuplicateRule(const char* text, DuplicateRule& rule)
   return true;
 }
 
-const char*
-duplicateRuleName(DuplicateRule rule)
+const char* duplicateRuleName(DuplicateRule rule)
 {
   switch (rule) {
-  case DuplicateRule::LOWEST_Z: return "lowest";
-  case DuplicateRule::HIGHEST_Z: return "highest";
-  case DuplicateRule::MEAN_Z: return "mean";
-  case DuplicateRule::FIRST: return "first";
+  case DuplicateRule::LOWEST_Z:
+    return "lowest";
+  case DuplicateRule::HIGHEST_Z:
+    return "highest";
+  case DuplicateRule::MEAN_Z:
+    return "mean";
+  case DuplicateRule::FIRST:
+    return "first";
   }
   return "?";
 }
@@ -37,10 +39,9 @@ duplicateRuleName(DuplicateRule rule)
 namespace {
 
 /// Index (within [first, last)) of the slot that represents the run.
-std::size_t
-pickRepresentative(DuplicateRule rule, const std::vector<double>& z,
-                   const std::vector<std::uint32_t>& source, std::size_t first,
-                   std::size_t last)
+std::size_t pickRepresentative(DuplicateRule rule, const std::vector<double>& z,
+                               const std::vector<std::uint32_t>& source,
+                               std::size_t first, std::size_t last)
 {
   std::size_t best = first;
   for (std::size_t k = first + 1; k < last; ++k) {
@@ -53,7 +54,9 @@ pickRepresentative(DuplicateRule rule, const std::vector<double>& z,
       better = z[k] > z[best] || (z[k] == z[best] && source[k] < source[best]);
       break;
     case DuplicateRule::MEAN_Z:
-    case DuplicateRule::FIRST: better = source[k] < source[best]; break;
+    case DuplicateRule::FIRST:
+      better = source[k] < source[best];
+      break;
     }
     if (better)
       best = k;
@@ -63,10 +66,9 @@ pickRepresentative(DuplicateRule rule, const std::vector<double>& z,
 
 } // namespace
 
-std::size_t
-mergeDuplicates(CellGrid& grid, DuplicateRule rule, std::vector<double>& z,
-                std::vector<std::uint32_t>& source,
-                std::vector<VertexId>& slot_to_vertex)
+std::size_t mergeDuplicates(CellGrid& grid, DuplicateRule rule, std::vector<double>& z,
+                            std::vector<std::uint32_t>& source,
+                            std::vector<VertexId>& slot_to_vertex)
 {
   const std::size_t slots = grid.points.size();
   slot_to_vertex.assign(slots, INVALID_ID);

@@ -3,6 +3,8 @@
 // every coordinate lies in [2^-200, 2^200] (then no product underflows or overflows),
 // otherwise big integers (Boost.Multiprecision cpp_int on the doubles scaled by
 // 2^1074), so any finite double is exact.
+#include "expansion.h"
+
 #include <pcl_vts/core/predicates.h>
 
 #include <boost/multiprecision/cpp_int.hpp>
@@ -11,28 +13,22 @@
 #include <array>
 #include <cmath>
 
-#include "expansion.h"
-
 namespace pcl_vts {
 namespace {
 
-
-Sign
-toSign(int s)
+Sign toSign(int s)
 {
   return s > 0 ? Sign::POSITIVE : (s < 0 ? Sign::NEGATIVE : Sign::ZERO);
 }
 
-bool
-inExpansionRange(double v)
+bool inExpansionRange(double v)
 {
   const double a = std::fabs(v);
   return a == 0.0 || (a >= 0x1p-200 && a <= 0x1p+200);
 }
 
 template <std::size_t N>
-bool
-allInExpansionRange(const std::array<const Point2*, N>& pts)
+bool allInExpansionRange(const std::array<const Point2*, N>& pts)
 {
   return std::all_of(pts.begin(), pts.end(), [](const Point2* p) {
     return inExpansionRange(p->x) && inExpansionRange(p->y);
@@ -43,8 +39,7 @@ using BigInt = boost::multiprecision::cpp_int;
 
 /// v * 2^1074 as an integer: exact for every finite double (all are multiples of
 /// 2^-1074), so the determinants below are evaluated exactly in integers.
-BigInt
-scaledInteger(double v)
+BigInt scaledInteger(double v)
 {
   int e = 0;
   const double m = std::frexp(v, &e);
@@ -57,8 +52,7 @@ scaledInteger(double v)
   return r;
 }
 
-int
-orientBigInt(const Point2& a, const Point2& b, const Point2& c)
+int orientBigInt(const Point2& a, const Point2& b, const Point2& c)
 {
   const BigInt cx = scaledInteger(c.x), cy = scaledInteger(c.y);
   const BigInt acx = scaledInteger(a.x) - cx, acy = scaledInteger(a.y) - cy;
@@ -67,8 +61,7 @@ orientBigInt(const Point2& a, const Point2& b, const Point2& c)
   return det.sign();
 }
 
-int
-incircleBigInt(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
+int incircleBigInt(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
 {
   const BigInt dx = scaledInteger(d.x), dy = scaledInteger(d.y);
   const BigInt adx = scaledInteger(a.x) - dx, ady = scaledInteger(a.y) - dy;
@@ -84,24 +77,22 @@ incircleBigInt(const Point2& a, const Point2& b, const Point2& c, const Point2& 
 
 using detail::Expansion;
 
-Expansion
-crossExact(const Expansion& ux, const Expansion& uy, const Expansion& vx,
-           const Expansion& vy)
+Expansion crossExact(const Expansion& ux, const Expansion& uy, const Expansion& vx,
+                     const Expansion& vy)
 {
   return detail::expansionSum(detail::expansionProduct(ux, vy),
                               detail::negate(detail::expansionProduct(uy, vx)));
 }
 
-int
-orientExpansion(const Point2& a, const Point2& b, const Point2& c)
+int orientExpansion(const Point2& a, const Point2& b, const Point2& c)
 {
   const Expansion acx = detail::exactDiff(a.x, c.x), acy = detail::exactDiff(a.y, c.y);
   const Expansion bcx = detail::exactDiff(b.x, c.x), bcy = detail::exactDiff(b.y, c.y);
   return detail::expansionSign(crossExact(acx, acy, bcx, bcy));
 }
 
-int
-incircleExpansion(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
+int incircleExpansion(const Point2& a, const Point2& b, const Point2& c,
+                      const Point2& d)
 {
   using detail::exactDiff;
   using detail::expansionProduct;
@@ -120,8 +111,7 @@ incircleExpansion(const Point2& a, const Point2& b, const Point2& c, const Point
 }
 
 /// True when a - b is exactly representable (its rounding error is zero).
-bool
-exactDifference(double a, double b)
+bool exactDifference(double a, double b)
 {
   double x, y;
   detail::twoSum(a, -b, x, y);
@@ -129,8 +119,7 @@ exactDifference(double a, double b)
 }
 
 /// Orientation when the coordinate differences are exact doubles.
-int
-orientExactDifferences(double acx, double acy, double bcx, double bcy)
+int orientExactDifferences(double acx, double acy, double bcx, double bcy)
 {
   double det[4];
   const int len = detail::crossZeroelim(acx, bcy, acy, bcx, det);
@@ -138,8 +127,7 @@ orientExactDifferences(double acx, double acy, double bcx, double bcy)
 }
 
 /// lift * cross, lift = dx^2 + dy^2, for one row of the in-circle determinant.
-int
-liftedRow(double dx, double dy, const double* cross, int clen, double* out)
+int liftedRow(double dx, double dy, const double* cross, int clen, double* out)
 {
   double x1[8], x2[16], y1[8], y2[16];
   const int l1 = detail::scaleZeroelim(clen, cross, dx, x1);
@@ -151,9 +139,8 @@ liftedRow(double dx, double dy, const double* cross, int clen, double* out)
 
 /// In-circle determinant when the coordinate differences are exact doubles
 /// (Shewchuk's stage B, which is then exact), on stack arrays.
-int
-incircleExactDifferences(double adx, double ady, double bdx, double bdy, double cdx,
-                         double cdy)
+int incircleExactDifferences(double adx, double ady, double bdx, double bdy, double cdx,
+                             double cdy)
 {
   double bc[4], ca[4], ab[4];
   const int bcl = detail::crossZeroelim(bdx, cdy, cdx, bdy, bc);
@@ -172,9 +159,7 @@ incircleExactDifferences(double adx, double ady, double bdx, double bdy, double 
 
 namespace detail {
 
-
-Sign
-orient2dExact(const Point2& a, const Point2& b, const Point2& c)
+Sign orient2dExact(const Point2& a, const Point2& b, const Point2& c)
 {
   if (allInExpansionRange<3>({&a, &b, &c}) && exactDifference(a.x, c.x) &&
       exactDifference(a.y, c.y) && exactDifference(b.x, c.x) &&
@@ -185,8 +170,7 @@ orient2dExact(const Point2& a, const Point2& b, const Point2& c)
   return toSign(orientBigInt(a, b, c));
 }
 
-Sign
-incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
+Sign incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
 {
   const bool in_range = allInExpansionRange<4>({&a, &b, &c, &d});
   if (in_range && exactDifference(a.x, d.x) && exactDifference(a.y, d.y) &&
@@ -201,8 +185,8 @@ incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d
 
 } // namespace detail
 
-Sign
-incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
+Sign incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c,
+                          const Point2& d)
 {
   // Lifting p to |p|^2 + eps_p changes the determinant by eps_p times p's cofactor in
   // the lift column; the largest eps with a non-zero cofactor decides the sign.
@@ -216,10 +200,18 @@ incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c, const Po
   for (const Term& t : terms) {
     Sign cof = Sign::ZERO;
     switch (t.which) {
-    case 0: cof = orient2d(b, c, d); break;
-    case 1: cof = static_cast<Sign>(-static_cast<int>(orient2d(a, c, d))); break;
-    case 2: cof = orient2d(a, b, d); break;
-    default: cof = static_cast<Sign>(-static_cast<int>(orient2d(a, b, c))); break;
+    case 0:
+      cof = orient2d(b, c, d);
+      break;
+    case 1:
+      cof = static_cast<Sign>(-static_cast<int>(orient2d(a, c, d)));
+      break;
+    case 2:
+      cof = orient2d(a, b, d);
+      break;
+    default:
+      cof = static_cast<Sign>(-static_cast<int>(orient2d(a, b, c)));
+      break;
     }
     if (cof != Sign::ZERO)
       return cof;

@@ -2,25 +2,32 @@
 
 namespace pcl_vts {
 
-const char*
-statusCodeName(StatusCode code)
+const char* statusCodeName(StatusCode code)
 {
   switch (code) {
-  case StatusCode::OK: return "OK";
-  case StatusCode::EMPTY_INPUT: return "EMPTY_INPUT";
-  case StatusCode::NON_FINITE: return "NON_FINITE";
-  case StatusCode::TOO_FEW_POINTS: return "TOO_FEW_POINTS";
-  case StatusCode::ALL_COLLINEAR: return "ALL_COLLINEAR";
-  case StatusCode::COORDINATE_RANGE: return "COORDINATE_RANGE";
-  case StatusCode::INVALID_PARAMETER: return "INVALID_PARAMETER";
-  case StatusCode::IO_ERROR: return "IO_ERROR";
-  case StatusCode::INTERNAL_ERROR: return "INTERNAL_ERROR";
+  case StatusCode::OK:
+    return "OK";
+  case StatusCode::EMPTY_INPUT:
+    return "EMPTY_INPUT";
+  case StatusCode::NON_FINITE:
+    return "NON_FINITE";
+  case StatusCode::TOO_FEW_POINTS:
+    return "TOO_FEW_POINTS";
+  case StatusCode::ALL_COLLINEAR:
+    return "ALL_COLLINEAR";
+  case StatusCode::COORDINATE_RANGE:
+    return "COORDINATE_RANGE";
+  case StatusCode::INVALID_PARAMETER:
+    return "INVALID_PARAMETER";
+  case StatusCode::IO_ERROR:
+    return "IO_ERROR";
+  case StatusCode::INTERNAL_ERROR:
+    return "INTERNAL_ERROR";
   }
   return "UNKNOWN";
 }
 
-std::string
-Status::toString() const
+std::string Status::toString() const
 {
   if (ok())
     return "OK";

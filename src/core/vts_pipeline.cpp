@@ -17,14 +17,12 @@ constexpr double MAX_ABS_COORDINATE = 1e60;
 
 using Clock = std::chrono::steady_clock;
 
-double
-secondsSince(Clock::time_point start)
+double secondsSince(Clock::time_point start)
 {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::string
-formatNumber(double v)
+std::string formatNumber(double v)
 {
   std::ostringstream s;
   s.precision(17);
@@ -33,10 +31,9 @@ formatNumber(double v)
 }
 
 /// Drops points with a non-finite coordinate; rejects magnitudes the grid cannot hold.
-Status
-conditionInput(const double* xyz, std::size_t n, std::vector<Point2>& xy,
-               std::vector<double>& z, std::vector<std::uint32_t>& source,
-               Diagnostics& diag)
+Status conditionInput(const double* xyz, std::size_t n, std::vector<Point2>& xy,
+                      std::vector<double>& z, std::vector<std::uint32_t>& source,
+                      Diagnostics& diag)
 {
   xy.reserve(n);
   z.reserve(n);
@@ -49,9 +46,9 @@ conditionInput(const double* xyz, std::size_t n, std::vector<Point2>& xy,
     }
     if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE)
       return Status::error(StatusCode::COORDINATE_RANGE,
-                           "point " + std::to_string(k) + " has XY (" + formatNumber(x) +
-                               ", " + formatNumber(y) + "), beyond +-" +
-                               formatNumber(MAX_ABS_COORDINATE) +
+                           "point " + std::to_string(k) + " has XY (" +
+                               formatNumber(x) + ", " + formatNumber(y) +
+                               "), beyond +-" + formatNumber(MAX_ABS_COORDINATE) +
                                "; shift or rescale the coordinates");
     xy.push_back({x, y});
     z.push_back(h);
@@ -67,8 +64,7 @@ conditionInput(const double* xyz, std::size_t n, std::vector<Point2>& xy,
 
 } // namespace
 
-Status
-validateOptions(const VtsOptions& options)
+Status validateOptions(const VtsOptions& options)
 {
   if (!std::isfinite(options.cell_size) || options.cell_size < 0.0)
     return Status::error(StatusCode::INVALID_PARAMETER,
@@ -78,19 +74,19 @@ validateOptions(const VtsOptions& options)
   case DuplicateRule::LOWEST_Z:
   case DuplicateRule::HIGHEST_Z:
   case DuplicateRule::MEAN_Z:
-  case DuplicateRule::FIRST: break;
+  case DuplicateRule::FIRST:
+    break;
   default:
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "duplicate_rule = " +
-                             std::to_string(static_cast<int>(options.duplicate_rule)) +
-                             " is not a DuplicateRule");
+    return Status::error(
+        StatusCode::INVALID_PARAMETER,
+        "duplicate_rule = " + std::to_string(static_cast<int>(options.duplicate_rule)) +
+            " is not a DuplicateRule");
   }
   return Status::success();
 }
 
-Status
-runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
-               VtsResult& result)
+Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
+                      VtsResult& result)
 {
   result = VtsResult{};
   Diagnostics& diag = result.diagnostics;
@@ -99,7 +95,8 @@ runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
     return s;
   if (n >= INVALID_ID)
     return Status::error(StatusCode::INVALID_PARAMETER,
-                         std::to_string(n) + " points exceed the 32-bit vertex id range");
+                         std::to_string(n) +
+                             " points exceed the 32-bit vertex id range");
   if (n > 0 && xyz == nullptr)
     return Status::error(StatusCode::INVALID_PARAMETER, "null point array");
 

@@ -15,7 +15,7 @@
 namespace pcl_vts {
 
 struct CellGrid {
-  double origin_x = 0.0;  ///< lower-left corner of cell (0, 0): the XY bounding-box min
+  double origin_x = 0.0; ///< lower-left corner of cell (0, 0): the XY bounding-box min
   double origin_y = 0.0;
   double cell_size = 0.0; ///< edge length of a square cell
   double inv_cell_size = 0.0;
@@ -30,12 +30,18 @@ struct CellGrid {
   std::size_t cellCount() const { return static_cast<std::size_t>(nx) * ny; }
   CellId cellId(std::uint32_t i, std::uint32_t j) const { return j * nx + i; }
   /// Column of x, clamped to [0, nx-1]; monotone non-decreasing in x.
-  std::uint32_t column(double x) const { return clampIndex((x - origin_x) * inv_cell_size, nx); }
+  std::uint32_t column(double x) const
+  {
+    return clampIndex((x - origin_x) * inv_cell_size, nx);
+  }
   /// Row of y, clamped to [0, ny-1]; monotone non-decreasing in y.
-  std::uint32_t row(double y) const { return clampIndex((y - origin_y) * inv_cell_size, ny); }
+  std::uint32_t row(double y) const
+  {
+    return clampIndex((y - origin_y) * inv_cell_size, ny);
+  }
   CellId cellOf(const Point2& p) const { return cellId(column(p.x), row(p.y)); }
 
-private:
+ private:
   static std::uint32_t clampIndex(double t, std::uint32_t n)
   {
     if (!(t > 0.0))
@@ -51,16 +57,14 @@ constexpr double DEFAULT_POINTS_PER_CELL = 2.0;
 
 /// Cell size from the point density: sqrt(area * k / n) over the XY bounding box,
 /// but never so small that one row or column gets more than n / k cells (thin strips).
-double
-defaultCellSize(double width, double height, std::size_t n);
+double defaultCellSize(double width, double height, std::size_t n);
 
 /// Buckets points into a grid. `cell_size` 0 means defaultCellSize().
 /// \param[in] points XY of n points (finite).
 /// \param[out] grid the grid; grid.points holds the points in cell order.
 /// \param[out] order per grid slot k: the index in `points` it came from.
 /// \return INVALID_PARAMETER when the cell size would give an absurd number of cells.
-Status
-buildCellGrid(const std::vector<Point2>& points, double cell_size, CellGrid& grid,
-              std::vector<std::uint32_t>& order);
+Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
+                     CellGrid& grid, std::vector<std::uint32_t>& order);
 
 } // namespace pcl_vts

@@ -26,7 +26,6 @@ struct CellPyramid {
 };
 
 /// Builds the pyramid of a grid. Linear in the number of cells.
-void
-buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid);
+void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid);
 
 } // namespace pcl_vts

@@ -17,7 +17,6 @@ namespace pcl_vts {
 /// \param[out] hull vertex ids, counter-clockwise, starting at the lexicographically
 ///             smallest point; points on hull edges included
 /// \return TOO_FEW_POINTS for < 3 points, ALL_COLLINEAR when the hull has no area
-Status
-convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull);
+Status convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull);
 
 } // namespace pcl_vts

@@ -22,9 +22,9 @@ namespace pcl_vts {
 /// \param[out] halfedges twin per halfedge, INVALID_ID on the hull
 /// \param[out] stats search statistics
 /// \return INTERNAL_ERROR if the region growing failed to tile the hull (a bug)
-Status
-triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
-                const std::vector<VertexId>& hull, std::vector<VertexId>& triangles,
-                std::vector<HalfedgeId>& halfedges, SearchStats& stats);
+Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
+                       const std::vector<VertexId>& hull,
+                       std::vector<VertexId>& triangles,
+                       std::vector<HalfedgeId>& halfedges, SearchStats& stats);
 
 } // namespace pcl_vts

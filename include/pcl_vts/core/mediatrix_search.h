@@ -31,22 +31,20 @@ struct SafeDisk {
 
 /// Circumcircle of (a, b, p), counter-clockwise, inflated by a rigorous bound on the
 /// floating-point error of its centre and radius.
-SafeDisk
-safeCircumdisk(const Point2& a, const Point2& b, const Point2& p);
+SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& p);
 
 /// Reusable search state (one per thread): the block heap.
 class MediatrixSearch {
-public:
+ public:
   MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid);
 
   /// The Delaunay third point of the edge a->b on its left side (grid point ids), or
   /// INVALID_ID when no point lies strictly left of the line a b.
-  VertexId
-  findThirdPoint(VertexId a, VertexId b);
+  VertexId findThirdPoint(VertexId a, VertexId b);
 
   const SearchStats& stats() const { return stats_; }
 
-private:
+ private:
   struct Block {
     double key; ///< squared distance from the edge midpoint (lower bound)
     std::uint32_t level;
@@ -64,20 +62,17 @@ private:
     VertexId a, b;
     Point2 pa, pb;
     VertexId best = INVALID_ID;
-    SafeDisk disk;       ///< of best, when disk_fresh
+    SafeDisk disk; ///< of best, when disk_fresh
     bool disk_fresh = false;
     void refreshDisk(const CellGrid& grid);
   };
 
-  void
-  testCell(CellId cell, Query& q);
-  bool
-  diskInsideWindow(const SafeDisk& disk, const Window& w) const;
-  void
-  widen(Query& q, const Window& done);
+  void testCell(CellId cell, Query& q);
+  bool diskInsideWindow(const SafeDisk& disk, const Window& w) const;
+  void widen(Query& q, const Window& done);
   /// World rectangle of a block, widened by the grid slack.
-  void
-  blockBounds(const Block& b, double& x0, double& y0, double& x1, double& y1) const;
+  void blockBounds(const Block& b, double& x0, double& y0, double& x1,
+                   double& y1) const;
 
   const CellGrid& grid_;
   const CellPyramid& pyramid_;

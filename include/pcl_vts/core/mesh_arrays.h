@@ -26,20 +26,17 @@ constexpr std::uint32_t INVALID_ID = std::numeric_limits<std::uint32_t>::max();
 //          /      \  .           triangles[next(e)]
 //        v0 ------ v1           next(3t) = 3t+1, next(3t+2) = 3t
 //            e = 3t
-inline HalfedgeId
-nextHalfedge(HalfedgeId e)
+inline HalfedgeId nextHalfedge(HalfedgeId e)
 {
   return (e % 3 == 2) ? e - 2 : e + 1;
 }
 
-inline HalfedgeId
-prevHalfedge(HalfedgeId e)
+inline HalfedgeId prevHalfedge(HalfedgeId e)
 {
   return (e % 3 == 0) ? e + 2 : e - 1;
 }
 
-inline TriangleId
-triangleOf(HalfedgeId e)
+inline TriangleId triangleOf(HalfedgeId e)
 {
   return e / 3;
 }

@@ -8,21 +8,18 @@ struct Point2 {
   double y;
 };
 
-inline bool
-operator==(const Point2& a, const Point2& b)
+inline bool operator==(const Point2& a, const Point2& b)
 {
   return a.x == b.x && a.y == b.y;
 }
 
-inline bool
-operator!=(const Point2& a, const Point2& b)
+inline bool operator!=(const Point2& a, const Point2& b)
 {
   return !(a == b);
 }
 
 /// Strict lexicographic order (x, then y): the priority order of the tie-break rule.
-inline bool
-lexLess(const Point2& a, const Point2& b)
+inline bool lexLess(const Point2& a, const Point2& b)
 {
   return a.x < b.x || (a.x == b.x && a.y < b.y);
 }

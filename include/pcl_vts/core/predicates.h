@@ -14,10 +14,8 @@ enum class Sign : int { NEGATIVE = -1, ZERO = 0, POSITIVE = 1 };
 
 namespace detail {
 /// The exact slow paths (they bypass the filter); exposed for tests.
-Sign
-orient2dExact(const Point2& a, const Point2& b, const Point2& c);
-Sign
-incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+Sign orient2dExact(const Point2& a, const Point2& b, const Point2& c);
+Sign incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
 
 constexpr double UNIT_ROUNDOFF = 0x1p-53;
 constexpr double CCW_ERR_BOUND_A = (3.0 + 16.0 * UNIT_ROUNDOFF) * UNIT_ROUNDOFF;
@@ -26,8 +24,7 @@ constexpr double ICC_ERR_BOUND_A = (10.0 + 96.0 * UNIT_ROUNDOFF) * UNIT_ROUNDOFF
 // gradual underflow (Shewchuk's bounds assume none).
 constexpr double UNDERFLOW_SLACK = 0x1p-1060;
 
-inline double
-absValue(double v)
+inline double absValue(double v)
 {
   return v < 0.0 ? -v : v;
 }
@@ -35,16 +32,15 @@ absValue(double v)
 
 /// Orientation of (a, b, c): POSITIVE when c lies left of the directed line a->b
 /// (counter-clockwise triangle), ZERO when collinear. Exact.
-inline Sign
-orient2d(const Point2& a, const Point2& b, const Point2& c)
+inline Sign orient2d(const Point2& a, const Point2& b, const Point2& c)
 {
   // Shewchuk's stage-A filter inline; the exact evaluation is out of line.
   const double detleft = (a.x - c.x) * (b.y - c.y);
   const double detright = (a.y - c.y) * (b.x - c.x);
   const double det = detleft - detright;
-  const double errbound =
-      detail::CCW_ERR_BOUND_A * (detail::absValue(detleft) + detail::absValue(detright)) +
-      detail::UNDERFLOW_SLACK;
+  const double errbound = detail::CCW_ERR_BOUND_A *
+                              (detail::absValue(detleft) + detail::absValue(detright)) +
+                          detail::UNDERFLOW_SLACK;
   if (det > errbound)
     return Sign::POSITIVE;
   if (-det > errbound)
@@ -55,8 +51,7 @@ orient2d(const Point2& a, const Point2& b, const Point2& c)
 /// In-circle test: for a counter-clockwise triangle (a, b, c), POSITIVE when d lies
 /// strictly inside its circumcircle, ZERO on it, NEGATIVE outside (sign flips for a
 /// clockwise triangle). Exact.
-inline Sign
-incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
+inline Sign incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
 {
   using detail::absValue;
   const double adx = a.x - d.x, ady = a.y - d.y;
@@ -68,8 +63,8 @@ incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
   const double alift = adx * adx + ady * ady;
   const double blift = bdx * bdx + bdy * bdy;
   const double clift = cdx * cdx + cdy * cdy;
-  const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) +
-                     clift * (adxbdy - bdxady);
+  const double det =
+      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
   const double permanent = (absValue(bdxcdy) + absValue(cdxbdy)) * alift +
                            (absValue(cdxady) + absValue(adxcdy)) * blift +
                            (absValue(adxbdy) + absValue(bdxady)) * clift;
@@ -89,15 +84,14 @@ incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
 /// (smaller point, larger perturbation). Equals incircle() whenever that is not
 /// ZERO; returns ZERO only when all four points are collinear. Every Delaunay
 /// triangulation decided with it is the unique triangulation of the perturbed set.
-Sign
-incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+Sign incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c,
+                          const Point2& d);
 
-inline Sign
-incirclePerturbed(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
+inline Sign incirclePerturbed(const Point2& a, const Point2& b, const Point2& c,
+                              const Point2& d)
 {
   const Sign s = incircle(a, b, c, d);
   return s != Sign::ZERO ? s : incirclePerturbedTie(a, b, c, d);
 }
-
 
 } // namespace pcl_vts

@@ -21,8 +21,7 @@ enum class StatusCode {
 };
 
 /// Short upper-case name of a code, e.g. "ALL_COLLINEAR".
-const char*
-statusCodeName(StatusCode code);
+const char* statusCodeName(StatusCode code);
 
 struct [[nodiscard]] Status {
   StatusCode code = StatusCode::OK;
@@ -37,20 +36,21 @@ struct [[nodiscard]] Status {
 
 /// What happened to the input on its way to the mesh.
 struct Diagnostics {
-  std::size_t points_in = 0;            ///< points handed to the pipeline
-  std::size_t non_finite_dropped = 0;   ///< NaN/Inf in x, y or z: skipped
-  std::size_t duplicates_merged = 0;    ///< points folded into another with equal XY
-  std::size_t distinct_points = 0;      ///< vertices of the triangulation
-  std::size_t hull_vertices = 0;        ///< vertices on the convex hull (collinear kept)
-  std::size_t triangles = 0;            ///< triangles output
-  std::size_t cells = 0;                ///< grid cells (nx * ny)
-  double cell_size = 0.0;               ///< grid cell edge length actually used
-  std::size_t local_searches = 0;       ///< third-point searches settled in the edge rectangle
-  std::size_t widened_searches = 0;     ///< searches that needed the widening stage
-  std::size_t cells_visited = 0;        ///< grid cells whose points were tested
-  double seconds_grid = 0.0;            ///< input conditioning + grid build
-  double seconds_hull = 0.0;            ///< convex hull
-  double seconds_triangulate = 0.0;     ///< region growing
+  std::size_t points_in = 0;          ///< points handed to the pipeline
+  std::size_t non_finite_dropped = 0; ///< NaN/Inf in x, y or z: skipped
+  std::size_t duplicates_merged = 0;  ///< points folded into another with equal XY
+  std::size_t distinct_points = 0;    ///< vertices of the triangulation
+  std::size_t hull_vertices = 0;      ///< vertices on the convex hull (collinear kept)
+  std::size_t triangles = 0;          ///< triangles output
+  std::size_t cells = 0;              ///< grid cells (nx * ny)
+  double cell_size = 0.0;             ///< grid cell edge length actually used
+  std::size_t local_searches =
+      0; ///< third-point searches settled in the edge rectangle
+  std::size_t widened_searches = 0; ///< searches that needed the widening stage
+  std::size_t cells_visited = 0;    ///< grid cells whose points were tested
+  double seconds_grid = 0.0;        ///< input conditioning + grid build
+  double seconds_hull = 0.0;        ///< convex hull
+  double seconds_triangulate = 0.0; ///< region growing
 };
 
 } // namespace pcl_vts

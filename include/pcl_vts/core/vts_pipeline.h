@@ -24,8 +24,7 @@ struct VtsOptions {
 };
 
 /// Checks every option; the message names the offending value.
-Status
-validateOptions(const VtsOptions& options);
+Status validateOptions(const VtsOptions& options);
 
 struct VtsResult {
   /// Vertices are the distinct XY positions (merged z applied); triangles are CCW,
@@ -43,8 +42,7 @@ struct VtsResult {
 
 /// Triangulates n points given as xyz triples (3n doubles). Never throws.
 /// On error, result.mesh is empty and the status says why.
-Status
-runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
-               VtsResult& result);
+Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
+                      VtsResult& result);
 
 } // namespace pcl_vts
