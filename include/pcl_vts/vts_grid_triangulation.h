@@ -120,13 +120,15 @@ class VTSGridTriangulation : public SurfaceReconstruction<PointInT> {
 
  private:
   /** \brief Runs the core on the points selected by indices_ and fills polygons
-   * with input_ ids. On failure: status kept, PCL_ERROR logged, polygons empty. */
-  bool triangulate(std::vector<pcl::Vertices>& polygons);
+   * with input_ ids. On failure: status kept, PCL_ERROR logged, polygons empty.
+   * \param[out] result the core's output; its source_index holds positions in
+   * indices_ */
+  bool triangulate(std::vector<pcl::Vertices>& polygons, pcl_vts::VtsResult& result);
 
-  /** \brief Calls apply(input id, z) for every vertex whose z (as float) differs
-   * from its source point's, i.e. vertices merged under MEAN_Z. */
+  /** \brief Calls apply(input id as std::size_t, z) for every vertex whose z (as float)
+   * differs from its source point's, i.e. vertices merged under MEAN_Z. */
   template <typename Apply>
-  void forEachChangedZ(Apply apply) const;
+  void forEachChangedZ(const pcl_vts::VtsResult& result, Apply apply) const;
 
   /** \brief False (status EMPTY_INPUT, logged) when no input cloud is set. */
   bool checkInput();
@@ -138,10 +140,6 @@ class VTSGridTriangulation : public SurfaceReconstruction<PointInT> {
   pcl_vts::DuplicateRule duplicate_rule_{pcl_vts::DuplicateRule::LOWEST_Z};
   pcl_vts::Status last_status_;
   pcl_vts::Diagnostics diagnostics_;
-  /** \brief Scratch kept between calls: the selected points as xyz doubles and the
-   * core's result (its source_index maps vertices to positions in xyz_). */
-  std::vector<double> xyz_;
-  pcl_vts::VtsResult result_;
 };
 
 } // namespace pcl

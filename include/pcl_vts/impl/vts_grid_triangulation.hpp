@@ -7,8 +7,8 @@
 #include <pcl_vts/core/vts_pipeline.h>
 #include <pcl_vts/vts_grid_triangulation.h>
 
+#include <pcl/PCLPointField.h>
 #include <pcl/console/print.h>
-#include <pcl/conversions.h>
 #include <pcl/types.h>
 
 #include <cstddef>
@@ -60,21 +60,20 @@ void pcl::VTSGridTriangulation<PointInT>::performReconstruction(
     pcl::PolygonMesh& output)
 {
   // The base class has already copied the whole input_ into output.cloud.
-  if (!triangulate(output.polygons))
+  pcl_vts::VtsResult result;
+  if (!triangulate(output.polygons, result))
     return;
   const pcl::PCLPointField* z_field = nullptr;
   for (const pcl::PCLPointField& field : output.cloud.fields)
     if (field.name == "z")
       z_field = &field;
-  // Every PCL xyz point type has a float z, so the guard never fires in practice.
+  // Every PCL xyz point type has a float z, so this guard never fires in practice.
   if (!z_field || z_field->datatype != pcl::PCLPointField::FLOAT32)
     return;
-  const std::size_t z_offset = z_field->offset;
+  unsigned char* data = output.cloud.data.data();
   const std::size_t point_step = output.cloud.point_step;
-  forEachChangedZ([&](pcl::index_t id, float z) {
-    std::memcpy(
-        &output.cloud.data[static_cast<std::size_t>(id) * point_step + z_offset], &z,
-        sizeof(float));
+  forEachChangedZ(result, [&](std::size_t id, float z) {
+    std::memcpy(data + id * point_step + z_field->offset, &z, sizeof(float));
   });
 }
 
@@ -83,18 +82,18 @@ void pcl::VTSGridTriangulation<PointInT>::performReconstruction(
     PointCloudIn& points, std::vector<pcl::Vertices>& polygons)
 {
   points = *input_;
-  if (!triangulate(polygons))
+  pcl_vts::VtsResult result;
+  if (!triangulate(polygons, result))
     return;
-  forEachChangedZ([&](pcl::index_t id, float z) { points[id].z = z; });
+  forEachChangedZ(result, [&](std::size_t id, float z) { points[id].z = z; });
 }
 
 template <typename PointInT>
 bool pcl::VTSGridTriangulation<PointInT>::triangulate(
-    std::vector<pcl::Vertices>& polygons)
+    std::vector<pcl::Vertices>& polygons, pcl_vts::VtsResult& result)
 {
   polygons.clear();
   diagnostics_ = pcl_vts::Diagnostics{};
-  result_ = pcl_vts::VtsResult{};
 
   pcl_vts::VtsOptions options;
   options.cell_size = cell_size_;
@@ -105,10 +104,10 @@ bool pcl::VTSGridTriangulation<PointInT>::triangulate(
     return false;
   }
 
-  // float -> double is exact; the core is translation-exact, so no offset here.
+  // float -> double is exact and the core is translation-exact: no offset here.
   const pcl::Indices& indices = *indices_;
   const std::size_t cloud_size = input_->size();
-  xyz_.resize(3 * indices.size());
+  std::vector<double> xyz(3 * indices.size());
   for (std::size_t i = 0; i < indices.size(); ++i) {
     const pcl::index_t id = indices[i];
     if (id < 0 || static_cast<std::size_t>(id) >= cloud_size) {
@@ -119,26 +118,27 @@ bool pcl::VTSGridTriangulation<PointInT>::triangulate(
                                       std::to_string(cloud_size) + " points"));
       return false;
     }
-    const PointInT& p = (*input_)[id];
-    xyz_[3 * i] = p.x;
-    xyz_[3 * i + 1] = p.y;
-    xyz_[3 * i + 2] = p.z;
+    const PointInT& p = (*input_)[static_cast<std::size_t>(id)];
+    xyz[3 * i] = p.x;
+    xyz[3 * i + 1] = p.y;
+    xyz[3 * i + 2] = p.z;
   }
 
-  status = pcl_vts::runVtsPipeline(xyz_.data(), indices.size(), options, result_);
-  diagnostics_ = result_.diagnostics;
+  status = pcl_vts::runVtsPipeline(xyz.data(), indices.size(), options, result);
+  diagnostics_ = result.diagnostics;
   if (!status.ok()) {
     fail(std::move(status));
     return false;
   }
 
-  const std::vector<pcl_vts::VertexId>& triangles = result_.mesh.triangles;
+  // Mesh vertex -> position in indices -> id in input_.
+  const std::vector<pcl_vts::VertexId>& triangles = result.mesh.triangles;
   polygons.resize(triangles.size() / 3);
   for (std::size_t t = 0; t < polygons.size(); ++t) {
     pcl::Indices& ids = polygons[t].vertices;
     ids.resize(3);
     for (std::size_t k = 0; k < 3; ++k)
-      ids[k] = indices[result_.source_index[triangles[3 * t + k]]];
+      ids[k] = indices[result.source_index[triangles[3 * t + k]]];
   }
   last_status_ = pcl_vts::Status::success();
   return true;
@@ -146,12 +146,13 @@ bool pcl::VTSGridTriangulation<PointInT>::triangulate(
 
 template <typename PointInT>
 template <typename Apply>
-void pcl::VTSGridTriangulation<PointInT>::forEachChangedZ(Apply apply) const
+void pcl::VTSGridTriangulation<PointInT>::forEachChangedZ(
+    const pcl_vts::VtsResult& result, Apply apply) const
 {
   const pcl::Indices& indices = *indices_;
-  for (std::size_t v = 0; v < result_.source_index.size(); ++v) {
-    const pcl::index_t id = indices[result_.source_index[v]];
-    const auto z = static_cast<float>(result_.mesh.z[v]);
+  for (std::size_t v = 0; v < result.source_index.size(); ++v) {
+    const auto id = static_cast<std::size_t>(indices[result.source_index[v]]);
+    const auto z = static_cast<float>(result.mesh.z[v]);
     if (z != (*input_)[id].z)
       apply(id, z);
   }
