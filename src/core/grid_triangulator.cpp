@@ -89,6 +89,7 @@ class RegionGrowth {
 } // namespace
 
 Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
+                       const CellSubdivision& subdivision,
                        const std::vector<VertexId>& hull,
                        std::vector<VertexId>& triangles,
                        std::vector<HalfedgeId>& halfedges, SearchStats& stats)
@@ -101,7 +102,7 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   for (std::size_t k = 0; k < h; ++k)
     hull_next[hull[k]] = hull[(k + 1) % h];
 
-  MediatrixSearch search(grid, pyramid);
+  MediatrixSearch search(grid, pyramid, subdivision);
   RegionGrowth growth(n, expected, triangles, halfedges);
   std::vector<HalfedgeId> pool;
 

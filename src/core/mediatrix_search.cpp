@@ -62,16 +62,17 @@ SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& p)
   return disk;
 }
 
-MediatrixSearch::MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid)
+MediatrixSearch::MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid,
+                                 const CellSubdivision& subdivision)
     : grid_(grid)
     , pyramid_(pyramid)
+    , sub_(subdivision)
 {}
 
-void MediatrixSearch::testCell(CellId cell, Query& q)
+void MediatrixSearch::testRange(std::uint32_t begin, std::uint32_t end, Query& q)
 {
   ++stats_.cells_visited;
-  const std::uint32_t end = grid_.cell_start[cell + 1];
-  for (std::uint32_t k = grid_.cell_start[cell]; k < end; ++k) {
+  for (std::uint32_t k = begin; k < end; ++k) {
     if (k == q.a || k == q.b)
       continue;
     const Point2& p = grid_.points[k];
@@ -111,9 +112,28 @@ bool MediatrixSearch::diskInsideWindow(const SafeDisk& disk, const Window& w) co
          grid_.row(disk.cy + reach) <= w.j1;
 }
 
+bool MediatrixSearch::windowHasCrowdedCell(const Window& w) const
+{
+  if (!sub_.any())
+    return false;
+  for (std::uint32_t j = w.j0; j <= w.j1; ++j)
+    for (std::uint32_t i = w.i0; i <= w.i1; ++i)
+      if (sub_.root[grid_.cellId(i, j)] != INVALID_ID)
+        return true;
+  return false;
+}
+
 void MediatrixSearch::blockBounds(const Block& b, double& x0, double& y0, double& x1,
                                   double& y1) const
 {
+  if (b.node != INVALID_ID) {
+    const SubCell& n = sub_.nodes[b.node];
+    x0 = n.x0 - grid_.slack;
+    y0 = n.y0 - grid_.slack;
+    x1 = n.x1 + grid_.slack;
+    y1 = n.y1 + grid_.slack;
+    return;
+  }
   const double span = grid_.cell_size * static_cast<double>(1u << b.level);
   x0 = grid_.origin_x + span * b.i - grid_.slack;
   y0 = grid_.origin_y + span * b.j - grid_.slack;
@@ -131,7 +151,7 @@ void MediatrixSearch::widen(Query& q, const Window& done)
 
   heap_.clear();
   const auto top = static_cast<std::uint32_t>(pyramid_.levels.size() - 1);
-  heap_.push_back({0.0, top, 0, 0});
+  heap_.push_back({0.0, top, 0, 0, INVALID_ID});
   while (!heap_.empty()) {
     std::pop_heap(heap_.begin(), heap_.end(), cmp);
     const Block blk = heap_.back();
@@ -162,9 +182,29 @@ void MediatrixSearch::widen(Query& q, const Window& done)
     if (!maybe_left)
       continue;
 
+    const auto push = [&](Block child) {
+      double bx0, by0, bx1, by1;
+      blockBounds(child, bx0, by0, bx1, by1);
+      child.key = squaredDistanceToRect(mx, my, bx0, by0, bx1, by1);
+      heap_.push_back(child);
+      std::push_heap(heap_.begin(), heap_.end(), cmp);
+    };
+    if (blk.node != INVALID_ID) { // inside a crowded cell
+      const SubCell& n = sub_.nodes[blk.node];
+      if (n.first_child == INVALID_ID)
+        testRange(n.begin, n.end, q);
+      else
+        for (std::uint32_t c = n.first_child; c < n.first_child + 4; ++c)
+          if (sub_.nodes[c].end > sub_.nodes[c].begin)
+            push({0.0, 0, 0, 0, c});
+      continue;
+    }
     if (blk.level == 0) {
-      if (!done.contains(blk.i, blk.j))
-        testCell(grid_.cellId(blk.i, blk.j), q);
+      const CellId cell = grid_.cellId(blk.i, blk.j);
+      if (sub_.any() && sub_.root[cell] != INVALID_ID)
+        push({0.0, 0, blk.i, blk.j, sub_.root[cell]});
+      else if (!done.contains(blk.i, blk.j))
+        testCell(cell, q);
       continue;
     }
     const std::uint32_t child_level = blk.level - 1;
@@ -173,12 +213,7 @@ void MediatrixSearch::widen(Query& q, const Window& done)
       for (std::uint32_t ci = 2 * blk.i; ci < std::min(2 * blk.i + 2, fine.nx); ++ci) {
         if (!pyramid_.occupied(child_level, ci, cj))
           continue;
-        Block child{0.0, child_level, ci, cj};
-        double bx0, by0, bx1, by1;
-        blockBounds(child, bx0, by0, bx1, by1);
-        child.key = squaredDistanceToRect(mx, my, bx0, by0, bx1, by1);
-        heap_.push_back(child);
-        std::push_heap(heap_.begin(), heap_.end(), cmp);
+        push({0.0, child_level, ci, cj, INVALID_ID});
       }
   }
 }
@@ -200,7 +235,7 @@ VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
            std::min(std::max(ja, jb) + 1, grid_.ny - 1)};
   const std::size_t cells = static_cast<std::size_t>(w.i1 - w.i0 + 1) *
                             static_cast<std::size_t>(w.j1 - w.j0 + 1);
-  if (cells > MAX_LOCAL_CELLS) {
+  if (cells > MAX_LOCAL_CELLS || windowHasCrowdedCell(w)) {
     w = Window{1, 0, 1, 0};
   } else {
     // Nearest circumcentre first: start at the cell where the mediatrix enters the

@@ -10,8 +10,7 @@
 
 namespace pcl_vts {
 
-bool
-TriangleMesh::rebuildHalfedges()
+bool TriangleMesh::rebuildHalfedges()
 {
   const std::size_t count = triangles.size();
   halfedges.assign(count, INVALID_ID);
@@ -40,12 +39,10 @@ TriangleMesh::rebuildHalfedges()
       if (triangles[a] != triangles[b]) {
         halfedges[a] = b;
         halfedges[b] = a;
-      }
-      else {
+      } else {
         manifold = false; // the same directed edge twice: an orientation flip
       }
-    }
-    else if (j - i > 2) {
+    } else if (j - i > 2) {
       manifold = false;
     }
     i = j;

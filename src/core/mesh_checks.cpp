@@ -14,15 +14,13 @@
 namespace pcl_vts {
 namespace {
 
-void
-setWhy(std::string* why, const std::string& text)
+void setWhy(std::string* why, const std::string& text)
 {
   if (why)
     *why = text;
 }
 
-std::string
-triangleText(const TriangleMesh& mesh, TriangleId t)
+std::string triangleText(const TriangleMesh& mesh, TriangleId t)
 {
   std::ostringstream out;
   out << "triangle " << t << " (vertices " << mesh.triangles[3 * t] << ", "
@@ -30,8 +28,7 @@ triangleText(const TriangleMesh& mesh, TriangleId t)
   return out.str();
 }
 
-std::string
-halfedgeText(const TriangleMesh& mesh, HalfedgeId e)
+std::string halfedgeText(const TriangleMesh& mesh, HalfedgeId e)
 {
   std::ostringstream out;
   out << "halfedge " << e << " (" << mesh.triangles[e] << " -> "
@@ -40,8 +37,7 @@ halfedgeText(const TriangleMesh& mesh, HalfedgeId e)
 }
 
 /// Triangles come in threes and every id names an existing vertex.
-bool
-trianglesWellFormed(const TriangleMesh& mesh, std::string* why)
+bool trianglesWellFormed(const TriangleMesh& mesh, std::string* why)
 {
   if (mesh.xy.size() != mesh.z.size()) {
     std::ostringstream out;
@@ -59,8 +55,7 @@ trianglesWellFormed(const TriangleMesh& mesh, std::string* why)
     if (mesh.triangles[i] >= mesh.xy.size()) {
       std::ostringstream out;
       out << triangleText(mesh, static_cast<TriangleId>(i / 3)) << " uses vertex "
-          << mesh.triangles[i] << " but the mesh has " << mesh.xy.size()
-          << " vertices";
+          << mesh.triangles[i] << " but the mesh has " << mesh.xy.size() << " vertices";
       setWhy(why, out.str());
       return false;
     }
@@ -75,8 +70,7 @@ struct EdgeUse {
   HalfedgeId e;
 };
 
-std::vector<EdgeUse>
-sortedEdgeUses(const TriangleMesh& mesh)
+std::vector<EdgeUse> sortedEdgeUses(const TriangleMesh& mesh)
 {
   std::vector<EdgeUse> uses;
   uses.reserve(mesh.triangles.size());
@@ -96,8 +90,7 @@ sortedEdgeUses(const TriangleMesh& mesh)
 
 } // namespace
 
-bool
-allTrianglesCcw(const TriangleMesh& mesh, std::string* why)
+bool allTrianglesCcw(const TriangleMesh& mesh, std::string* why)
 {
   if (!trianglesWellFormed(mesh, why))
     return false;
@@ -107,17 +100,16 @@ allTrianglesCcw(const TriangleMesh& mesh, std::string* why)
     const Point2& c = mesh.xy[mesh.triangles[3 * t + 2]];
     const Sign s = orient2d(a, b, c);
     if (s != Sign::POSITIVE) {
-      setWhy(why, triangleText(mesh, static_cast<TriangleId>(t)) +
-                      (s == Sign::ZERO ? " is degenerate (collinear)"
-                                       : " is clockwise"));
+      setWhy(why,
+             triangleText(mesh, static_cast<TriangleId>(t)) +
+                 (s == Sign::ZERO ? " is degenerate (collinear)" : " is clockwise"));
       return false;
     }
   }
   return true;
 }
 
-bool
-halfedgesConsistent(const TriangleMesh& mesh, std::string* why)
+bool halfedgesConsistent(const TriangleMesh& mesh, std::string* why)
 {
   if (!trianglesWellFormed(mesh, why))
     return false;
@@ -134,14 +126,18 @@ halfedgesConsistent(const TriangleMesh& mesh, std::string* why)
     const HalfedgeId twin = mesh.halfedges[e];
     if (twin == INVALID_ID)
       continue;
+    if (twin < count && twin != e && mesh.halfedges[twin] == e &&
+        mesh.triangles[twin] == mesh.triangles[nextHalfedge(e)] &&
+        mesh.triangles[nextHalfedge(twin)] == mesh.triangles[e])
+      continue; // the common case, without building a message
     std::ostringstream out;
     if (twin >= count)
       out << halfedgeText(mesh, e) << " has twin " << twin << ", out of range";
     else if (twin == e)
       out << halfedgeText(mesh, e) << " is its own twin";
     else if (mesh.halfedges[twin] != e)
-      out << halfedgeText(mesh, e) << " has twin " << twin
-          << " whose twin is " << mesh.halfedges[twin];
+      out << halfedgeText(mesh, e) << " has twin " << twin << " whose twin is "
+          << mesh.halfedges[twin];
     else if (mesh.triangles[twin] != mesh.triangles[nextHalfedge(e)] ||
              mesh.triangles[nextHalfedge(twin)] != mesh.triangles[e])
       out << halfedgeText(mesh, e) << " has twin " << halfedgeText(mesh, twin)
@@ -154,8 +150,7 @@ halfedgesConsistent(const TriangleMesh& mesh, std::string* why)
   return true;
 }
 
-bool
-isEdgeManifold(const TriangleMesh& mesh, std::string* why)
+bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
 {
   if (!trianglesWellFormed(mesh, why))
     return false;
@@ -175,16 +170,16 @@ isEdgeManifold(const TriangleMesh& mesh, std::string* why)
     const auto hi = static_cast<VertexId>(uses[i].key & 0xffffffffu);
     if (j - i > 2) {
       std::ostringstream out;
-      out << "edge " << lo << "-" << hi << " is used by " << (j - i)
-          << " triangles (" << triangleOf(uses[i].e) << ", "
-          << triangleOf(uses[i + 1].e) << ", " << triangleOf(uses[i + 2].e) << ")";
+      out << "edge " << lo << "-" << hi << " is used by " << (j - i) << " triangles ("
+          << triangleOf(uses[i].e) << ", " << triangleOf(uses[i + 1].e) << ", "
+          << triangleOf(uses[i + 2].e) << ")";
       setWhy(why, out.str());
       return false;
     }
     if (j - i == 2 && uses[i].from == uses[i + 1].from) {
       std::ostringstream out;
-      out << "edge " << uses[i].from << " -> "
-          << (uses[i].from == lo ? hi : lo) << " is used in the same direction by "
+      out << "edge " << uses[i].from << " -> " << (uses[i].from == lo ? hi : lo)
+          << " is used in the same direction by "
           << "triangles " << triangleOf(uses[i].e) << " and "
           << triangleOf(uses[i + 1].e);
       setWhy(why, out.str());
@@ -195,8 +190,7 @@ isEdgeManifold(const TriangleMesh& mesh, std::string* why)
   return true;
 }
 
-bool
-isDelaunay(const TriangleMesh& mesh, std::string* why)
+bool isDelaunay(const TriangleMesh& mesh, std::string* why)
 {
   if (!halfedgesConsistent(mesh, why))
     return false;
@@ -223,8 +217,7 @@ isDelaunay(const TriangleMesh& mesh, std::string* why)
   return true;
 }
 
-bool
-allVerticesUsed(const TriangleMesh& mesh, std::string* why)
+bool allVerticesUsed(const TriangleMesh& mesh, std::string* why)
 {
   if (!trianglesWellFormed(mesh, why))
     return false;
@@ -241,8 +234,7 @@ allVerticesUsed(const TriangleMesh& mesh, std::string* why)
   return true;
 }
 
-long long
-eulerCharacteristic(const TriangleMesh& mesh)
+long long eulerCharacteristic(const TriangleMesh& mesh)
 {
   std::vector<VertexId> vertices(mesh.triangles);
   std::sort(vertices.begin(), vertices.end());
@@ -256,15 +248,13 @@ eulerCharacteristic(const TriangleMesh& mesh)
          static_cast<long long>(mesh.triangleCount());
 }
 
-std::size_t
-boundaryEdgeCount(const TriangleMesh& mesh)
+std::size_t boundaryEdgeCount(const TriangleMesh& mesh)
 {
   return static_cast<std::size_t>(
       std::count(mesh.halfedges.begin(), mesh.halfedges.end(), INVALID_ID));
 }
 
-double
-twiceArea(const TriangleMesh& mesh)
+double twiceArea(const TriangleMesh& mesh)
 {
   // Neumaier summation: millions of small positive terms, sum compared at 1e-9.
   double sum = 0.0;

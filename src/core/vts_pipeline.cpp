@@ -1,10 +1,12 @@
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
+#include <pcl_vts/core/cell_subdivision.h>
 #include <pcl_vts/core/convex_hull.h>
 #include <pcl_vts/core/grid_triangulator.h>
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/core/vts_pipeline.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -14,6 +16,8 @@ namespace {
 
 // Beyond this magnitude the search's floating-point disk bounds would overflow.
 constexpr double MAX_ABS_COORDINATE = 1e60;
+// Below this extent cell sizes and circle bounds would underflow.
+constexpr double MIN_EXTENT = 1e-80;
 
 using Clock = std::chrono::steady_clock;
 
@@ -62,6 +66,24 @@ Status conditionInput(const double* xyz, std::size_t n, std::vector<Point2>& xy,
   return Status::success();
 }
 
+/// Rejects an XY extent so small that cell sizes and circle bounds would underflow.
+Status checkExtent(const std::vector<Point2>& xy)
+{
+  double xmin = xy[0].x, xmax = xmin, ymin = xy[0].y, ymax = ymin;
+  for (const Point2& p : xy) {
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.y);
+    ymax = std::max(ymax, p.y);
+  }
+  const double extent = std::max(xmax - xmin, ymax - ymin);
+  if (extent > 0.0 && extent < MIN_EXTENT)
+    return Status::error(StatusCode::COORDINATE_RANGE,
+                         "the XY extent " + formatNumber(extent) + " is below " +
+                             formatNumber(MIN_EXTENT) + "; rescale the coordinates");
+  return Status::success();
+}
+
 } // namespace
 
 Status validateOptions(const VtsOptions& options)
@@ -107,6 +129,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   std::vector<std::uint32_t> source;
   if (Status s = conditionInput(xyz, n, xy, z, source, diag); !s.ok())
     return s;
+  if (Status s = checkExtent(xy); !s.ok())
+    return s;
   CellGrid grid;
   std::vector<std::uint32_t> order;
   if (Status s = buildCellGrid(xy, options.cell_size, grid, order); !s.ok())
@@ -120,6 +144,25 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   std::vector<VertexId> slot_to_vertex;
   diag.duplicates_merged =
       mergeDuplicates(grid, options.duplicate_rule, vz, vsource, slot_to_vertex);
+  CellSubdivision subdivision;
+  {
+    std::vector<std::uint32_t> old_slot;
+    subdivideCrowdedCells(grid, subdivision, old_slot);
+    if (!old_slot.empty()) { // crowded cells were reordered: follow the points
+      std::vector<VertexId> new_id(old_slot.size());
+      std::vector<double> z2(old_slot.size());
+      std::vector<std::uint32_t> source2(old_slot.size());
+      for (std::size_t k = 0; k < old_slot.size(); ++k) {
+        new_id[old_slot[k]] = static_cast<VertexId>(k);
+        z2[k] = vz[old_slot[k]];
+        source2[k] = vsource[old_slot[k]];
+      }
+      vz.swap(z2);
+      vsource.swap(source2);
+      for (VertexId& v : slot_to_vertex)
+        v = new_id[v];
+    }
+  }
   diag.distinct_points = grid.points.size();
   diag.cells = grid.cellCount();
   diag.cell_size = grid.cell_size;
@@ -148,8 +191,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   start = Clock::now();
   TriangleMesh& mesh = result.mesh;
   SearchStats stats;
-  Status grown = triangulateGrid(grid, pyramid, result.hull, mesh.triangles,
-                                 mesh.halfedges, stats);
+  Status grown = triangulateGrid(grid, pyramid, subdivision, result.hull,
+                                 mesh.triangles, mesh.halfedges, stats);
   diag.seconds_triangulate = secondsSince(start);
   diag.local_searches = stats.local;
   diag.widened_searches = stats.widened;

@@ -17,12 +17,14 @@ namespace pcl_vts {
 /// Triangulates the grid points.
 /// \param[in] grid distinct points in cell order
 /// \param[in] pyramid occupancy pyramid of grid
+/// \param[in] subdivision quadtrees of the crowded cells
 /// \param[in] hull CCW convex hull of grid.points (convexHull), at least 3 vertices
 /// \param[out] triangles 3 grid point ids per triangle, CCW
 /// \param[out] halfedges twin per halfedge, INVALID_ID on the hull
 /// \param[out] stats search statistics
 /// \return INTERNAL_ERROR if the region growing failed to tile the hull (a bug)
 Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
+                       const CellSubdivision& subdivision,
                        const std::vector<VertexId>& hull,
                        std::vector<VertexId>& triangles,
                        std::vector<HalfedgeId>& halfedges, SearchStats& stats);

@@ -8,6 +8,7 @@
 
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
+#include <pcl_vts/core/cell_subdivision.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -36,7 +37,8 @@ SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& p);
 /// Reusable search state (one per thread): the block heap.
 class MediatrixSearch {
  public:
-  MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid);
+  MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid,
+                  const CellSubdivision& subdivision);
 
   /// The Delaunay third point of the edge a->b on its left side (grid point ids), or
   /// INVALID_ID when no point lies strictly left of the line a b.
@@ -50,6 +52,7 @@ class MediatrixSearch {
     std::uint32_t level;
     std::uint32_t i;
     std::uint32_t j;
+    std::uint32_t node; ///< SubCell of a crowded cell, or INVALID_ID (pyramid block)
   };
   struct Window {
     std::uint32_t i0, i1, j0, j1; ///< inclusive; empty when i0 > i1
@@ -67,7 +70,12 @@ class MediatrixSearch {
     void refreshDisk(const CellGrid& grid);
   };
 
-  void testCell(CellId cell, Query& q);
+  void testRange(std::uint32_t begin, std::uint32_t end, Query& q);
+  void testCell(CellId cell, Query& q)
+  {
+    testRange(grid_.cell_start[cell], grid_.cell_start[cell + 1], q);
+  }
+  bool windowHasCrowdedCell(const Window& w) const;
   bool diskInsideWindow(const SafeDisk& disk, const Window& w) const;
   void widen(Query& q, const Window& done);
   /// World rectangle of a block, widened by the grid slack.
@@ -76,6 +84,7 @@ class MediatrixSearch {
 
   const CellGrid& grid_;
   const CellPyramid& pyramid_;
+  const CellSubdivision& sub_;
   std::vector<Block> heap_;
   SearchStats stats_;
 };

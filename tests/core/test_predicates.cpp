@@ -1,0 +1,564 @@
+// orient2d, incircle and incirclePerturbed against exact rational arithmetic (every
+// double is a dyadic rational, so the reference is exact). Inputs include points a few
+// ulps off a line or circle where the plain double formula is shown to be wrong,
+// huge, tiny (subnormal) and UTM-sized coordinates, and exactly cocircular integer
+// points for the symbolic perturbation.
+#include "support/generators.h"
+
+#include <pcl_vts/core/predicates.h>
+
+#include <boost/multiprecision/cpp_int.hpp>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace pcl_vts {
+namespace {
+
+using Rational = boost::multiprecision::cpp_rational;
+using BigInt = boost::multiprecision::cpp_int;
+
+Rational exact(double v)
+{
+  if (v == 0.0)
+    return Rational(0);
+  int e = 0;
+  const double m = std::frexp(v, &e); // v = m 2^e, 0.5 <= |m| < 1
+  const auto mantissa = static_cast<long long>(std::ldexp(m, 53));
+  e -= 53;
+  Rational r(mantissa);
+  if (e > 0)
+    r *= Rational(BigInt(1) << e);
+  else if (e < 0)
+    r /= Rational(BigInt(1) << -e);
+  return r;
+}
+
+Sign toSign(int s)
+{
+  return s > 0 ? Sign::POSITIVE : (s < 0 ? Sign::NEGATIVE : Sign::ZERO);
+}
+
+Sign negate(Sign s)
+{
+  return toSign(-static_cast<int>(s));
+}
+
+Sign orientRational(const Point2& a, const Point2& b, const Point2& c)
+{
+  const Rational acx = exact(a.x) - exact(c.x), acy = exact(a.y) - exact(c.y);
+  const Rational bcx = exact(b.x) - exact(c.x), bcy = exact(b.y) - exact(c.y);
+  const Rational det = acx * bcy - acy * bcx;
+  return toSign(det.sign());
+}
+
+/// v * 2^1074 as an integer: exact for every finite double (subnormals included).
+BigInt scaledInteger(double v)
+{
+  const Rational r = exact(v) * Rational(BigInt(1) << 1074);
+  return numerator(r);
+}
+
+/// Sign of det | X_i - X_d, Y_i - Y_d, W_i - W_d |, i = a, b, c: the 4x4 lifted
+/// determinant | x y w 1 | (rows a, b, c, d) after subtracting row d, with x, y scaled
+/// by 2^1074 and w by 2^W_SHIFT (both positive factors: the sign is unchanged).
+constexpr int W_SHIFT = 8000;
+constexpr int EPS_BITS = 2000; // eps = 2^-2000
+
+Sign liftedDeterminant(const std::array<Point2, 4>& p,
+                       const std::array<int, 4>& eps_power)
+{
+  std::array<BigInt, 4> x, y, w;
+  for (int i = 0; i < 4; ++i) {
+    x[i] = scaledInteger(p[i].x);
+    y[i] = scaledInteger(p[i].y);
+    // |p|^2 = (x^2 + y^2) 2^-2148; eps^k = 2^(-2000 k): both integers at 2^8000.
+    w[i] = (x[i] * x[i] + y[i] * y[i]) << (W_SHIFT - 2 * 1074);
+    if (eps_power[i] > 0)
+      w[i] += BigInt(1) << (W_SHIFT - EPS_BITS * eps_power[i]);
+  }
+  BigInt m[3][3];
+  for (int i = 0; i < 3; ++i) {
+    m[i][0] = x[i] - x[3];
+    m[i][1] = y[i] - y[3];
+    m[i][2] = w[i] - w[3];
+  }
+  const BigInt det = m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) -
+                     m[1][0] * (m[0][1] * m[2][2] - m[2][1] * m[0][2]) +
+                     m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2]);
+  return toSign(det.sign());
+}
+
+Sign incircleRational(const Point2& a, const Point2& b, const Point2& c,
+                      const Point2& d)
+{
+  return liftedDeterminant({a, b, c, d}, {0, 0, 0, 0});
+}
+
+/// The perturbed lift |p|^2 + eps^rank(p), rank 1 for the lexicographically smallest
+/// point (the largest perturbation), eps = 2^-2000: far below any cofactor of the
+/// inputs used here (small dyadic coordinates).
+Sign incirclePerturbedRational(const Point2& a, const Point2& b, const Point2& c,
+                               const Point2& d)
+{
+  const std::array<Point2, 4> p = {a, b, c, d};
+  std::array<int, 4> order = {0, 1, 2, 3};
+  std::sort(order.begin(), order.end(),
+            [&](int l, int r) { return lexLess(p[l], p[r]); });
+  std::array<int, 4> rank{};
+  for (int k = 0; k < 4; ++k)
+    rank[order[k]] = k + 1;
+  return liftedDeterminant(p, rank);
+}
+
+/// The textbook double formulas the predicates must improve on.
+Sign naiveOrient(const Point2& a, const Point2& b, const Point2& c)
+{
+  const double det = (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x);
+  return det > 0 ? Sign::POSITIVE : (det < 0 ? Sign::NEGATIVE : Sign::ZERO);
+}
+
+Sign naiveIncircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
+{
+  const double adx = a.x - d.x, ady = a.y - d.y;
+  const double bdx = b.x - d.x, bdy = b.y - d.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  const double det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) +
+                     (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy) +
+                     (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+  return det > 0 ? Sign::POSITIVE : (det < 0 ? Sign::NEGATIVE : Sign::ZERO);
+}
+
+double stepUlps(double v, int k)
+{
+  const double dir = k > 0 ? std::numeric_limits<double>::infinity()
+                           : -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < std::abs(k); ++i)
+    v = std::nextafter(v, dir);
+  return v;
+}
+
+Point2 scaled(const Point2& p, int exponent)
+{
+  return {std::ldexp(p.x, exponent), std::ldexp(p.y, exponent)};
+}
+
+/// Checks orient2d and the exact slow path against rationals; returns whether the
+/// naive formula was wrong.
+bool expectOrientExact(const Point2& a, const Point2& b, const Point2& c)
+{
+  const Sign expected = orientRational(a, b, c);
+  EXPECT_EQ(orient2d(a, b, c), expected)
+      << "a=(" << a.x << "," << a.y << ") b=(" << b.x << "," << b.y << ") c=(" << c.x
+      << "," << c.y << ")";
+  EXPECT_EQ(detail::orient2dExact(a, b, c), expected);
+  return naiveOrient(a, b, c) != expected;
+}
+
+/// What the naive formula got wrong: any answer, and strict sign flips.
+struct NaiveErrors {
+  int wrong = 0;
+  int flipped = 0;
+  NaiveErrors& operator+=(const NaiveErrors& o)
+  {
+    wrong += o.wrong;
+    flipped += o.flipped;
+    return *this;
+  }
+};
+
+NaiveErrors expectIncircleExact(const Point2& a, const Point2& b, const Point2& c,
+                                const Point2& d)
+{
+  const Sign expected = incircleRational(a, b, c, d);
+  EXPECT_EQ(incircle(a, b, c, d), expected)
+      << "a=(" << a.x << "," << a.y << ") b=(" << b.x << "," << b.y << ") c=(" << c.x
+      << "," << c.y << ") d=(" << d.x << "," << d.y << ")";
+  EXPECT_EQ(detail::incircleExact(a, b, c, d), expected);
+  const Sign naive = naiveIncircle(a, b, c, d);
+  NaiveErrors errors;
+  errors.wrong = naive != expected;
+  errors.flipped = naive != expected && naive != Sign::ZERO && expected != Sign::ZERO;
+  return errors;
+}
+
+Point2 randomPoint(std::mt19937_64& rng, double lo, double hi)
+{
+  std::uniform_real_distribution<double> u(lo, hi);
+  const double x = u(rng);
+  return {x, u(rng)};
+}
+
+// Shewchuk's example: a walks a 64 x 64 ulp grid around a point of the line through b
+// and c. Roughly half the naive answers are wrong there.
+std::vector<std::array<Point2, 3>> nearLineTriples(const Point2& a0, const Point2& b,
+                                                   const Point2& c)
+{
+  std::vector<std::array<Point2, 3>> triples;
+  for (int i = -32; i < 32; ++i)
+    for (int j = -32; j < 32; ++j)
+      triples.push_back({Point2{stepUlps(a0.x, i), stepUlps(a0.y, j)}, b, c});
+  return triples;
+}
+
+TEST(Orient2d, MatchesExactOnRandomPoints)
+{
+  std::mt19937_64 rng(1);
+  for (double scale : {1e-3, 1.0, 1e3, 1e9}) {
+    for (int k = 0; k < 2000; ++k)
+      expectOrientExact(randomPoint(rng, -scale, scale),
+                        randomPoint(rng, -scale, scale),
+                        randomPoint(rng, -scale, scale));
+  }
+}
+
+TEST(Orient2d, ExactWhereNaiveFormulaIsWrongNearALine)
+{
+  int naive_wrong = 0, zero = 0;
+  for (const auto& t : nearLineTriples({0.5, 0.5}, {12.0, 12.0}, {24.0, 24.0})) {
+    naive_wrong += expectOrientExact(t[0], t[1], t[2]);
+    zero += orient2d(t[0], t[1], t[2]) == Sign::ZERO;
+  }
+  // The test proves something only if the naive formula actually fails here.
+  EXPECT_GT(naive_wrong, 100);
+  EXPECT_GT(zero, 0); // the points exactly on the line are found too
+}
+
+/// x, y with g = gcd(p, q) = p x + q y (extended Euclid).
+long long extendedGcd(long long p, long long q, long long& x, long long& y)
+{
+  if (q == 0) {
+    x = 1;
+    y = 0;
+    return p;
+  }
+  long long x1 = 0, y1 = 0;
+  const long long g = extendedGcd(q, p % q, x1, y1);
+  x = y1;
+  y = x1 - (p / q) * y1;
+  return g;
+}
+
+TEST(Orient2d, ExactNearALineAtUtmMagnitudes)
+{
+  // At UTM magnitudes every difference of nearby coordinates is exact (Sterbenz), so
+  // the naive formula fails only when the cross product, in ulp^2 units, is tiny
+  // against the products. Build such points: on the ulp grid U = 2^-30 around
+  // (5e5, 5.4e6), the line from b along the coprime step (p, q) ~ 1 m, and a at
+  // integer offset (-y, x) with p x + q y = 1, i.e. exactly one ulp^2 off the line.
+  const double U = 0x1p-30;
+  const Point2 b = {5.0e5, 5.4e6};
+  std::mt19937_64 rng(2);
+  std::uniform_int_distribution<long long> step(1LL << 29, 1LL << 31);
+  int naive_wrong = 0, tested = 0;
+  while (tested < 250) {
+    const long long p = step(rng), q = step(rng);
+    long long x = 0, y = 0;
+    if (extendedGcd(p, q, x, y) != 1)
+      continue;
+    const Point2 c = {b.x + static_cast<double>(3 * p) * U,
+                      b.y + static_cast<double>(3 * q) * U};
+    for (long long j = -2; j <= 2; ++j) {
+      const double ax = static_cast<double>(-y + j * p),
+                   ay = static_cast<double>(x + j * q);
+      const Point2 a = {b.x + ax * U, b.y + ay * U};
+      ASSERT_EQ(a.x - b.x, ax * U); // on the grid: the construction is exact
+      ASSERT_EQ(a.y - b.y, ay * U);
+      EXPECT_EQ(orient2d(b, c, a), Sign::POSITIVE) << "cross product = +1 ulp^2";
+      EXPECT_EQ(orient2d(c, b, a), Sign::NEGATIVE);
+      naive_wrong += expectOrientExact(a, b, c);
+      ++tested;
+    }
+  }
+  EXPECT_GT(naive_wrong, tested / 2);
+}
+
+TEST(Orient2d, ExactForHugeCoordinates)
+{
+  // Shewchuk's grid scaled by 2^990: exactly the same signs, but every naive product
+  // overflows (1e300^2 = inf).
+  int naive_wrong = 0;
+  for (const auto& t : nearLineTriples({0.5, 0.5}, {12.0, 12.0}, {24.0, 24.0})) {
+    const Point2 a = scaled(t[0], 990), b = scaled(t[1], 990), c = scaled(t[2], 990);
+    naive_wrong += expectOrientExact(a, b, c);
+    EXPECT_EQ(orient2d(a, b, c), orient2d(t[0], t[1], t[2]));
+  }
+  EXPECT_GT(naive_wrong, 0);
+  std::mt19937_64 rng(3);
+  for (int k = 0; k < 500; ++k)
+    expectOrientExact(randomPoint(rng, -1e300, 1e300), randomPoint(rng, -1e300, 1e300),
+                      randomPoint(rng, -1e300, 1e300));
+  const double big = std::numeric_limits<double>::max();
+  expectOrientExact({-big, -big}, {big, -big}, {big, big});
+  expectOrientExact({-big, -big}, {0.0, 0.0}, {big, big});
+}
+
+TEST(Orient2d, ExactForTinyAndSubnormalCoordinates)
+{
+  int naive_wrong = 0;
+  for (const auto& t : nearLineTriples({0.5, 0.5}, {12.0, 12.0}, {24.0, 24.0}))
+    naive_wrong += expectOrientExact(scaled(t[0], -1000), scaled(t[1], -1000),
+                                     scaled(t[2], -1000));
+  EXPECT_GT(naive_wrong, 0);
+  // Integer multiples of the smallest subnormal: the exact sign is the integer one,
+  // while every naive product underflows to zero.
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  std::mt19937_64 rng(4);
+  std::uniform_int_distribution<int> coord(-1000, 1000), off(-1, 1);
+  for (int k = 0; k < 2000; ++k) {
+    const int ax = coord(rng), ay = coord(rng), dx = coord(rng), dy = coord(rng);
+    const int t = coord(rng) % 7;
+    const Point2 a = {ax * tiny, ay * tiny};
+    const Point2 b = {(ax + dx) * tiny, (ay + dy) * tiny};
+    const Point2 c = {(ax + t * dx + off(rng)) * tiny, (ay + t * dy + off(rng)) * tiny};
+    const long long integer_det =
+        static_cast<long long>(dx) * (static_cast<long long>(c.y / tiny) - ay) -
+        static_cast<long long>(dy) * (static_cast<long long>(c.x / tiny) - ax);
+    naive_wrong += expectOrientExact(a, b, c);
+    EXPECT_EQ(orient2d(a, b, c),
+              toSign(integer_det > 0 ? 1 : (integer_det < 0 ? -1 : 0)));
+  }
+  for (int k = 0; k < 500; ++k)
+    expectOrientExact(randomPoint(rng, -1e-300, 1e-300),
+                      randomPoint(rng, -1e-300, 1e-300),
+                      randomPoint(rng, -1e-300, 1e-300));
+}
+
+TEST(Orient2d, AntisymmetricAndCyclic)
+{
+  std::mt19937_64 rng(5);
+  for (const auto& t : nearLineTriples({0.5, 0.5}, {12.0, 12.0}, {24.0, 24.0})) {
+    const Sign s = orient2d(t[0], t[1], t[2]);
+    EXPECT_EQ(orient2d(t[1], t[2], t[0]), s);
+    EXPECT_EQ(orient2d(t[1], t[0], t[2]), negate(s));
+  }
+}
+
+/// a, b, c on a circle, d a few ulps around a fourth point of it. With the centre
+/// off the origin and radius and coordinates of similar size, the differences in the
+/// naive formula are rounded and its sign is often wrong.
+NaiveErrors checkNearCircle(const Point2& centre, double radius, double t0, int ulps)
+{
+  const auto on = [&](double t) {
+    return Point2{centre.x + radius * std::cos(t), centre.y + radius * std::sin(t)};
+  };
+  const Point2 a = on(t0), b = on(t0 + 2.1), c = on(t0 + 3.9);
+  const Point2 d0 = on(t0 + 5.3);
+  NaiveErrors errors;
+  for (int i = -ulps; i <= ulps; ++i)
+    for (int j = -ulps; j <= ulps; ++j)
+      errors += expectIncircleExact(a, b, c, {stepUlps(d0.x, i), stepUlps(d0.y, j)});
+  return errors;
+}
+
+TEST(Incircle, MatchesExactOnRandomPoints)
+{
+  std::mt19937_64 rng(6);
+  for (double scale : {1e-3, 1.0, 1e3, 1e9}) {
+    for (int k = 0; k < 1000; ++k)
+      expectIncircleExact(
+          randomPoint(rng, -scale, scale), randomPoint(rng, -scale, scale),
+          randomPoint(rng, -scale, scale), randomPoint(rng, -scale, scale));
+  }
+}
+
+TEST(Incircle, ExactWhereNaiveFormulaIsWrongNearACircle)
+{
+  NaiveErrors errors;
+  for (int k = 0; k < 6; ++k)
+    errors += checkNearCircle({0.7 + 0.1 * k, -0.3}, 1.3, 0.2 * k, 8);
+  EXPECT_GT(errors.flipped, 0); // inside called outside or the reverse
+}
+
+TEST(Incircle, ExactNearACircleAtUtmMagnitudes)
+{
+  // Differences are exact at UTM magnitudes, so the naive formula errs only when the
+  // determinant is tiny against the products: exactly cocircular points. Integer
+  // points of one circle (radius 396,439 ulps), scaled by 2049 to ~0.75 m, on the
+  // ulp grid U = 2^-30 around (5e5, 5.4e6); d exactly on the circle or 1 ulp off.
+  const std::vector<double> xy =
+      test::latticeCircle(5LL * 13 * 17 * 29 * 37 * 41 * 53 * 61);
+  ASSERT_EQ(xy.size(), 2u * 1024u);
+  const double U = 0x1p-30;
+  const auto at = [&](std::size_t i) {
+    return Point2{5.0e5 + 2049.0 * xy[2 * i] * U, 5.4e6 + 2049.0 * xy[2 * i + 1] * U};
+  };
+  std::mt19937_64 rng(12);
+  std::uniform_int_distribution<std::size_t> pick(0, xy.size() / 2 - 1);
+  NaiveErrors on_circle;
+  for (int k = 0; k < 300; ++k) {
+    const Point2 a = at(pick(rng)), b = at(pick(rng)), c = at(pick(rng)),
+                 d = at(pick(rng));
+    if (a == b || a == c || a == d || b == c || b == d || c == d)
+      continue;
+    ASSERT_EQ(incircle(a, b, c, d), Sign::ZERO);
+    on_circle += expectIncircleExact(a, b, c, d);
+    for (int i = -1; i <= 1; i += 2) {
+      expectIncircleExact(a, b, c, {stepUlps(d.x, i), d.y});
+      expectIncircleExact(a, b, c, {d.x, stepUlps(d.y, i)});
+    }
+  }
+  EXPECT_GT(on_circle.wrong, 0); // the naive formula misses exact cocircularity
+}
+
+TEST(Incircle, ExactForHugeAndTinyCoordinates)
+{
+  NaiveErrors errors;
+  std::mt19937_64 rng(7);
+  for (int k = 0; k < 3; ++k) {
+    const auto on = [&](double t) {
+      return Point2{0.7 + 1.3 * std::cos(t), 1.3 * std::sin(t)};
+    };
+    const Point2 a = on(0.1 * k), b = on(2.0), c = on(4.0), d0 = on(5.5);
+    for (int i = -3; i <= 3; ++i) {
+      for (int j = -3; j <= 3; ++j) {
+        const Point2 d = {stepUlps(d0.x, i), stepUlps(d0.y, j)};
+        const Sign unscaled = incircle(a, b, c, d);
+        // Scaling by 2^e multiplies the determinant by 2^4e: same sign, exact inputs.
+        for (int e : {250, 900, 1010, -500, -1000}) {
+          errors += expectIncircleExact(scaled(a, e), scaled(b, e), scaled(c, e),
+                                        scaled(d, e));
+          EXPECT_EQ(incircle(scaled(a, e), scaled(b, e), scaled(c, e), scaled(d, e)),
+                    unscaled)
+              << "scale 2^" << e;
+        }
+      }
+    }
+  }
+  EXPECT_GT(errors.wrong, 0); // overflow to inf/nan, underflow to 0
+  for (double scale : {1e300, 1e-300, 1e-310}) {
+    for (int k = 0; k < 200; ++k)
+      expectIncircleExact(
+          randomPoint(rng, -scale, scale), randomPoint(rng, -scale, scale),
+          randomPoint(rng, -scale, scale), randomPoint(rng, -scale, scale));
+  }
+}
+
+TEST(Incircle, ZeroOnExactlyCocircularPoints)
+{
+  const std::vector<double> xy = test::latticeCircle(5LL * 13 * 17 * 29); // 64 points
+  const std::size_t m = xy.size() / 2;
+  ASSERT_EQ(m, 64u);
+  std::mt19937_64 rng(8);
+  std::uniform_int_distribution<std::size_t> pick(0, m - 1);
+  for (int k = 0; k < 300; ++k) {
+    const std::size_t i = pick(rng), j = pick(rng), l = pick(rng), q = pick(rng);
+    if (i == j || i == l || i == q || j == l || j == q || l == q)
+      continue;
+    const auto p = [&](std::size_t s) {
+      return Point2{xy[2 * s] + 4e6, xy[2 * s + 1] - 3e5};
+    };
+    EXPECT_EQ(incircle(p(i), p(j), p(l), p(q)), Sign::ZERO);
+  }
+}
+
+TEST(IncirclePerturbed, EqualsIncircleWhenNotZero)
+{
+  std::mt19937_64 rng(9);
+  for (int k = 0; k < 5000; ++k) {
+    const Point2 a = randomPoint(rng, -1, 1), b = randomPoint(rng, -1, 1),
+                 c = randomPoint(rng, -1, 1), d = randomPoint(rng, -1, 1);
+    const Sign s = incircle(a, b, c, d);
+    ASSERT_NE(s, Sign::ZERO);
+    EXPECT_EQ(incirclePerturbed(a, b, c, d), s);
+  }
+  for (int k = 0; k < 6; ++k) {
+    const auto on = [&](double t) {
+      return Point2{0.7 + 1.3 * std::cos(t), 1.3 * std::sin(t)};
+    };
+    const Point2 a = on(0.1 * k), b = on(2.0), c = on(4.0), d0 = on(5.5);
+    for (int i = -4; i <= 4; ++i)
+      for (int j = -4; j <= 4; ++j) {
+        const Point2 d = {stepUlps(d0.x, i), stepUlps(d0.y, j)};
+        const Sign s = incircle(a, b, c, d);
+        if (s != Sign::ZERO) {
+          EXPECT_EQ(incirclePerturbed(a, b, c, d), s);
+        }
+      }
+  }
+}
+
+/// Four distinct points: the perturbed sign must equal the perturbed lifted
+/// determinant, be ZERO exactly when all four are collinear, and flip when two of
+/// a, b, c are swapped.
+void expectPerturbedConsistent(const Point2& a, const Point2& b, const Point2& c,
+                               const Point2& d)
+{
+  const Sign s = incirclePerturbed(a, b, c, d);
+  const bool all_collinear = orientRational(a, b, c) == Sign::ZERO &&
+                             orientRational(a, b, d) == Sign::ZERO &&
+                             orientRational(a, c, d) == Sign::ZERO;
+  EXPECT_EQ(s == Sign::ZERO, all_collinear)
+      << "a=(" << a.x << "," << a.y << ") b=(" << b.x << "," << b.y << ") c=(" << c.x
+      << "," << c.y << ") d=(" << d.x << "," << d.y << ")";
+  EXPECT_EQ(s, incirclePerturbedRational(a, b, c, d))
+      << "a=(" << a.x << "," << a.y << ") b=(" << b.x << "," << b.y << ") c=(" << c.x
+      << "," << c.y << ") d=(" << d.x << "," << d.y << ")";
+  EXPECT_EQ(incirclePerturbed(b, a, c, d), negate(s));
+  EXPECT_EQ(incirclePerturbed(a, c, b, d), negate(s));
+  EXPECT_EQ(incirclePerturbed(c, b, a, d), negate(s));
+  EXPECT_EQ(incirclePerturbed(b, c, a, d), s);
+}
+
+TEST(IncirclePerturbed, CocircularLatticePointsMatchPerturbedLift)
+{
+  const std::vector<double> xy = test::latticeCircle(5LL * 13 * 17 * 29);
+  const std::size_t m = xy.size() / 2;
+  std::mt19937_64 rng(10);
+  std::uniform_int_distribution<std::size_t> pick(0, m - 1);
+  int tested = 0;
+  for (int k = 0; k < 400; ++k) {
+    const std::size_t i = pick(rng), j = pick(rng), l = pick(rng), q = pick(rng);
+    if (i == j || i == l || i == q || j == l || j == q || l == q)
+      continue;
+    // Integer shift and power-of-two scale keep the points exactly cocircular.
+    const double ox = (k % 3 == 0) ? 5.0e5 : 0.0, oy = (k % 3 == 0) ? 5.4e6 : -7.0;
+    const int e = (k % 5) - 2;
+    const auto p = [&](std::size_t s) {
+      return Point2{std::ldexp(xy[2 * s] + ox, e), std::ldexp(xy[2 * s + 1] + oy, e)};
+    };
+    ASSERT_EQ(incircle(p(i), p(j), p(l), p(q)), Sign::ZERO);
+    expectPerturbedConsistent(p(i), p(j), p(l), p(q));
+    EXPECT_NE(incirclePerturbed(p(i), p(j), p(l), p(q)), Sign::ZERO);
+    ++tested;
+  }
+  EXPECT_GT(tested, 300);
+}
+
+TEST(IncirclePerturbed, SmallIntegerGridDegeneraciesMatchPerturbedLift)
+{
+  // Coordinates in {0..3}^2: cocircular squares, collinear triples and quadruples.
+  std::vector<Point2> grid;
+  for (int x = 0; x < 4; ++x)
+    for (int y = 0; y < 4; ++y)
+      grid.push_back({static_cast<double>(x), static_cast<double>(y)});
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<std::size_t> pick(0, grid.size() - 1);
+  int zero = 0, cocircular = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const std::size_t i = pick(rng), j = pick(rng), l = pick(rng), q = pick(rng);
+    if (i == j || i == l || i == q || j == l || j == q || l == q)
+      continue;
+    expectPerturbedConsistent(grid[i], grid[j], grid[l], grid[q]);
+    zero += incirclePerturbed(grid[i], grid[j], grid[l], grid[q]) == Sign::ZERO;
+    cocircular += incircle(grid[i], grid[j], grid[l], grid[q]) == Sign::ZERO;
+  }
+  EXPECT_GT(zero, 0);          // all-collinear quadruples were drawn
+  EXPECT_GT(cocircular, zero); // and cocircular ones that are not collinear
+  // The unit square both ways round: exactly one diagonal wins the tie.
+  const Point2 p00{0, 0}, p10{1, 0}, p11{1, 1}, p01{0, 1};
+  const Sign diag_a = incirclePerturbed(p00, p10, p11, p01); // edge 00-11
+  const Sign diag_b = incirclePerturbed(p10, p11, p01, p00); // edge 10-01
+  EXPECT_NE(diag_a, Sign::ZERO);
+  EXPECT_NE(diag_b, Sign::ZERO);
+  EXPECT_NE(diag_a == Sign::POSITIVE, diag_b == Sign::POSITIVE);
+}
+
+} // namespace
+} // namespace pcl_vts
