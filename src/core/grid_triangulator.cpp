@@ -6,20 +6,26 @@ namespace pcl_vts {
 namespace {
 
 /// The growing triangulation: flat arrays plus, per vertex, the list of its outgoing
-/// open halfedges (those still waiting for the triangle on their right).
+/// open halfedges (those still waiting for the triangle on their right). An open
+/// halfedge has no twin yet, so its slot in `halfedges` holds the list link instead,
+/// tagged with OPEN: no extra array.
 class RegionGrowth {
  public:
+  static constexpr HalfedgeId OPEN = 0x80000000u;
+  static constexpr HalfedgeId NIL = 0x7ffffffeu; ///< end of an open list
+  /// Halfedge ids must stay below NIL.
+  static constexpr std::size_t MAX_TRIANGLES = NIL / 3;
+
   RegionGrowth(std::size_t vertices, std::size_t expected_triangles,
                std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges)
       : triangles_(triangles)
       , halfedges_(halfedges)
-      , open_head_(vertices, INVALID_ID)
+      , open_head_(vertices, NIL)
   {
     triangles_.clear();
     halfedges_.clear();
     triangles_.reserve(3 * expected_triangles);
     halfedges_.reserve(3 * expected_triangles);
-    open_next_.reserve(3 * expected_triangles);
   }
 
   HalfedgeId addTriangle(VertexId v0, VertexId v1, VertexId v2)
@@ -28,14 +34,13 @@ class RegionGrowth {
     for (VertexId v : {v0, v1, v2}) {
       triangles_.push_back(v);
       halfedges_.push_back(INVALID_ID);
-      open_next_.push_back(INVALID_ID);
     }
     return e;
   }
 
   VertexId origin(HalfedgeId e) const { return triangles_[e]; }
   VertexId target(HalfedgeId e) const { return triangles_[nextHalfedge(e)]; }
-  bool hasTwin(HalfedgeId e) const { return halfedges_[e] != INVALID_ID; }
+  bool hasTwin(HalfedgeId e) const { return halfedges_[e] < OPEN; }
 
   void link(HalfedgeId e, HalfedgeId f)
   {
@@ -48,14 +53,14 @@ class RegionGrowth {
   bool linkOrOpen(HalfedgeId e)
   {
     const VertexId from = origin(e), to = target(e);
-    HalfedgeId prev = INVALID_ID;
-    for (HalfedgeId h = open_head_[to]; h != INVALID_ID; prev = h, h = open_next_[h])
+    HalfedgeId prev = NIL;
+    for (HalfedgeId h = open_head_[to]; h != NIL; prev = h, h = nextOpen(h))
       if (target(h) == from) {
         unlink(to, prev, h);
         link(e, h);
         return false;
       }
-    open_next_[e] = open_head_[from];
+    halfedges_[e] = OPEN | open_head_[from];
     open_head_[from] = e;
     return true;
   }
@@ -63,27 +68,37 @@ class RegionGrowth {
   void close(HalfedgeId e)
   {
     const VertexId from = origin(e);
-    HalfedgeId prev = INVALID_ID;
-    for (HalfedgeId h = open_head_[from]; h != INVALID_ID; prev = h, h = open_next_[h])
+    HalfedgeId prev = NIL;
+    for (HalfedgeId h = open_head_[from]; h != NIL; prev = h, h = nextOpen(h))
       if (h == e) {
         unlink(from, prev, h);
+        halfedges_[e] = INVALID_ID;
         return;
       }
   }
 
+  /// Halfedges still open at the end lie on the hull: they have no twin.
+  void finish()
+  {
+    for (HalfedgeId& t : halfedges_)
+      if (t >= OPEN)
+        t = INVALID_ID;
+  }
+
  private:
+  HalfedgeId nextOpen(HalfedgeId h) const { return halfedges_[h] & ~OPEN; }
+
   void unlink(VertexId v, HalfedgeId prev, HalfedgeId h)
   {
-    if (prev == INVALID_ID)
-      open_head_[v] = open_next_[h];
+    if (prev == NIL)
+      open_head_[v] = nextOpen(h);
     else
-      open_next_[prev] = open_next_[h];
+      halfedges_[prev] = OPEN | nextOpen(h);
   }
 
   std::vector<VertexId>& triangles_;
   std::vector<HalfedgeId>& halfedges_;
   std::vector<HalfedgeId> open_head_;
-  std::vector<HalfedgeId> open_next_;
 };
 
 } // namespace
@@ -97,6 +112,11 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   const std::size_t n = grid.points.size();
   const std::size_t h = hull.size();
   const std::size_t expected = 2 * n - h - 2;
+  if (expected > RegionGrowth::MAX_TRIANGLES)
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         std::to_string(n) + " points need " +
+                             std::to_string(expected) +
+                             " triangles, beyond the 32-bit halfedge range");
   // hull_next[v] = w when v->w is a hull edge (interior on its left).
   std::vector<VertexId> hull_next(n, INVALID_ID);
   for (std::size_t k = 0; k < h; ++k)
@@ -137,6 +157,7 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
       if (growth.linkOrOpen(g))
         pool.push_back(g);
   }
+  growth.finish();
   stats = search.stats();
   if (triangles.size() != 3 * expected)
     return Status::error(
