@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pcl_vts {
 namespace {
@@ -73,24 +74,19 @@ void MediatrixSearch::testRange(std::uint32_t begin, std::uint32_t end, Query& q
 {
   ++stats_.cells_visited;
   for (std::uint32_t k = begin; k < end; ++k) {
-    if (k == q.a || k == q.b)
-      continue;
     const Point2& p = grid_.points[k];
-    if (q.best != INVALID_ID) {
-      // Outside the safe disk means strictly outside the exact circle: no tie.
-      if (q.disk_fresh && q.disk.valid) {
-        const double dx = p.x - q.disk.cx, dy = p.y - q.disk.cy;
-        if (dx * dx + dy * dy > q.disk.radius * q.disk.radius * (1.0 + CMP_SLACK))
-          continue;
-      }
-      if (orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
-        continue;
-      if (incirclePerturbed(q.pa, q.pb, grid_.points[q.best], p) != Sign::POSITIVE)
-        continue;
-    } else if (orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
+    // Outside the safe disk means strictly outside the exact circle: not a candidate.
+    const double dx = p.x - q.reject_cx, dy = p.y - q.reject_cy;
+    if (dx * dx + dy * dy > q.reject_r2)
+      continue;
+    if (k == q.a || k == q.b || orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
+      continue;
+    if (q.best != INVALID_ID &&
+        incirclePerturbed(q.pa, q.pb, grid_.points[q.best], p) != Sign::POSITIVE)
       continue;
     q.best = k;
     q.disk_fresh = false; // computed when needed: most candidates are replaced soon
+    q.reject_r2 = std::numeric_limits<double>::infinity();
   }
 }
 
@@ -99,17 +95,28 @@ void MediatrixSearch::Query::refreshDisk(const CellGrid& grid)
   if (best != INVALID_ID && !disk_fresh) {
     disk = safeCircumdisk(pa, pb, grid.points[best]);
     disk_fresh = true;
+    if (disk.valid) {
+      reject_cx = disk.cx;
+      reject_cy = disk.cy;
+      reject_r2 = disk.radius * disk.radius * (1.0 + CMP_SLACK);
+    }
   }
+}
+
+MediatrixSearch::Window MediatrixSearch::diskCells(const SafeDisk& disk) const
+{
+  // Monotone cell lookup: every point of the disk lies in a cell of this range.
+  const double reach = disk.radius + grid_.slack;
+  return {grid_.column(disk.cx - reach), grid_.column(disk.cx + reach),
+          grid_.row(disk.cy - reach), grid_.row(disk.cy + reach)};
 }
 
 bool MediatrixSearch::diskInsideWindow(const SafeDisk& disk, const Window& w) const
 {
   if (!disk.valid || w.i0 > w.i1)
     return false;
-  const double reach = disk.radius + grid_.slack;
-  return grid_.column(disk.cx - reach) >= w.i0 &&
-         grid_.column(disk.cx + reach) <= w.i1 && grid_.row(disk.cy - reach) >= w.j0 &&
-         grid_.row(disk.cy + reach) <= w.j1;
+  const Window r = diskCells(disk);
+  return r.i0 >= w.i0 && r.i1 <= w.i1 && r.j0 >= w.j0 && r.j1 <= w.j1;
 }
 
 bool MediatrixSearch::windowHasCrowdedCell(const Window& w) const
@@ -247,6 +254,20 @@ VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
     const std::uint32_t fj = std::clamp(grid_.row(fy), w.j0, w.j1);
     testCell(grid_.cellId(fi, fj), q);
     q.refreshDisk(grid_);
+    // Usually the foot cell already holds the apex, and its circle spans only a few
+    // of the window's cells: visit just those. Later candidates lie inside this circle
+    // and so do their circles' open sides, so the cells stay sufficient.
+    if (q.best != INVALID_ID && q.disk.valid) {
+      const Window r = diskCells(q.disk);
+      if (r.i0 >= w.i0 && r.i1 <= w.i1 && r.j0 >= w.j0 && r.j1 <= w.j1) {
+        for (std::uint32_t j = r.j0; j <= r.j1; ++j)
+          for (std::uint32_t i = r.i0; i <= r.i1; ++i)
+            if (i != fi || j != fj)
+              testCell(grid_.cellId(i, j), q);
+        ++stats_.local;
+        return q.best;
+      }
+    }
     for (std::uint32_t j = w.j0; j <= w.j1; ++j)
       for (std::uint32_t i = w.i0; i <= w.i1; ++i)
         if (i != fi || j != fj)

@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace pcl_vts {
@@ -67,6 +68,11 @@ class MediatrixSearch {
     VertexId best = INVALID_ID;
     SafeDisk disk; ///< of best, when disk_fresh
     bool disk_fresh = false;
+    /// Points farther than sqrt(reject_r2) from (reject_cx, reject_cy) are outside the
+    /// current best circle; infinite while no usable disk is known.
+    double reject_cx = 0.0;
+    double reject_cy = 0.0;
+    double reject_r2 = std::numeric_limits<double>::infinity();
     void refreshDisk(const CellGrid& grid);
   };
 
@@ -76,6 +82,7 @@ class MediatrixSearch {
     testRange(grid_.cell_start[cell], grid_.cell_start[cell + 1], q);
   }
   bool windowHasCrowdedCell(const Window& w) const;
+  Window diskCells(const SafeDisk& disk) const;
   bool diskInsideWindow(const SafeDisk& disk, const Window& w) const;
   void widen(Query& q, const Window& done);
   /// World rectangle of a block, widened by the grid slack.
