@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <numeric>
 #include <string>
 
 namespace pcl_vts {
@@ -11,7 +12,8 @@ namespace {
 
 /// Extreme points in 8 directions, in counter-clockwise order (W, SW, S, SE, E, NE,
 /// N, NW). They are input points, so their polygon lies inside the hull.
-std::vector<VertexId> extremeOctagon(const std::vector<Point2>& p)
+std::vector<VertexId> extremeOctagon(const std::vector<Point2>& p,
+                                     const std::vector<VertexId>& ids)
 {
   std::array<VertexId, 8> ext{};
   std::array<double, 8> best{};
@@ -36,7 +38,7 @@ std::vector<VertexId> extremeOctagon(const std::vector<Point2>& p)
       return q.y - q.x;
     }
   };
-  for (VertexId v = 0; v < p.size(); ++v)
+  for (const VertexId v : ids)
     for (int d = 0; d < 8; ++d) {
       const double s = score(p[v], d);
       if (s > best[d]) {
@@ -63,7 +65,34 @@ bool strictlyInside(const std::vector<Point2>& p, const std::vector<VertexId>& p
 
 } // namespace
 
-Status convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull)
+std::vector<VertexId> gridHullCandidates(const CellGrid& grid)
+{
+  // A cell whose four cells two steps away (left, right, below, above) all hold points
+  // lies strictly inside the diamond of those points (margin: one cell), so its
+  // points can be neither hull vertices nor on hull edges.
+  const auto filled = [&grid](long i, long j) {
+    if (i < 0 || j < 0 || i >= static_cast<long>(grid.nx) ||
+        j >= static_cast<long>(grid.ny))
+      return false;
+    const CellId c =
+        grid.cellId(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+    return grid.cell_start[c + 1] > grid.cell_start[c];
+  };
+  std::vector<VertexId> candidates;
+  for (long j = 0; j < static_cast<long>(grid.ny); ++j)
+    for (long i = 0; i < static_cast<long>(grid.nx); ++i) {
+      if (filled(i - 2, j) && filled(i + 2, j) && filled(i, j - 2) && filled(i, j + 2))
+        continue;
+      const CellId c =
+          grid.cellId(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+      for (std::uint32_t k = grid.cell_start[c]; k < grid.cell_start[c + 1]; ++k)
+        candidates.push_back(k);
+    }
+  return candidates;
+}
+
+Status convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull,
+                  const std::vector<VertexId>* candidate_ids)
 {
   hull.clear();
   const std::size_t n = points.size();
@@ -88,10 +117,16 @@ Status convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull
                              " distinct XY positions lie on one line; a surface "
                              "needs points off that line");
 
+  std::vector<VertexId> all;
+  if (candidate_ids == nullptr) {
+    all.resize(n);
+    std::iota(all.begin(), all.end(), 0u);
+    candidate_ids = &all;
+  }
   std::vector<VertexId> candidates;
-  const std::vector<VertexId> octagon = extremeOctagon(points);
+  const std::vector<VertexId> octagon = extremeOctagon(points, *candidate_ids);
   const bool filter = octagon.size() >= 3;
-  for (VertexId v = 0; v < n; ++v)
+  for (const VertexId v : *candidate_ids)
     if (!filter || !strictlyInside(points, octagon, points[v]))
       candidates.push_back(v);
   std::sort(candidates.begin(), candidates.end(), [&points](VertexId a, VertexId b) {

@@ -181,7 +181,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   diag.seconds_grid = secondsSince(start);
 
   start = Clock::now();
-  if (Status s = convexHull(grid.points, result.hull); !s.ok()) {
+  const std::vector<VertexId> hull_candidates = gridHullCandidates(grid);
+  if (Status s = convexHull(grid.points, result.hull, &hull_candidates); !s.ok()) {
     result.input_to_vertex.clear();
     return s;
   }
