@@ -30,8 +30,7 @@ enum class PcdValueType : std::uint8_t {
 };
 
 /// "float32", "float64", "int8", ..., "uint64".
-const char*
-pcdValueTypeName(PcdValueType type);
+const char* pcdValueTypeName(PcdValueType type);
 
 /// What the reader found in the file, for the caller's summary and output choices.
 struct PcdCloudInfo {
@@ -63,7 +62,7 @@ struct PcdCloudInfo {
 /// \return IO_ERROR (one-line message naming the file) when the file is missing,
 ///         unreadable, empty, not a PCD file, has no x/y/z, is truncated or its header
 ///         claims more data than the file holds; EMPTY_INPUT when it holds 0 points.
-Status
-readPcdCloud(const std::string& path, std::vector<double>& xyz, PcdCloudInfo& info);
+Status readPcdCloud(const std::string& path, std::vector<double>& xyz,
+                    PcdCloudInfo& info);
 
 } // namespace pcl_vts

@@ -1,0 +1,55 @@
+// Writes a TriangleMesh to .ply, .obj or .vtk without losing a bit of the vertex
+// coordinates: binary PLY uses double properties whenever float would round, text
+// formats print the shortest decimal that reads back to the same double (never
+// PCL's 5 significant digits). Atomic: a temp file in the target folder, then rename.
+// PCL-free (std + POSIX).
+#pragma once
+
+#include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/core/status.h>
+
+#include <cstdint>
+#include <string>
+
+namespace pcl_vts {
+
+enum class MeshFileFormat { PLY, OBJ, VTK };
+
+/// "PLY", "OBJ", "VTK".
+const char* meshFileFormatName(MeshFileFormat format);
+
+/// Format from the path's extension, case-insensitive: .ply, .obj, .vtk.
+/// \return INVALID_PARAMETER naming the path for any other extension (or none).
+Status meshFileFormatFromPath(const std::string& path, MeshFileFormat& format);
+
+struct MeshWriteOptions {
+  /// PLY only: ASCII instead of binary little-endian (.obj and .vtk are always text).
+  bool ascii = false;
+  /// PLY and VTK: declare double vertex coordinates even when float is exact.
+  bool force_double = false;
+  /// One line written as a comment in the file header (PLY, OBJ, VTK title).
+  std::string comment = "pcl_vts";
+};
+
+/// What writeMesh did, for the caller's summary.
+struct MeshWriteInfo {
+  MeshFileFormat format = MeshFileFormat::PLY;
+  bool ascii = false;           ///< text output (always for OBJ and VTK)
+  bool double_vertices = false; ///< vertex coordinates declared as double
+  std::uint64_t bytes = 0;      ///< size of the file written
+};
+
+/// True when every x, y and z of the mesh converts to float and back unchanged.
+bool verticesExactInFloat(const TriangleMesh& mesh);
+
+/// Writes mesh.xy/z as vertices and mesh.triangles (CCW, 3 per triangle) as faces.
+/// The file appears complete or not at all: the data goes to ".<name>.tmp.<pid>" in
+/// the same folder, is flushed and synced, then renamed over path; on any failure
+/// the temp file is removed.
+/// \return INVALID_PARAMETER for an unknown extension or an inconsistent mesh
+///         (index out of range, xy/z sizes differ, > 2^31-1 vertices);
+///         IO_ERROR naming the path and the system's reason when writing fails.
+Status writeMesh(const std::string& path, const TriangleMesh& mesh,
+                 const MeshWriteOptions& options, MeshWriteInfo* info = nullptr);
+
+} // namespace pcl_vts

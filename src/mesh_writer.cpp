@@ -1,0 +1,448 @@
+// Mesh files written exactly and atomically. Text numbers use std::to_chars' shortest
+// round-trip form (at most 17 significant digits, max_digits10), so a reader parsing
+// doubles gets every input bit back. Every write is checked; the first failure wins
+// and the temp file is removed, so a failed run leaves nothing behind.
+#include <pcl_vts/mesh_writer.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fcntl.h>
+#include <limits>
+#include <string_view>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <utility>
+#include <vector>
+
+namespace pcl_vts {
+namespace {
+
+constexpr std::size_t BUFFER_BYTES = 1 << 20;
+
+std::string quoted(const std::string& path)
+{
+  return "'" + path + "'";
+}
+
+std::string lowerCase(std::string s)
+{
+  for (char& c : s)
+    if (c >= 'A' && c <= 'Z')
+      c = static_cast<char>(c - 'A' + 'a');
+  return s;
+}
+
+/// The folder part of path with its trailing slash ("" for a bare file name).
+std::string folderOf(const std::string& path)
+{
+  const std::size_t slash = path.rfind('/');
+  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+std::string oneLine(const std::string& text)
+{
+  std::string out = text;
+  for (char& c : out)
+    if (c == '\n' || c == '\r')
+      c = ' ';
+  return out;
+}
+
+/// A file that appears under its final name only when commit() succeeds.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::string path)
+      : path_(std::move(path))
+  {}
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  ~AtomicFile() { discard(); }
+
+  Status open()
+  {
+    const std::string folder = folderOf(path_);
+    const std::string base =
+        "." + path_.substr(folder.size()) + ".tmp." + std::to_string(::getpid());
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      temp_path_ = folder + base + (attempt ? "." + std::to_string(attempt) : "");
+      fd_ = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+      if (fd_ >= 0 || errno != EEXIST)
+        break;
+    }
+    if (fd_ < 0) {
+      const int err = errno;
+      temp_path_.clear();
+      if (err == ENOENT)
+        return Status::error(StatusCode::IO_ERROR,
+                             "cannot write " + quoted(path_) + ": folder " +
+                                 quoted(folder.empty() ? "." : folder) +
+                                 " does not exist");
+      return failure("cannot create a temporary file in the folder of", err);
+    }
+    buffer_.reserve(BUFFER_BYTES);
+    return Status::success();
+  }
+
+  void write(const void* data, std::size_t n)
+  {
+    if (error_ != 0)
+      return;
+    const char* p = static_cast<const char*>(data);
+    if (buffer_.size() + n > BUFFER_BYTES && !flushBuffer())
+      return;
+    if (n >= BUFFER_BYTES) {
+      writeAll(p, n);
+      return;
+    }
+    buffer_.insert(buffer_.end(), p, p + n);
+  }
+
+  void write(std::string_view s) { write(s.data(), s.size()); }
+
+  /// Flush, fsync, close, rename over the final path.
+  Status commit()
+  {
+    if (error_ == 0)
+      flushBuffer();
+    if (error_ == 0 && ::fsync(fd_) != 0)
+      error_ = errno;
+    if (::close(fd_) != 0 && error_ == 0)
+      error_ = errno;
+    fd_ = -1;
+    if (error_ != 0)
+      return failure("cannot write", error_);
+    if (::rename(temp_path_.c_str(), path_.c_str()) != 0)
+      return failure("cannot rename the temporary file onto", errno);
+    temp_path_.clear();
+    syncFolder();
+    return Status::success();
+  }
+
+  std::uint64_t bytes() const { return bytes_; }
+
+ private:
+  Status failure(const std::string& what, int err)
+  {
+    discard();
+    return Status::error(StatusCode::IO_ERROR,
+                         what + " " + quoted(path_) + ": " + std::strerror(err));
+  }
+
+  void discard()
+  {
+    if (fd_ >= 0)
+      ::close(fd_);
+    fd_ = -1;
+    if (!temp_path_.empty())
+      ::unlink(temp_path_.c_str());
+    temp_path_.clear();
+  }
+
+  bool flushBuffer()
+  {
+    if (!buffer_.empty())
+      writeAll(buffer_.data(), buffer_.size());
+    buffer_.clear();
+    return error_ == 0;
+  }
+
+  void writeAll(const char* p, std::size_t n)
+  {
+    while (n > 0 && error_ == 0) {
+      const ssize_t w = ::write(fd_, p, n);
+      if (w < 0) {
+        if (errno != EINTR)
+          error_ = errno;
+        continue;
+      }
+      if (w == 0) {
+        error_ = EIO;
+        continue;
+      }
+      p += w;
+      n -= static_cast<std::size_t>(w);
+      bytes_ += static_cast<std::uint64_t>(w);
+    }
+  }
+
+  /// Makes the rename durable; best effort (some file systems refuse).
+  void syncFolder() const
+  {
+    const std::string folder = folderOf(path_);
+    const int dfd = ::open(folder.empty() ? "." : folder.c_str(),
+                           O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+      (void)::fsync(dfd);
+      ::close(dfd);
+    }
+  }
+
+  std::string path_;
+  std::string temp_path_;
+  int fd_ = -1;
+  int error_ = 0;
+  std::vector<char> buffer_;
+  std::uint64_t bytes_ = 0;
+};
+
+/// Appends numbers to an AtomicFile in text or little-endian binary.
+class Emitter {
+ public:
+  explicit Emitter(AtomicFile& file)
+      : file_(file)
+  {}
+
+  Emitter& text(std::string_view s)
+  {
+    file_.write(s);
+    return *this;
+  }
+
+  Emitter& number(double v)
+  {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    file_.write(buf, static_cast<std::size_t>(r.ptr - buf));
+    return *this;
+  }
+
+  Emitter& number(std::uint64_t v)
+  {
+    char buf[24];
+    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    file_.write(buf, static_cast<std::size_t>(r.ptr - buf));
+    return *this;
+  }
+
+  template <typename T>
+  void binary(T v)
+  {
+    unsigned char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+    for (std::size_t i = 0; i < sizeof(T) / 2; ++i)
+      std::swap(b[i], b[sizeof(T) - 1 - i]);
+#endif
+    file_.write(b, sizeof(T));
+  }
+
+ private:
+  AtomicFile& file_;
+};
+
+void writePly(Emitter& out, const TriangleMesh& mesh, bool ascii, bool dbl,
+              const std::string& comment)
+{
+  const char* type = dbl ? "double" : "float";
+  out.text("ply\nformat ")
+      .text(ascii ? "ascii" : "binary_little_endian")
+      .text(" 1.0\ncomment ")
+      .text(comment)
+      .text("\nelement vertex ")
+      .number(static_cast<std::uint64_t>(mesh.vertexCount()))
+      .text("\nproperty ")
+      .text(type)
+      .text(" x\nproperty ")
+      .text(type)
+      .text(" y\nproperty ")
+      .text(type)
+      .text(" z\nelement face ")
+      .number(static_cast<std::uint64_t>(mesh.triangleCount()))
+      .text("\nproperty list uchar int vertex_indices\nend_header\n");
+  const std::size_t n = mesh.vertexCount();
+  for (std::size_t v = 0; v < n; ++v) {
+    const double c[3] = {mesh.xy[v].x, mesh.xy[v].y, mesh.z[v]};
+    if (ascii) {
+      out.number(c[0]).text(" ").number(c[1]).text(" ").number(c[2]).text("\n");
+      continue;
+    }
+    for (double value : c) {
+      if (dbl)
+        out.binary(value);
+      else
+        out.binary(static_cast<float>(value));
+    }
+  }
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const VertexId* tri = &mesh.triangles[3 * t];
+    if (ascii) {
+      out.text("3 ")
+          .number(std::uint64_t{tri[0]})
+          .text(" ")
+          .number(std::uint64_t{tri[1]});
+      out.text(" ").number(std::uint64_t{tri[2]}).text("\n");
+      continue;
+    }
+    out.binary(static_cast<std::uint8_t>(3));
+    for (int k = 0; k < 3; ++k)
+      out.binary(static_cast<std::int32_t>(tri[k]));
+  }
+}
+
+void writeObj(Emitter& out, const TriangleMesh& mesh, const std::string& comment)
+{
+  out.text("# ").text(comment).text("\n# ");
+  out.number(static_cast<std::uint64_t>(mesh.vertexCount())).text(" vertices, ");
+  out.number(static_cast<std::uint64_t>(mesh.triangleCount())).text(" triangles\n");
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    out.text("v ").number(mesh.xy[v].x).text(" ").number(mesh.xy[v].y).text(" ");
+    out.number(mesh.z[v]).text("\n");
+  }
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const VertexId* tri = &mesh.triangles[3 * t];
+    out.text("f ").number(std::uint64_t{tri[0]} + 1).text(" ");
+    out.number(std::uint64_t{tri[1]} + 1).text(" ").number(std::uint64_t{tri[2]} + 1);
+    out.text("\n");
+  }
+}
+
+void writeVtk(Emitter& out, const TriangleMesh& mesh, bool dbl,
+              const std::string& comment)
+{
+  const auto nt = static_cast<std::uint64_t>(mesh.triangleCount());
+  out.text("# vtk DataFile Version 3.0\n").text(comment.substr(0, 255));
+  out.text("\nASCII\nDATASET POLYDATA\nPOINTS ");
+  out.number(static_cast<std::uint64_t>(mesh.vertexCount()));
+  out.text(dbl ? " double\n" : " float\n");
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    out.number(mesh.xy[v].x).text(" ").number(mesh.xy[v].y).text(" ");
+    out.number(mesh.z[v]).text("\n");
+  }
+  out.text("POLYGONS ").number(nt).text(" ").number(4 * nt).text("\n");
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const VertexId* tri = &mesh.triangles[3 * t];
+    out.text("3 ")
+        .number(std::uint64_t{tri[0]})
+        .text(" ")
+        .number(std::uint64_t{tri[1]});
+    out.text(" ").number(std::uint64_t{tri[2]}).text("\n");
+  }
+}
+
+Status checkMesh(const std::string& path, const TriangleMesh& mesh)
+{
+  const auto bad = [&](const std::string& why) {
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "cannot write " + quoted(path) + ": " + why);
+  };
+  if (mesh.xy.size() != mesh.z.size())
+    return bad("the mesh has " + std::to_string(mesh.xy.size()) + " xy but " +
+               std::to_string(mesh.z.size()) + " z values");
+  if (mesh.triangles.size() % 3 != 0)
+    return bad("the triangle array length " + std::to_string(mesh.triangles.size()) +
+               " is not a multiple of 3");
+  if (mesh.vertexCount() >
+      static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    return bad(std::to_string(mesh.vertexCount()) +
+               " vertices do not fit the 32-bit signed indices of the file");
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    if (mesh.triangles[i] >= mesh.vertexCount())
+      return bad("triangle " + std::to_string(i / 3) + " uses vertex " +
+                 std::to_string(mesh.triangles[i]) + " of " +
+                 std::to_string(mesh.vertexCount()));
+  return Status::success();
+}
+
+} // namespace
+
+const char* meshFileFormatName(MeshFileFormat format)
+{
+  switch (format) {
+  case MeshFileFormat::PLY:
+    return "PLY";
+  case MeshFileFormat::OBJ:
+    return "OBJ";
+  case MeshFileFormat::VTK:
+    return "VTK";
+  }
+  return "unknown";
+}
+
+Status meshFileFormatFromPath(const std::string& path, MeshFileFormat& format)
+{
+  const std::size_t slash = path.rfind('/');
+  const std::size_t dot = path.rfind('.');
+  const std::string ext =
+      (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+          ? std::string()
+          : lowerCase(path.substr(dot));
+  if (ext == ".ply")
+    format = MeshFileFormat::PLY;
+  else if (ext == ".obj")
+    format = MeshFileFormat::OBJ;
+  else if (ext == ".vtk")
+    format = MeshFileFormat::VTK;
+  else
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "unknown output extension " +
+                             quoted(ext.empty() ? std::string("(none)") : ext) +
+                             " in " + quoted(path) + " (use .ply, .obj or .vtk)");
+  // "dir/.ply" has an extension but no name: writing it would hide the mesh.
+  if (dot == (slash == std::string::npos ? 0 : slash + 1))
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "output path " + quoted(path) + " has no file name");
+  return Status::success();
+}
+
+bool verticesExactInFloat(const TriangleMesh& mesh)
+{
+  const auto exact = [](double v) {
+    // The range check first: converting an out-of-range double to float is undefined.
+    return std::fabs(v) <= std::numeric_limits<float>::max() &&
+           static_cast<double>(static_cast<float>(v)) == v;
+  };
+  for (const Point2& p : mesh.xy)
+    if (!exact(p.x) || !exact(p.y))
+      return false;
+  for (double v : mesh.z)
+    if (!exact(v))
+      return false;
+  return true;
+}
+
+Status writeMesh(const std::string& path, const TriangleMesh& mesh,
+                 const MeshWriteOptions& options, MeshWriteInfo* info)
+{
+  MeshFileFormat format = MeshFileFormat::PLY;
+  Status status = meshFileFormatFromPath(path, format);
+  if (!status.ok())
+    return status;
+  status = checkMesh(path, mesh);
+  if (!status.ok())
+    return status;
+
+  const bool ascii = options.ascii || format != MeshFileFormat::PLY;
+  const bool dbl = options.force_double || !verticesExactInFloat(mesh);
+  const std::string comment = oneLine(options.comment);
+  try {
+    AtomicFile file(path);
+    status = file.open();
+    if (!status.ok())
+      return status;
+    Emitter out(file);
+    switch (format) {
+    case MeshFileFormat::PLY:
+      writePly(out, mesh, ascii, dbl, comment);
+      break;
+    case MeshFileFormat::OBJ:
+      writeObj(out, mesh, comment);
+      break;
+    case MeshFileFormat::VTK:
+      writeVtk(out, mesh, dbl, comment);
+      break;
+    }
+    status = file.commit();
+    if (!status.ok())
+      return status;
+    if (info != nullptr)
+      *info = {format, ascii, format == MeshFileFormat::OBJ ? true : dbl, file.bytes()};
+  } catch (const std::bad_alloc&) {
+    return Status::error(StatusCode::IO_ERROR,
+                         "cannot write " + quoted(path) + ": out of memory");
+  }
+  return Status::success();
+}
+
+} // namespace pcl_vts

@@ -1,0 +1,983 @@
+// End-to-end tests of the pcd_to_mesh CLI: the built binary runs in a fresh temp
+// folder; each failure class is checked on exit status, the one stderr line and the
+// absence of any output (or temp) file; each success reads the mesh file back with a
+// reader written here and checks invariants against the input read independently:
+// 2n - h - 2 triangles (h from an exact hull), CCW, all vertices used, vertices equal
+// to input points bit for bit, Delaunay with --no-trim --no-fill.
+#include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/predicates.h>
+
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
+
+#include <gtest/gtest-spi.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+#ifndef PCL_VTS_PCD_TO_MESH
+#error "PCL_VTS_PCD_TO_MESH must name the built pcd_to_mesh binary"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using pcl_vts::Point2;
+using pcl_vts::Sign;
+using pcl_vts::TriangleMesh;
+using Xyz = std::array<double, 3>;
+
+const std::string TEST_DATA = PCL_VTS_TEST_DATA_DIR;
+const std::string SHARED_DATA = PCL_VTS_SHARED_DATA_DIR;
+
+// ---- running the CLI
+// -----------------------------------------------------------------
+
+struct CliResult {
+  int exit_code = -1; ///< -1 when the process did not exit normally (signal)
+  std::string out;
+  std::string err;
+};
+
+std::string readText(const fs::path& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void writeBytes(const fs::path& path, const std::string& bytes)
+{
+  std::ofstream out(path, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  ASSERT_TRUE(out.good()) << path;
+}
+
+std::string shellQuote(const std::string& s)
+{
+  std::string q = "'";
+  for (char c : s)
+    q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// A fresh folder per test: work/ is where the CLI runs (and must stay clean of
+/// stray files), logs/ holds its captured stdout and stderr.
+class PcdToMesh : public ::testing::Test {
+ protected:
+  void SetUp() override
+  {
+    char pattern[] = "/tmp/pcd_to_mesh_test.XXXXXX";
+    ASSERT_NE(mkdtemp(pattern), nullptr);
+    root_ = pattern;
+    work_ = root_ / "work";
+    fs::create_directory(work_);
+    fs::create_directory(root_ / "logs");
+  }
+
+  void TearDown() override
+  {
+    std::error_code ec;
+    fs::remove_all(root_, ec);
+  }
+
+  /// Runs the CLI in work/; shell_prefix runs first in the same shell (e.g. ulimit).
+  CliResult run(const std::vector<std::string>& args,
+                const std::string& shell_prefix = "") const
+  {
+    // timeout: a hang becomes a failure (exit 124) instead of a stuck ctest.
+    std::string cmd = "cd " + shellQuote(work_.string()) + " && " + shell_prefix +
+                      " timeout 300 " + shellQuote(PCL_VTS_PCD_TO_MESH);
+    for (const std::string& a : args)
+      cmd += " " + shellQuote(a);
+    cmd += " > " + shellQuote((root_ / "logs" / "out").string()) + " 2> " +
+           shellQuote((root_ / "logs" / "err").string());
+    const int status = std::system(cmd.c_str());
+    CliResult r;
+    if (status != -1 && WIFEXITED(status))
+      r.exit_code = WEXITSTATUS(status);
+    r.out = readText(root_ / "logs" / "out");
+    r.err = readText(root_ / "logs" / "err");
+    return r;
+  }
+
+  /// Names of the files in work/, sorted.
+  std::vector<std::string> workFiles() const
+  {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::recursive_directory_iterator(work_))
+      names.push_back(fs::relative(entry.path(), work_).string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  fs::path work(const std::string& name) const { return work_ / name; }
+
+  /// Checks a failed run: its exit code, exactly one stderr line with the prefix and
+  /// the expected words, and that work/ holds exactly the files it held before.
+  void expectFailure(const CliResult& r, int exit_code, const std::string& words,
+                     const std::vector<std::string>& files_before) const
+  {
+    EXPECT_EQ(r.exit_code, exit_code) << "stderr: " << r.err;
+    EXPECT_EQ(r.err.rfind("pcd_to_mesh: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(words), std::string::npos)
+        << "expected '" << words << "' in: " << r.err;
+    EXPECT_EQ(workFiles(), files_before) << "a failed run must leave no file behind";
+  }
+
+  fs::path root_;
+  fs::path work_;
+};
+
+// ---- PCD files written by the tests
+// ---------------------------------------------------
+
+std::string pcdHeader(const std::string& fields, const std::string& sizes,
+                      const std::string& types, std::size_t points,
+                      const std::string& data)
+{
+  std::size_t n_fields =
+      1 + static_cast<std::size_t>(std::count(fields.begin(), fields.end(), ' '));
+  std::string counts;
+  for (std::size_t i = 0; i < n_fields; ++i)
+    counts += i ? " 1" : "1";
+  return "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS " + fields +
+         "\nSIZE " + sizes + "\nTYPE " + types + "\nCOUNT " + counts + "\nWIDTH " +
+         std::to_string(points) + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " +
+         std::to_string(points) + "\nDATA " + data + "\n";
+}
+
+/// ASCII PCD with float32 x y z, values printed exactly.
+std::string asciiPcd(const std::vector<Xyz>& points)
+{
+  std::string s = pcdHeader("x y z", "4 4 4", "F F F", points.size(), "ascii");
+  char line[128];
+  for (const Xyz& p : points) {
+    std::snprintf(line, sizeof(line), "%.9g %.9g %.9g\n", p[0], p[1], p[2]);
+    s += line;
+  }
+  return s;
+}
+
+/// Binary PCD with float64 fields named as given ("x y z" or "X Y Z").
+std::string binaryPcd64(const std::vector<Xyz>& points,
+                        const std::string& names = "x y z")
+{
+  std::string s = pcdHeader(names, "8 8 8", "F F F", points.size(), "binary");
+  for (const Xyz& p : points)
+    s.append(reinterpret_cast<const char*>(p.data()), sizeof(double) * 3);
+  return s;
+}
+
+/// Points on a millimetre lattice around UTM easting 5e5, northing 5e6: none of
+/// them is a float, so a float anywhere on the way would show.
+std::vector<Xyz> utmCloud(std::size_t n, std::uint64_t seed)
+{
+  std::mt19937_64 rng(seed);
+  std::set<std::pair<std::int64_t, std::int64_t>> used;
+  std::vector<Xyz> points;
+  while (points.size() < n) {
+    const auto e = static_cast<std::int64_t>(rng() % 80000); // 80 m in mm
+    const auto nn = static_cast<std::int64_t>(rng() % 60000);
+    if (!used.insert({e, nn}).second)
+      continue;
+    const auto h = static_cast<std::int64_t>(rng() % 20000);
+    points.push_back({(500000000.0 + static_cast<double>(e)) / 1000.0,
+                      (5000000000.0 + static_cast<double>(nn)) / 1000.0,
+                      (120000.0 + static_cast<double>(h)) / 1000.0});
+  }
+  return points;
+}
+
+// ---- reading inputs independently of the CLI's reader
+// --------------------------------
+
+/// Float32 x y z PCDs (any DATA kind) through PCL's own PointXYZ path: exact for
+/// float32 fields.
+std::vector<Xyz> loadFloat32Pcd(const std::string& path)
+{
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  EXPECT_EQ(pcl::io::loadPCDFile(path, cloud), 0) << path;
+  std::vector<Xyz> points;
+  for (const auto& p : cloud.points)
+    points.push_back({p.x, p.y, p.z});
+  return points;
+}
+
+/// Uncompressed binary PCD with float64 coordinates, parsed here by hand.
+std::vector<Xyz> loadBinaryFloat64Pcd(const std::string& path,
+                                      const std::array<std::string, 3>& names)
+{
+  const std::string bytes = readText(path);
+  std::istringstream header(bytes);
+  std::string line;
+  std::vector<std::string> fields;
+  std::vector<int> sizes;
+  std::size_t points = 0;
+  std::size_t body = 0;
+  while (std::getline(header, line)) {
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key == "FIELDS")
+      for (std::string f; words >> f;)
+        fields.push_back(f);
+    else if (key == "SIZE")
+      for (int sz; words >> sz;)
+        sizes.push_back(sz);
+    else if (key == "POINTS")
+      words >> points;
+    else if (key == "DATA") {
+      body = static_cast<std::size_t>(header.tellg());
+      break;
+    }
+  }
+  std::size_t step = 0;
+  std::array<std::size_t, 3> offset{};
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    for (int a = 0; a < 3; ++a)
+      if (fields[f] == names[a])
+        offset[a] = step;
+    step += static_cast<std::size_t>(sizes.at(f));
+  }
+  EXPECT_GE(bytes.size(), body + points * step);
+  std::vector<Xyz> out(points);
+  for (std::size_t i = 0; i < points; ++i)
+    for (int a = 0; a < 3; ++a)
+      std::memcpy(&out[i][a], bytes.data() + body + i * step + offset[a], 8);
+  return out;
+}
+
+// ---- reading the CLI's mesh files
+// -----------------------------------------------------
+
+struct MeshFile {
+  TriangleMesh mesh;
+  bool binary = false;
+  std::string vertex_type; ///< "float" or "double" (PLY, VTK); "" for OBJ
+};
+
+::testing::AssertionResult readPly(const std::string& path, MeshFile& m)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || line != "ply")
+    return ::testing::AssertionFailure() << path << ": no 'ply' magic";
+  std::size_t nv = 0, nf = 0;
+  std::vector<std::string> vprops;
+  bool in_vertex = false, face_ok = false;
+  while (std::getline(in, line) && line != "end_header") {
+    std::istringstream w(line);
+    std::string a, b, c;
+    w >> a >> b >> c;
+    if (a == "format")
+      m.binary = b == "binary_little_endian";
+    else if (a == "element") {
+      in_vertex = b == "vertex";
+      (in_vertex ? nv : nf) = std::stoul(c);
+    } else if (a == "property" && in_vertex) {
+      vprops.push_back(c);
+      if (m.vertex_type.empty())
+        m.vertex_type = b;
+      else if (m.vertex_type != b)
+        return ::testing::AssertionFailure() << "mixed vertex property types";
+    } else if (a == "property")
+      face_ok = line == "property list uchar int vertex_indices";
+  }
+  if (line != "end_header" || vprops != std::vector<std::string>{"x", "y", "z"} ||
+      !face_ok)
+    return ::testing::AssertionFailure() << path << ": unexpected PLY header";
+  const bool dbl = m.vertex_type == "double";
+  m.mesh.xy.resize(nv);
+  m.mesh.z.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    double c[3];
+    for (double& value : c) {
+      if (!m.binary)
+        in >> value;
+      else if (dbl)
+        in.read(reinterpret_cast<char*>(&value), 8);
+      else {
+        float f;
+        in.read(reinterpret_cast<char*>(&f), 4);
+        value = f;
+      }
+    }
+    m.mesh.xy[v] = {c[0], c[1]};
+    m.mesh.z[v] = c[2];
+  }
+  for (std::size_t t = 0; t < nf; ++t) {
+    unsigned count = 0;
+    std::int32_t idx[3] = {0, 0, 0};
+    if (m.binary) {
+      unsigned char c8 = 0;
+      in.read(reinterpret_cast<char*>(&c8), 1);
+      count = c8;
+      in.read(reinterpret_cast<char*>(idx), 12);
+    } else
+      in >> count >> idx[0] >> idx[1] >> idx[2];
+    if (count != 3)
+      return ::testing::AssertionFailure() << "face " << t << " is not a triangle";
+    for (std::int32_t i : idx)
+      m.mesh.triangles.push_back(static_cast<pcl_vts::VertexId>(i));
+  }
+  if (!in)
+    return ::testing::AssertionFailure() << path << ": body shorter than its header";
+  if (m.binary && in.peek() != EOF)
+    return ::testing::AssertionFailure() << path << ": bytes after the last face";
+  return ::testing::AssertionSuccess();
+}
+
+::testing::AssertionResult readObj(const std::string& path, MeshFile& m)
+{
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#')
+      continue;
+    std::istringstream w(line);
+    std::string key;
+    w >> key;
+    if (key == "v") {
+      double x, y, z;
+      w >> x >> y >> z;
+      m.mesh.xy.push_back({x, y});
+      m.mesh.z.push_back(z);
+    } else if (key == "f") {
+      for (int k = 0; k < 3; ++k) {
+        long i = 0;
+        w >> i;
+        m.mesh.triangles.push_back(static_cast<pcl_vts::VertexId>(i - 1));
+      }
+    } else
+      return ::testing::AssertionFailure() << "unexpected OBJ line: " << line;
+    if (!w)
+      return ::testing::AssertionFailure() << "bad OBJ line: " << line;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+::testing::AssertionResult readVtk(const std::string& path, MeshFile& m)
+{
+  std::ifstream in(path);
+  std::string line, title, kind, dataset;
+  std::getline(in, line);
+  std::getline(in, title);
+  std::getline(in, kind);
+  std::getline(in, dataset);
+  if (line.rfind("# vtk DataFile", 0) != 0 || kind != "ASCII" ||
+      dataset != "DATASET POLYDATA")
+    return ::testing::AssertionFailure() << path << ": unexpected VTK header";
+  std::string key;
+  std::size_t nv = 0, nf = 0, total = 0;
+  in >> key >> nv >> m.vertex_type;
+  if (key != "POINTS")
+    return ::testing::AssertionFailure() << "no POINTS";
+  for (std::size_t v = 0; v < nv; ++v) {
+    double x, y, z;
+    in >> x >> y >> z;
+    m.mesh.xy.push_back({x, y});
+    m.mesh.z.push_back(z);
+  }
+  in >> key >> nf >> total;
+  if (key != "POLYGONS" || total != 4 * nf)
+    return ::testing::AssertionFailure() << "bad POLYGONS line";
+  for (std::size_t t = 0; t < nf; ++t) {
+    unsigned count;
+    in >> count;
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t i;
+      in >> i;
+      m.mesh.triangles.push_back(i);
+    }
+    if (count != 3)
+      return ::testing::AssertionFailure() << "polygon " << t << " is not a triangle";
+  }
+  if (!in)
+    return ::testing::AssertionFailure() << path << ": truncated";
+  return ::testing::AssertionSuccess();
+}
+
+// ---- invariants
+// -------------------------------------------------------------------------
+
+/// Bitwise identity of a point: equal doubles with equal bits (0.0 vs -0.0 differ).
+using PointBits = std::array<std::uint64_t, 3>;
+
+PointBits bitsOf(double x, double y, double z)
+{
+  PointBits b;
+  std::memcpy(&b[0], &x, 8);
+  std::memcpy(&b[1], &y, 8);
+  std::memcpy(&b[2], &z, 8);
+  return b;
+}
+
+std::vector<Point2> distinctXy(const std::vector<Xyz>& points)
+{
+  std::vector<Point2> xy;
+  for (const Xyz& p : points)
+    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
+      xy.push_back({p[0], p[1]});
+  std::sort(xy.begin(), xy.end(), pcl_vts::lexLess);
+  xy.erase(std::unique(xy.begin(), xy.end()), xy.end());
+  return xy;
+}
+
+/// Points on the boundary of the convex hull, collinear ones included: a strict
+/// monotone-chain hull (exact orient2d), then every point on one of its edges.
+std::size_t hullBoundaryCount(const std::vector<Point2>& sorted_distinct)
+{
+  const auto& p = sorted_distinct;
+  std::vector<Point2> hull(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 &&
+           pcl_vts::orient2d(hull[k - 2], hull[k - 1], p[i]) != Sign::POSITIVE)
+      --k;
+    hull[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower &&
+           pcl_vts::orient2d(hull[k - 2], hull[k - 1], p[i]) != Sign::POSITIVE)
+      --k;
+    hull[k++] = p[i];
+  }
+  hull.resize(k - 1);
+  std::size_t count = 0;
+  for (const Point2& q : p)
+    for (std::size_t e = 0; e < hull.size(); ++e) {
+      const Point2& a = hull[e];
+      const Point2& b = hull[(e + 1) % hull.size()];
+      if (pcl_vts::orient2d(a, b, q) == Sign::ZERO && std::min(a.x, b.x) <= q.x &&
+          q.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= q.y &&
+          q.y <= std::max(a.y, b.y)) {
+        ++count;
+        break;
+      }
+    }
+  return count;
+}
+
+/// The summary line "  <label>   <number>" of a successful run.
+std::size_t summaryValue(const std::string& out, const std::string& label)
+{
+  const std::string key = "\n  " + label + " ";
+  const std::size_t at = out.find(key);
+  EXPECT_NE(at, std::string::npos) << "no '" << label << "' in the summary:\n" << out;
+  if (at == std::string::npos)
+    return 0;
+  return std::stoul(out.substr(at + key.size()));
+}
+
+/// The checks every output mesh must pass, whatever the input: a triangulation of
+/// the hull of the distinct input XY, CCW, every vertex used, each vertex one of the
+/// input points (bit for bit; z may be any input z at that XY).
+void expectTriangulationOfInput(const TriangleMesh& mesh, const std::vector<Xyz>& input)
+{
+  const std::vector<Point2> distinct = distinctXy(input);
+  const std::size_t n = distinct.size();
+  const std::size_t h = hullBoundaryCount(distinct);
+  ASSERT_EQ(mesh.vertexCount(), n);
+  EXPECT_EQ(mesh.triangleCount(), 2 * n - h - 2) << "n = " << n << ", h = " << h;
+  std::vector<bool> used(n, false);
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const pcl_vts::VertexId* v = &mesh.triangles[3 * t];
+    ASSERT_TRUE(v[0] < n && v[1] < n && v[2] < n) << "triangle " << t;
+    EXPECT_EQ(pcl_vts::orient2d(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]),
+              Sign::POSITIVE)
+        << "triangle " << t << " is not CCW";
+    used[v[0]] = used[v[1]] = used[v[2]] = true;
+  }
+  EXPECT_EQ(std::count(used.begin(), used.end(), false), 0) << "unused vertices";
+  std::set<PointBits> inputs;
+  for (const Xyz& p : input)
+    inputs.insert(bitsOf(p[0], p[1], p[2]));
+  std::size_t foreign = 0;
+  for (std::size_t v = 0; v < n; ++v)
+    foreign += inputs.count(bitsOf(mesh.xy[v].x, mesh.xy[v].y, mesh.z[v])) == 0;
+  EXPECT_EQ(foreign, 0u) << "vertices that are not input points, bit for bit";
+}
+
+void expectDelaunay(TriangleMesh& mesh)
+{
+  ASSERT_TRUE(mesh.rebuildHalfedges()) << "not an edge-manifold triangulation";
+  std::string why;
+  EXPECT_TRUE(pcl_vts::isDelaunay(mesh, &why)) << why;
+  EXPECT_TRUE(pcl_vts::isEdgeManifold(mesh, &why)) << why;
+}
+
+// ---- failures: exit status, one stderr line, no file
+// ----------------------------------
+
+TEST_F(PcdToMesh, MissingInputFileIsAnInputError)
+{
+  const auto before = workFiles();
+  expectFailure(run({"absent.pcd", "out.ply"}), 2, "absent.pcd", before);
+}
+
+TEST_F(PcdToMesh, EmptyFileIsAnInputErrorNotACrash)
+{
+  writeBytes(work("empty.pcd"), "");
+  const auto before = workFiles();
+  expectFailure(run({"empty.pcd", "out.ply"}), 2, "empty (0 bytes)", before);
+}
+
+TEST_F(PcdToMesh, HeaderOnlyFileIsTruncated)
+{
+  writeBytes(work("h.pcd"), pcdHeader("x y z", "4 4 4", "F F F", 10, "binary"));
+  const auto before = workFiles();
+  expectFailure(run({"h.pcd", "out.ply"}), 2, "truncated", before);
+}
+
+TEST_F(PcdToMesh, HeaderWithZeroPointsIsEmptyInput)
+{
+  writeBytes(work("h.pcd"), pcdHeader("x y z", "4 4 4", "F F F", 0, "binary"));
+  const auto before = workFiles();
+  expectFailure(run({"h.pcd", "out.ply"}), 3, "0 points", before);
+}
+
+TEST_F(PcdToMesh, TruncatedBinaryBodyIsAnInputError)
+{
+  std::string bytes = binaryPcd64(utmCloud(100, 1));
+  bytes.resize(bytes.size() - 50);
+  writeBytes(work("t.pcd"), bytes);
+  const auto before = workFiles();
+  expectFailure(run({"t.pcd", "out.ply"}), 2, "truncated", before);
+}
+
+TEST_F(PcdToMesh, WrongMagicIsNotAPcdFile)
+{
+  writeBytes(work("m.pcd"), "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n");
+  const auto before = workFiles();
+  expectFailure(run({"m.pcd", "out.ply"}), 2, "not a PCD file", before);
+}
+
+TEST_F(PcdToMesh, HeaderClaimingTwoBillionPointsFailsWithoutAllocating)
+{
+  std::string bytes = pcdHeader("x y z", "4 4 4", "F F F", 2000000000, "binary");
+  bytes += std::string(1200, '\0');
+  writeBytes(work("huge.pcd"), bytes);
+  const auto before = workFiles();
+  expectFailure(run({"huge.pcd", "out.ply"}), 2, "2000000000", before);
+}
+
+TEST_F(PcdToMesh, CompressedBodyThatLiesAboutItsSizeIsAnInputError)
+{
+  std::string bytes = pcdHeader("x y z", "4 4 4", "F F F", 1000, "binary_compressed");
+  const std::uint32_t sizes[2] = {16, 12000}; // 16 LZF bytes cannot unpack to 12000
+  bytes.append(reinterpret_cast<const char*>(sizes), 8);
+  bytes += std::string(16, '\x01');
+  writeBytes(work("c.pcd"), bytes);
+  const auto before = workFiles();
+  expectFailure(run({"c.pcd", "out.ply"}), 2, "corrupt", before);
+}
+
+TEST_F(PcdToMesh, FileWithoutXyzFieldsIsAnInputError)
+{
+  std::string bytes = pcdHeader("a b c", "4 4 4", "F F F", 3, "ascii");
+  bytes += "1 2 3\n4 5 6\n7 8 10\n";
+  writeBytes(work("abc.pcd"), bytes);
+  const auto before = workFiles();
+  expectFailure(run({"abc.pcd", "out.ply"}), 2, "no 'x' field", before);
+}
+
+TEST_F(PcdToMesh, AsciiValueThatIsNotANumberIsAnErrorNotAZero)
+{
+  // PCL's own ASCII reader would store 0 here and carry on.
+  std::string bytes = pcdHeader("x y z", "4 4 4", "F F F", 4, "ascii");
+  bytes += "0 0 1\n10 0 2\n0 1O 3\n10 10 4\n";
+  writeBytes(work("a.pcd"), bytes);
+  const auto before = workFiles();
+  expectFailure(run({"a.pcd", "out.ply"}), 2, "'1O' is not a number", before);
+}
+
+TEST_F(PcdToMesh, AsciiLineWithMissingValueIsAnError)
+{
+  std::string bytes = pcdHeader("x y z", "4 4 4", "F F F", 4, "ascii");
+  bytes += "100.25 200.5 1.125\n110.25 200.5 2.125\n100.25 210.5\n110.25 210.5 4.125\n";
+  writeBytes(work("a.pcd"), bytes);
+  const auto before = workFiles();
+  expectFailure(run({"a.pcd", "out.ply"}), 2, "has 2 values, expected 3", before);
+}
+
+TEST_F(PcdToMesh, AllPointsIdenticalIsUnusableData)
+{
+  writeBytes(work("same.pcd"), asciiPcd(std::vector<Xyz>(10, Xyz{3.5, 4.5, 1.0})));
+  const auto before = workFiles();
+  expectFailure(run({"same.pcd", "out.ply"}), 3, "TOO_FEW_POINTS", before);
+}
+
+TEST_F(PcdToMesh, AllCollinearIsUnusableData)
+{
+  std::vector<Xyz> line;
+  for (int i = 0; i < 20; ++i)
+    line.push_back({1.0 + 2.0 * i, 5.0 - i, 0.5 * i});
+  writeBytes(work("line.pcd"), asciiPcd(line));
+  const auto before = workFiles();
+  expectFailure(run({"line.pcd", "out.ply"}), 3, "ALL_COLLINEAR", before);
+}
+
+TEST_F(PcdToMesh, TwoPointsAreTooFew)
+{
+  writeBytes(work("two.pcd"), asciiPcd({{0, 0, 0}, {1, 1, 1}}));
+  const auto before = workFiles();
+  expectFailure(run({"two.pcd", "out.ply"}), 3, "TOO_FEW_POINTS", before);
+}
+
+TEST_F(PcdToMesh, MissingOutputFolderIsAnOutputError)
+{
+  writeBytes(work("in.pcd"), binaryPcd64(utmCloud(50, 2)));
+  const auto before = workFiles();
+  expectFailure(run({"in.pcd", "no/such/folder/out.ply"}), 4, "does not exist", before);
+}
+
+TEST_F(PcdToMesh, OutputPathThatIsAFolderIsAnOutputError)
+{
+  writeBytes(work("in.pcd"), binaryPcd64(utmCloud(50, 2)));
+  fs::create_directory(work("mesh.ply"));
+  const auto before = workFiles();
+  expectFailure(run({"in.pcd", "mesh.ply"}), 4, "mesh.ply", before);
+}
+
+TEST_F(PcdToMesh, UnknownOutputExtensionIsAUsageError)
+{
+  writeBytes(work("in.pcd"), binaryPcd64(utmCloud(50, 2)));
+  const auto before = workFiles();
+  expectFailure(run({"in.pcd", "out.stl"}), 1, "unknown output extension", before);
+  expectFailure(run({"in.pcd", "out"}), 1, "unknown output extension", before);
+}
+
+TEST_F(PcdToMesh, BadOptionValuesAndUnknownOptionsAreUsageErrors)
+{
+  writeBytes(work("in.pcd"), binaryPcd64(utmCloud(50, 2)));
+  const auto before = workFiles();
+  expectFailure(run({"in.pcd", "out.ply", "--cell-size", "-1"}), 1, "'-1' must be >= 0",
+                before);
+  expectFailure(run({"in.pcd", "out.ply", "--cell-size", "abc"}), 1, "not a number",
+                before);
+  expectFailure(run({"in.pcd", "out.ply", "--cell-size", "2m"}), 1, "not a number",
+                before);
+  expectFailure(run({"in.pcd", "out.ply", "--cell-size", "inf"}), 1, "out of range",
+                before);
+  expectFailure(run({"in.pcd", "out.ply", "--cell-size"}), 1, "needs a value", before);
+  // Well-formed but absurd for this cloud: the core's own limit, still a usage error.
+  expectFailure(run({"in.pcd", "out.ply", "--cell-size", "1e-12"}), 1,
+                "options rejected", before);
+  expectFailure(run({"in.pcd", "out.ply", "--frobnicate"}), 1, "--frobnicate", before);
+  expectFailure(run({"in.pcd", "out.ply", "--duplicates", "median"}), 1, "median",
+                before);
+  expectFailure(run({"in.pcd", "out.ply", "--no-trim=yes"}), 1, "takes no value",
+                before);
+  expectFailure(run({"in.pcd"}), 1, "expected INPUT.pcd and OUTPUT", before);
+  expectFailure(run({"in.pcd", "a.ply", "b.ply"}), 1, "unexpected extra argument",
+                before);
+}
+
+TEST_F(PcdToMesh, WriteFailureMidFileIsAnOutputErrorAndLeavesNoFile)
+{
+  // A 4 KiB file size limit: the mesh (~760 KB) fails part-way with EFBIG.
+  const auto before = workFiles();
+  expectFailure(
+      run({TEST_DATA + "/samp11-utm-ground.pcd", "big.ply"}, "ulimit -f 8 &&"), 4,
+      "File too large", before);
+}
+
+TEST_F(PcdToMesh, FailedRunLeavesAnExistingOutputUntouched)
+{
+  std::vector<Xyz> line;
+  for (int i = 0; i < 5; ++i)
+    line.push_back({double(i), double(i), 0.0});
+  writeBytes(work("line.pcd"), asciiPcd(line));
+  writeBytes(work("out.ply"), "previous mesh");
+  const auto before = workFiles();
+  expectFailure(run({"line.pcd", "out.ply"}), 3, "ALL_COLLINEAR", before);
+  EXPECT_EQ(readText(work("out.ply")), "previous mesh");
+}
+
+TEST_F(PcdToMesh, HelpListsEveryOptionWithItsDefaultAndExitsZero)
+{
+  for (const char* flag : {"--help", "-h"}) {
+    const CliResult r = run({flag});
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_TRUE(r.err.empty()) << r.err;
+    for (const char* option : {"--cell-size", "--duplicates", "--no-trim", "--no-fill",
+                               "--ascii", "--double", "--quiet", "--help"})
+      EXPECT_NE(r.out.find(option), std::string::npos) << option;
+    std::size_t defaults = 0;
+    for (std::size_t at = r.out.find("(default"); at != std::string::npos;
+         at = r.out.find("(default", at + 1))
+      ++defaults;
+    EXPECT_GE(defaults, 7u) << "each option states its default";
+    for (const char* code : {"  0  ", "  1  ", "  2  ", "  3  ", "  4  ", "  5  "})
+      EXPECT_NE(r.out.find(code), std::string::npos) << "exit code" << code;
+  }
+}
+
+// ---- successes: the mesh read back
+// -----------------------------------------------------
+
+TEST_F(PcdToMesh, Samp11GroundToBinaryPlyIsTheHullTriangulation)
+{
+  const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
+  const CliResult r = run({input, "samp11.ply"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_EQ(workFiles(), std::vector<std::string>{"samp11.ply"}) << "temp file left";
+
+  MeshFile m;
+  ASSERT_TRUE(readPly(work("samp11.ply").string(), m));
+  EXPECT_TRUE(m.binary);
+  EXPECT_EQ(m.vertex_type, "float") << "float32 input: float vertices are exact";
+  const std::vector<Xyz> points = loadFloat32Pcd(input);
+  ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, points));
+
+  const std::vector<Point2> distinct = distinctXy(points);
+  EXPECT_EQ(summaryValue(r.out, "points read"), points.size());
+  EXPECT_EQ(summaryValue(r.out, "distinct points"), distinct.size());
+  EXPECT_EQ(summaryValue(r.out, "hull vertices"), hullBoundaryCount(distinct));
+  EXPECT_EQ(summaryValue(r.out, "triangles"), m.mesh.triangleCount());
+  EXPECT_EQ(summaryValue(r.out, "duplicates merged"), points.size() - distinct.size());
+  EXPECT_NE(r.out.find("not implemented yet"), std::string::npos)
+      << "the summary must say trimming/filling did not run";
+
+  // Default duplicate rule: the lowest z at each XY.
+  std::map<std::pair<double, double>, double> lowest;
+  for (const Xyz& p : points) {
+    auto [it, fresh] = lowest.insert({{p[0], p[1]}, p[2]});
+    if (!fresh)
+      it->second = std::min(it->second, p[2]);
+  }
+  std::size_t wrong_z = 0;
+  for (std::size_t v = 0; v < m.mesh.vertexCount(); ++v)
+    wrong_z += lowest.at({m.mesh.xy[v].x, m.mesh.xy[v].y}) != m.mesh.z[v];
+  EXPECT_EQ(wrong_z, 0u);
+}
+
+TEST_F(PcdToMesh, AutzenFloat64UpperCaseXyzKeepsEveryBit)
+{
+  const std::string input = TEST_DATA + "/autzen-utm.pcd";
+  const CliResult r = run({input, "autzen.ply", "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << "--quiet prints nothing:\n" << r.out;
+  MeshFile m;
+  ASSERT_TRUE(readPly(work("autzen.ply").string(), m));
+  EXPECT_EQ(m.vertex_type, "double");
+  const std::vector<Xyz> points = loadBinaryFloat64Pcd(input, {"X", "Y", "Z"});
+  ASSERT_EQ(points.size(), 1065u);
+  ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, points));
+  // No duplicates in this file, so every input point must come back, bit for bit.
+  std::set<PointBits> in, out;
+  for (const Xyz& p : points)
+    in.insert(bitsOf(p[0], p[1], p[2]));
+  for (std::size_t v = 0; v < m.mesh.vertexCount(); ++v)
+    out.insert(bitsOf(m.mesh.xy[v].x, m.mesh.xy[v].y, m.mesh.z[v]));
+  EXPECT_EQ(in, out);
+}
+
+TEST_F(PcdToMesh, UtmMillimetreCloudRoundTripsExactlyThroughEveryFormat)
+{
+  const std::vector<Xyz> points = utmCloud(3000, 42);
+  writeBytes(work("utm.pcd"), binaryPcd64(points));
+  std::set<PointBits> in;
+  for (const Xyz& p : points)
+    in.insert(bitsOf(p[0], p[1], p[2]));
+
+  struct Case {
+    std::string output;
+    std::vector<std::string> options;
+    bool binary;
+  };
+  const std::vector<Case> cases = {{"utm.ply", {}, true},
+                                   {"utm_ascii.PLY", {"--ascii"}, false},
+                                   {"utm.obj", {}, false},
+                                   {"utm.VTK", {}, false}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.output);
+    std::vector<std::string> args = {"utm.pcd", c.output};
+    args.insert(args.end(), c.options.begin(), c.options.end());
+    const CliResult r = run(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    MeshFile m;
+    const std::string path = work(c.output).string();
+    const std::string ext = c.output.substr(c.output.size() - 3);
+    if (ext == "ply" || ext == "PLY")
+      ASSERT_TRUE(readPly(path, m));
+    else if (ext == "obj")
+      ASSERT_TRUE(readObj(path, m));
+    else
+      ASSERT_TRUE(readVtk(path, m));
+    if (ext != "obj") {
+      EXPECT_EQ(m.vertex_type, "double");
+    }
+    EXPECT_EQ(m.binary, c.binary);
+    ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, points));
+    std::set<PointBits> out;
+    for (std::size_t v = 0; v < m.mesh.vertexCount(); ++v)
+      out.insert(bitsOf(m.mesh.xy[v].x, m.mesh.xy[v].y, m.mesh.z[v]));
+    EXPECT_EQ(in, out) << "every coordinate must survive the file, bit for bit";
+  }
+  std::vector<std::string> expected = {"utm.VTK", "utm.obj", "utm.pcd", "utm.ply",
+                                       "utm_ascii.PLY"};
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(workFiles(), expected) << "temp files left behind";
+}
+
+TEST_F(PcdToMesh, PclWrittenFloat64FilesOfEveryDataKindRoundTrip)
+{
+  // x y z float64 between two other fields, written by PCL itself.
+  const std::vector<Xyz> points = utmCloud(2000, 7);
+  pcl::PCLPointCloud2 cloud;
+  cloud.width = static_cast<std::uint32_t>(points.size());
+  cloud.height = 1;
+  const auto field = [](const char* name, std::uint32_t offset, std::uint8_t type) {
+    pcl::PCLPointField f;
+    f.name = name;
+    f.offset = offset;
+    f.datatype = type;
+    f.count = 1;
+    return f;
+  };
+  cloud.fields = {field("intensity", 0, pcl::PCLPointField::FLOAT32),
+                  field("x", 4, pcl::PCLPointField::FLOAT64),
+                  field("y", 12, pcl::PCLPointField::FLOAT64),
+                  field("z", 20, pcl::PCLPointField::FLOAT64),
+                  field("classification", 28, pcl::PCLPointField::UINT8)};
+  cloud.point_step = 29;
+  cloud.row_step = cloud.point_step * cloud.width;
+  cloud.data.assign(cloud.row_step, 0);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    std::memcpy(&cloud.data[i * cloud.point_step + 4], points[i].data(), 24);
+
+  pcl::PCDWriter writer;
+  const Eigen::Vector4f origin = Eigen::Vector4f::Zero();
+  const Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
+  ASSERT_EQ(writer.writeASCII(work("a.pcd").string(), cloud, origin, orientation, 17),
+            0);
+  ASSERT_EQ(writer.writeBinary(work("b.pcd").string(), cloud), 0);
+  ASSERT_EQ(writer.writeBinaryCompressed(work("c.pcd").string(), cloud), 0);
+  std::set<PointBits> in;
+  for (const Xyz& p : points)
+    in.insert(bitsOf(p[0], p[1], p[2]));
+  for (const char* name : {"a", "b", "c"}) {
+    SCOPED_TRACE(name);
+    const CliResult r = run({std::string(name) + ".pcd", std::string(name) + ".ply"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("x y z float64"), std::string::npos) << r.out;
+    MeshFile m;
+    ASSERT_TRUE(readPly(work(std::string(name) + ".ply").string(), m));
+    EXPECT_EQ(m.vertex_type, "double");
+    ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, points));
+    std::set<PointBits> out;
+    for (std::size_t v = 0; v < m.mesh.vertexCount(); ++v)
+      out.insert(bitsOf(m.mesh.xy[v].x, m.mesh.xy[v].y, m.mesh.z[v]));
+    EXPECT_EQ(in, out);
+  }
+}
+
+TEST_F(PcdToMesh, DoubleOptionForcesDoubleVerticesForFloatInput)
+{
+  const CliResult r = run({TEST_DATA + "/samp11-utm-ground.pcd", "d.ply", "--double"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  MeshFile m;
+  ASSERT_TRUE(readPly(work("d.ply").string(), m));
+  EXPECT_EQ(m.vertex_type, "double");
+}
+
+TEST_F(PcdToMesh, NonFinitePointsAreDroppedAndCounted)
+{
+  std::vector<Xyz> points = {{0, 0, 1}, {10, 0, 2}, {0, 10, 3}, {10, 10, 4}, {5, 5, 5}};
+  std::string bytes = asciiPcd(points);
+  bytes.replace(bytes.find("POINTS 5"), 8, "POINTS 7");
+  bytes.replace(bytes.find("WIDTH 5"), 7, "WIDTH 7");
+  bytes += "nan 3 3\n4 4 inf\n";
+  writeBytes(work("nan.pcd"), bytes);
+  const CliResult r = run({"nan.pcd", "out.obj"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summaryValue(r.out, "points read"), 7u);
+  EXPECT_EQ(summaryValue(r.out, "non-finite dropped"), 2u);
+  EXPECT_EQ(summaryValue(r.out, "triangles"), 4u);
+  MeshFile m;
+  ASSERT_TRUE(readObj(work("out.obj").string(), m));
+  ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, points));
+}
+
+TEST_F(PcdToMesh, NoTrimNoFillOutputIsDelaunay)
+{
+  const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
+  const CliResult r = run({input, "dt.ply", "--no-trim", "--no-fill"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  MeshFile m;
+  ASSERT_TRUE(readPly(work("dt.ply").string(), m));
+  ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, loadFloat32Pcd(input)));
+  expectDelaunay(m.mesh);
+}
+
+TEST_F(PcdToMesh, NoTrimNoFillOnSharedTerrainIsDelaunay)
+{
+  const std::string dir = SHARED_DATA + "/pcd/isprs_filtertest";
+  if (!fs::exists(dir))
+    GTEST_SKIP() << "shared data not found at " << dir;
+  for (const char* name :
+       {"FSite8_red2-utm.pcd", "samp53-utm.pcd", "samp71-utm-ground.pcd"}) {
+    SCOPED_TRACE(name);
+    const std::string input = dir + "/" + name;
+    const CliResult r = run({input, "dt.ply", "--no-trim", "--no-fill", "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    MeshFile m;
+    ASSERT_TRUE(readPly(work("dt.ply").string(), m));
+    ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, loadFloat32Pcd(input)));
+    expectDelaunay(m.mesh);
+  }
+}
+
+// ---- the checkers above are shown to fail
+// -----------------------------------------------
+
+TEST(PcdToMeshCheckers, HullCountIncludesCollinearBoundaryPoints)
+{
+  // 3 x 3 lattice: 8 boundary points (4 corners + 4 edge midpoints), 1 interior.
+  std::vector<Xyz> grid;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      grid.push_back({double(i), double(j), 0.0});
+  EXPECT_EQ(hullBoundaryCount(distinctXy(grid)), 8u);
+}
+
+TEST(PcdToMeshCheckers, TriangulationCheckCatchesFlippedAndForeignVertices)
+{
+  const std::vector<Xyz> input = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  TriangleMesh good;
+  good.xy = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  good.z = {0, 0, 0, 0};
+  good.triangles = {0, 1, 3, 0, 3, 2};
+  expectTriangulationOfInput(good, input);
+
+  TriangleMesh cw = good;
+  std::swap(cw.triangles[1], cw.triangles[2]);
+  EXPECT_NONFATAL_FAILURE(expectTriangulationOfInput(cw, input), "is not CCW");
+
+  TriangleMesh moved = good;
+  moved.z[3] = std::nextafter(0.0, 1.0);
+  EXPECT_NONFATAL_FAILURE(expectTriangulationOfInput(moved, input), "bit for bit");
+}
+
+} // namespace

@@ -1,0 +1,446 @@
+// pcd_to_mesh: PCD elevation point cloud -> exact Delaunay triangle mesh
+// (.ply/.obj/.vtk) through the PCL-free core (runVtsPipeline), keeping float64
+// coordinates intact. Shape of PCL's tools (tools/gp3_surface.cpp): one "[done, ...]"
+// line per stage; but every option is validated, each failure class has its own exit
+// code and one stderr line, and the output appears only when complete (mesh_writer.h).
+#include <pcl_vts/core/vts_pipeline.h>
+#include <pcl_vts/mesh_writer.h>
+#include <pcl_vts/pcd_cloud_reader.h>
+
+#include <pcl/console/print.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdarg>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <string>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+// One exit code per class of failure (listed in --help).
+constexpr int EXIT_USAGE = 1;    // unknown option, bad value, bad output extension
+constexpr int EXIT_INPUT = 2;    // input file missing, unreadable or not a valid PCD
+constexpr int EXIT_DATA = 3;     // input read but unusable: no/too few/collinear points
+constexpr int EXIT_OUTPUT = 4;   // the mesh could not be written
+constexpr int EXIT_INTERNAL = 5; // a bug or out of memory
+
+constexpr double DEFAULT_CELL_SIZE = 0.0;
+constexpr const char* DEFAULT_DUPLICATES = "lowest";
+
+struct CliOptions {
+  std::string input;
+  std::string output;
+  pcl_vts::VtsOptions vts;
+  bool no_trim = false;
+  bool no_fill = false;
+  bool ascii = false;
+  bool force_double = false;
+  bool quiet = false;
+  bool help = false;
+};
+
+void printHelp()
+{
+  std::printf(
+      "Usage: pcd_to_mesh INPUT.pcd OUTPUT.{ply,obj,vtk} [options]\n"
+      "\n"
+      "Triangulates an elevation point cloud (z = f(x, y): terrain, DEM, horizon) "
+      "with\n"
+      "the VTS grid method: the exact Delaunay triangulation of the XY projection,\n"
+      "tiling the convex hull of the distinct XY points.\n"
+      "\n"
+      "Input:  PCD file (ascii, binary or binary_compressed) with fields x y z (or\n"
+      "        X Y Z), float32, float64 or integer; read in double precision.\n"
+      "Output: format from the extension (any case): .ply (binary little-endian "
+      "unless\n"
+      "        --ascii), .obj, .vtk (legacy ASCII polydata). Vertex coordinates are\n"
+      "        written exactly: double PLY properties whenever float32 would round,\n"
+      "        text numbers that read back to the same double. The file is written\n"
+      "        to a temporary file in the same folder and renamed when complete.\n"
+      "\n"
+      "Options:\n"
+      "  -h, --help          print this help and exit\n"
+      "  --cell-size S       grid cell edge length in input XY units, S >= 0;\n"
+      "                      0 = automatic from the point density (default: %g)\n"
+      "  --duplicates RULE   z kept where points share the same XY exactly:\n"
+      "                      lowest | highest | mean | first (default: %s)\n"
+      "  --no-trim           do not trim outward boundary triangles (default: trim);\n"
+      "                      trimming is not implemented yet and never runs\n"
+      "  --no-fill           do not fill holes (default: fill); hole filling is not\n"
+      "                      implemented yet and never runs\n"
+      "  --ascii             ASCII PLY instead of binary (default: binary; .obj and "
+      ".vtk\n"
+      "                      are always ASCII)\n"
+      "  --double            declare double vertex coordinates in PLY/VTK even when\n"
+      "                      float32 is exact (default: only when float32 would "
+      "round)\n"
+      "  --quiet             print nothing but errors (default: print a summary)\n"
+      "\n"
+      "Exit status:\n"
+      "  0  success: the mesh was written\n"
+      "  1  usage error: unknown option, bad or missing option value, wrong number of\n"
+      "     arguments, unknown output extension\n"
+      "  2  input file error: missing, unreadable, empty, not a PCD file, bad header,\n"
+      "     truncated body, no x/y/z fields\n"
+      "  3  input data unusable: no points, fewer than 3 distinct XY positions, all\n"
+      "     points collinear, coordinates out of range\n"
+      "  4  output error: the mesh could not be written (folder missing, not "
+      "writable,\n"
+      "     disk full); no output file is left behind\n"
+      "  5  internal error (out of memory, or a bug: please report)\n"
+      "Errors print one line on stderr starting with \"pcd_to_mesh: error: \".\n",
+      DEFAULT_CELL_SIZE, DEFAULT_DUPLICATES);
+}
+
+/// Strict: the whole text is one finite number >= 0 (PCL's parse_argument is not).
+bool parseCellSize(const char* text, double& value, std::string& error)
+{
+  const std::string shown = std::string("--cell-size: '") + text + "'";
+  if (*text == '\0' || std::isspace(static_cast<unsigned char>(*text))) {
+    error = shown + " is not a number";
+    return false;
+  }
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(text, &end);
+  if (end == text || *end != '\0') {
+    error = shown + " is not a number";
+    return false;
+  }
+  if (!std::isfinite(value) || errno == ERANGE) {
+    error = shown + " is out of range (a finite number >= 0 is expected)";
+    return false;
+  }
+  if (value < 0.0) {
+    error = shown + " must be >= 0 (0 = automatic from the point density)";
+    return false;
+  }
+  return true;
+}
+
+/// Parses argv; on failure error holds the one-line reason.
+bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
+{
+  std::vector<std::string> positional;
+  bool options_done = false;
+  opt.vts.cell_size = DEFAULT_CELL_SIZE;
+  if (!pcl_vts::parseDuplicateRule(DEFAULT_DUPLICATES, opt.vts.duplicate_rule)) {
+    error = "internal: bad default duplicate rule";
+    return false;
+  }
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (options_done || arg.size() < 2 || arg[0] != '-') {
+      positional.push_back(arg);
+      continue;
+    }
+    if (arg == "--") {
+      options_done = true;
+      continue;
+    }
+    const std::size_t eq = arg.find('=');
+    const std::string name = arg.substr(0, eq);
+    const bool inline_value = eq != std::string::npos;
+    const bool takes_value = name == "--cell-size" || name == "--duplicates";
+    if (inline_value && !takes_value) {
+      error = "option '" + name + "' takes no value";
+      return false;
+    }
+    std::string value;
+    if (takes_value) {
+      if (inline_value)
+        value = arg.substr(eq + 1);
+      else if (i + 1 < argc)
+        value = argv[++i];
+      else {
+        error = "option '" + name + "' needs a value";
+        return false;
+      }
+    }
+    if (name == "-h" || name == "--help")
+      opt.help = true;
+    else if (name == "--cell-size") {
+      if (!parseCellSize(value.c_str(), opt.vts.cell_size, error))
+        return false;
+    } else if (name == "--duplicates") {
+      if (!pcl_vts::parseDuplicateRule(value.c_str(), opt.vts.duplicate_rule)) {
+        error =
+            "--duplicates: '" + value + "' is not one of lowest, highest, mean, first";
+        return false;
+      }
+    } else if (name == "--no-trim")
+      opt.no_trim = true;
+    else if (name == "--no-fill")
+      opt.no_fill = true;
+    else if (name == "--ascii")
+      opt.ascii = true;
+    else if (name == "--double")
+      opt.force_double = true;
+    else if (name == "--quiet")
+      opt.quiet = true;
+    else {
+      error = "unknown option '" + arg + "'";
+      return false;
+    }
+  }
+  if (opt.help)
+    return true;
+  if (positional.size() != 2) {
+    error = positional.size() < 2
+                ? "expected INPUT.pcd and OUTPUT.{ply,obj,vtk}, got " +
+                      std::to_string(positional.size()) + " file argument(s)"
+                : "unexpected extra argument '" + positional[2] + "'";
+    return false;
+  }
+  opt.input = positional[0];
+  opt.output = positional[1];
+  return true;
+}
+
+int exitCodeFor(pcl_vts::StatusCode code)
+{
+  using pcl_vts::StatusCode;
+  switch (code) {
+  case StatusCode::OK:
+    return 0;
+  case StatusCode::IO_ERROR:
+    return EXIT_INPUT;
+  case StatusCode::EMPTY_INPUT:
+  case StatusCode::NON_FINITE:
+  case StatusCode::TOO_FEW_POINTS:
+  case StatusCode::ALL_COLLINEAR:
+  case StatusCode::COORDINATE_RANGE:
+    return EXIT_DATA;
+  case StatusCode::INVALID_PARAMETER:
+    return EXIT_USAGE;
+  case StatusCode::INTERNAL_ERROR:
+    return EXIT_INTERNAL;
+  }
+  return EXIT_INTERNAL;
+}
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+double peakMemoryMiB()
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0; // Linux: KiB
+}
+
+/// Stdout in PCL's tool shape: "Stage ..." printed (and flushed) when the stage
+/// starts, "[done, 12.3 ms : ...]" when it ends; nothing with --quiet.
+class Reporter {
+ public:
+  explicit Reporter(bool quiet)
+      : quiet_(quiet)
+  {}
+
+  void begin(const char* format, ...) __attribute__((format(printf, 2, 3)))
+  {
+    if (quiet_)
+      return;
+    va_list args;
+    va_start(args, format);
+    std::vprintf(format, args);
+    va_end(args);
+    std::fflush(stdout);
+    open_ = true;
+  }
+
+  void done(double ms, const std::string& what)
+  {
+    if (quiet_)
+      return;
+    std::printf("[done, %.1f ms : %s]\n", ms, what.c_str());
+    std::fflush(stdout);
+    open_ = false;
+  }
+
+  void line(const char* format, ...) __attribute__((format(printf, 2, 3)))
+  {
+    if (quiet_)
+      return;
+    va_list args;
+    va_start(args, format);
+    std::vprintf(format, args);
+    va_end(args);
+  }
+
+  /// Reports a failure: closes a pending stage line, one line on stderr.
+  int fail(int exit_code, const std::string& message)
+  {
+    if (open_ && !quiet_)
+      std::printf("[failed]\n");
+    std::fflush(stdout);
+    std::string one_line = message;
+    for (char& c : one_line)
+      if (c == '\n' || c == '\r')
+        c = ' ';
+    std::fprintf(stderr, "pcd_to_mesh: error: %s\n", one_line.c_str());
+    return exit_code;
+  }
+
+ private:
+  bool quiet_;
+  bool open_ = false;
+};
+
+/// Fails early, before minutes of work, when the output cannot be written there.
+int checkOutputPath(const std::string& path, Reporter& out)
+{
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+    return out.fail(EXIT_OUTPUT, "cannot write '" + path + "': it is a folder");
+  const std::size_t slash = path.rfind('/');
+  const std::string folder =
+      slash == std::string::npos ? "." : path.substr(0, slash + 1);
+  if (::stat(folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+    return out.fail(EXIT_OUTPUT, "cannot write '" + path + "': folder '" + folder +
+                                     "' does not exist");
+  if (::access(folder.c_str(), W_OK) != 0)
+    return out.fail(EXIT_OUTPUT, "cannot write '" + path + "': folder '" + folder +
+                                     "' is not writable: " + std::strerror(errno));
+  return 0;
+}
+
+std::string stageNote(bool switched_off, const char* option)
+{
+  return switched_off ? std::string(" (also switched off by ") + option + ")" : "";
+}
+
+int run(const CliOptions& opt)
+{
+  Reporter out(opt.quiet);
+  const auto t_total = Clock::now();
+  pcl_vts::MeshFileFormat format = pcl_vts::MeshFileFormat::PLY;
+  if (pcl_vts::Status s = pcl_vts::meshFileFormatFromPath(opt.output, format); !s.ok())
+    return out.fail(EXIT_USAGE, s.message);
+  if (pcl_vts::Status s = pcl_vts::validateOptions(opt.vts); !s.ok())
+    return out.fail(EXIT_USAGE, s.message);
+  if (const int rc = checkOutputPath(opt.output, out); rc != 0)
+    return rc;
+
+  out.begin("Reading '%s' ", opt.input.c_str());
+  auto start = Clock::now();
+  std::vector<double> xyz;
+  pcl_vts::PcdCloudInfo info;
+  if (pcl_vts::Status s = pcl_vts::readPcdCloud(opt.input, xyz, info); !s.ok())
+    return out.fail(exitCodeFor(s.code), s.code == pcl_vts::StatusCode::IO_ERROR
+                                             ? "cannot read input " + s.message
+                                             : "input unusable: " + s.toString());
+  const double ms_read = msSince(start);
+  out.done(ms_read, std::to_string(info.points) + " points, " + info.data_format +
+                        ", " + info.xyzDescription());
+
+  out.begin("Triangulating %zu points (grid, convex hull, region growing) ",
+            info.points);
+  start = Clock::now();
+  pcl_vts::VtsResult result;
+  const pcl_vts::Status tri =
+      pcl_vts::runVtsPipeline(xyz.data(), info.points, opt.vts, result);
+  if (tri.code == pcl_vts::StatusCode::INVALID_PARAMETER)
+    return out.fail(EXIT_USAGE,
+                    "options rejected for '" + opt.input + "': " + tri.message);
+  if (!tri.ok())
+    return out.fail(exitCodeFor(tri.code),
+                    "input '" + opt.input +
+                        "' cannot be triangulated: " + tri.toString());
+  std::vector<double>().swap(xyz);
+  const pcl_vts::Diagnostics& d = result.diagnostics;
+  out.done(msSince(start), std::to_string(d.triangles) + " triangles");
+  out.line(
+      "  grid         [done, %.1f ms : %zu non-finite dropped, %zu duplicates merged "
+      "(keep %s z), %zu distinct points, cell size %.6g, %zu cells]\n",
+      1e3 * d.seconds_grid, d.non_finite_dropped, d.duplicates_merged,
+      pcl_vts::duplicateRuleName(opt.vts.duplicate_rule), d.distinct_points,
+      d.cell_size, d.cells);
+  out.line("  hull         [done, %.1f ms : %zu hull vertices]\n", 1e3 * d.seconds_hull,
+           d.hull_vertices);
+  out.line("  triangulate  [done, %.1f ms : %zu triangles]\n",
+           1e3 * d.seconds_triangulate, d.triangles);
+  out.line("Trimming outward triangles: not implemented yet, not run%s\n",
+           stageNote(opt.no_trim, "--no-trim").c_str());
+  out.line("Filling holes: not implemented yet, not run%s\n",
+           stageNote(opt.no_fill, "--no-fill").c_str());
+
+  out.begin("Writing '%s' ", opt.output.c_str());
+  start = Clock::now();
+  pcl_vts::MeshWriteOptions write_options;
+  write_options.ascii = opt.ascii;
+  write_options.force_double = opt.force_double;
+  write_options.comment = "pcl_vts pcd_to_mesh: Delaunay triangulation of " + opt.input;
+  pcl_vts::MeshWriteInfo written;
+  if (pcl_vts::Status s =
+          pcl_vts::writeMesh(opt.output, result.mesh, write_options, &written);
+      !s.ok())
+    return out.fail(s.code == pcl_vts::StatusCode::IO_ERROR ? EXIT_OUTPUT
+                                                            : EXIT_INTERNAL,
+                    s.message);
+  const double ms_write = msSince(start);
+  const std::string precision = format == pcl_vts::MeshFileFormat::OBJ
+                                    ? "full-precision text"
+                                : written.double_vertices ? "double vertices"
+                                                          : "float vertices (exact)";
+  out.done(ms_write, std::string(written.ascii ? "ASCII " : "binary ") +
+                         pcl_vts::meshFileFormatName(written.format) + ", " +
+                         precision + ", " + std::to_string(written.bytes) + " bytes");
+
+  out.line("Summary\n");
+  out.line("  %-20s %zu\n", "points read", info.points);
+  out.line("  %-20s %zu\n", "non-finite dropped", d.non_finite_dropped);
+  out.line("  %-20s %zu\n", "duplicates merged", d.duplicates_merged);
+  out.line("  %-20s %zu\n", "distinct points", d.distinct_points);
+  out.line("  %-20s %zu\n", "hull vertices", d.hull_vertices);
+  out.line("  %-20s %zu\n", "triangles", d.triangles);
+  out.line("  %-20s read %.1f, grid %.1f, hull %.1f, triangulate %.1f, write %.1f, "
+           "total %.1f\n",
+           "time (ms)", ms_read, 1e3 * d.seconds_grid, 1e3 * d.seconds_hull,
+           1e3 * d.seconds_triangulate, ms_write, msSince(t_total));
+  out.line("  %-20s %.1f MiB\n", "peak memory", peakMemoryMiB());
+  out.line("  %-20s %s\n", "mesh written to", opt.output.c_str());
+  std::fflush(stdout);
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  // Our own messages only: PCL's reader would add warnings and errors to stderr.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  // A closed stdout (`| head`) or a file size limit must not kill the run: the write
+  // fails, is reported, and the temp file is removed.
+  std::signal(SIGPIPE, SIG_IGN);
+  std::signal(SIGXFSZ, SIG_IGN);
+  Reporter errors(true);
+  try {
+    CliOptions options;
+    std::string error;
+    if (!parseArgs(argc, argv, options, error))
+      return errors.fail(EXIT_USAGE, error + " (see pcd_to_mesh --help)");
+    if (options.help) {
+      printHelp();
+      return 0;
+    }
+    return run(options);
+  } catch (const std::bad_alloc&) {
+    return errors.fail(EXIT_INTERNAL, "out of memory");
+  } catch (const std::exception& e) {
+    return errors.fail(EXIT_INTERNAL, std::string("internal error: ") + e.what());
+  }
+}
