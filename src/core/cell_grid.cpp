@@ -41,18 +41,23 @@ Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
   if (n == 0)
     xmin = xmax = ymin = ymax = 0.0;
   const double width = xmax - xmin, height = ymax - ymin;
-  const double size = cell_size > 0.0 ? cell_size : defaultCellSize(width, height, n);
+  // A cell wider than the data is one cell either way: clamp, so cell indices and
+  // circle bounds stay in the data's range.
+  const double extent = std::max(width, height);
+  const double size = cell_size > 0.0
+                          ? (extent > 0.0 ? std::min(cell_size, extent) : cell_size)
+                          : defaultCellSize(width, height, n);
   const double nx = std::floor(width / size) + 1.0;
   const double ny = std::floor(height / size) + 1.0;
   const double limit =
       std::min(MAX_CELLS_ABSOLUTE,
                std::max(MAX_CELLS_FLOOR, MAX_CELLS_PER_POINT * static_cast<double>(n)));
   if (!(nx * ny <= limit))
-    return Status::error(
-        StatusCode::INVALID_PARAMETER,
-        "cell_size = " + std::to_string(size) + " gives " + std::to_string(nx * ny) +
-            " cells for " + std::to_string(n) + " points (limit " +
-            std::to_string(limit) + "); use a larger cell size, or 0 for automatic");
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "cell_size = " + formatValue(size) + " gives " +
+                             formatValue(nx * ny) + " cells for " + std::to_string(n) +
+                             " points (limit " + formatValue(limit) +
+                             "); use a larger cell size, or 0 for automatic");
 
   grid.origin_x = xmin;
   grid.origin_y = ymin;

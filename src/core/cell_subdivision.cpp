@@ -1,31 +1,45 @@
 #include <pcl_vts/core/cell_subdivision.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 namespace pcl_vts {
 namespace {
 
-// Deeper than any split that still separates distinct doubles in one cell.
-constexpr int MAX_DEPTH = 60;
+// A recursion guard: shrink-then-split halves a box per level, so reaching this
+// needs point sets with a dynamic range beyond 2^200 inside one cell.
+constexpr int MAX_DEPTH = 200;
 
 struct Builder {
   CellGrid& grid;
   CellSubdivision& sub;
   std::vector<std::uint32_t>& slots; // grid slot permutation being built
 
-  /// Splits node `id` (its range already in place) until leaves are small.
+  /// Shrinks node `id` to the bounding box of its points, then splits it at the box
+  /// centre until leaves are small. Shrinking first skips the empty levels a plain
+  /// quadtree would need below a far outlier (the extent can span 1e30 while a
+  /// cluster spans metres), so the depth follows the points, not the coordinates.
   void split(std::uint32_t id, int depth)
   {
-    const SubCell node = sub.nodes[id];
+    SubCell node = sub.nodes[id];
+    const auto& pts = grid.points;
+    node.x0 = node.y0 = std::numeric_limits<double>::infinity();
+    node.x1 = node.y1 = -node.x0;
+    for (std::uint32_t k = node.begin; k < node.end; ++k) {
+      const Point2& p = pts[slots[k]];
+      node.x0 = std::min(node.x0, p.x);
+      node.x1 = std::max(node.x1, p.x);
+      node.y0 = std::min(node.y0, p.y);
+      node.y1 = std::max(node.y1, p.y);
+    }
+    sub.nodes[id] = node;
+    if (node.end - node.begin <= CROWDED_CELL_POINTS || depth >= MAX_DEPTH)
+      return;
     const double mx = node.x0 + 0.5 * (node.x1 - node.x0);
     const double my = node.y0 + 0.5 * (node.y1 - node.y0);
-    if (node.end - node.begin <= CROWDED_CELL_POINTS || depth >= MAX_DEPTH ||
-        !(mx > node.x0 && mx < node.x1 && my > node.y0 && my < node.y1))
-      return;
     // Partition by y, then each half by x: children in order SW, SE, NW, NE.
     const auto first = slots.begin() + node.begin, last = slots.begin() + node.end;
-    const auto& pts = grid.points;
     const auto south = [&](std::uint32_t s) { return pts[s].y < my; };
     const auto west = [&](std::uint32_t s) { return pts[s].x < mx; };
     const auto mid_y = std::partition(first, last, south);
@@ -34,14 +48,19 @@ struct Builder {
     const auto at = [&](auto it) {
       return static_cast<std::uint32_t>(it - slots.begin());
     };
+    const std::uint32_t cut[5] = {node.begin, at(mid_sw), at(mid_y), at(mid_nw),
+                                  node.end};
+    for (int c = 0; c < 4; ++c)
+      if (cut[c] == node.begin && cut[c + 1] == node.end)
+        return; // no progress: the box is a few ulps wide; keep a leaf
     const auto child0 = static_cast<std::uint32_t>(sub.nodes.size());
     sub.nodes[id].first_child = child0;
-    sub.nodes.push_back({node.x0, node.y0, mx, my, node.begin, at(mid_sw), INVALID_ID});
-    sub.nodes.push_back({mx, node.y0, node.x1, my, at(mid_sw), at(mid_y), INVALID_ID});
-    sub.nodes.push_back({node.x0, my, mx, node.y1, at(mid_y), at(mid_nw), INVALID_ID});
-    sub.nodes.push_back({mx, my, node.x1, node.y1, at(mid_nw), node.end, INVALID_ID});
+    for (int c = 0; c < 4; ++c)
+      sub.nodes.push_back(
+          {node.x0, node.y0, node.x1, node.y1, cut[c], cut[c + 1], INVALID_ID});
     for (std::uint32_t c = child0; c < child0 + 4; ++c)
-      split(c, depth + 1);
+      if (sub.nodes[c].end > sub.nodes[c].begin)
+        split(c, depth + 1);
   }
 };
 

@@ -1,14 +1,11 @@
 // Exact floating-point expansion arithmetic (Shewchuk 1997): a number is held as a
 // sum of non-overlapping doubles in increasing magnitude. Internal to predicates.cpp;
-// used only on the rare slow path, so it favours clarity over speed.
+// fixed-size arrays on the stack, no allocation.
 #pragma once
 
 #include <cmath>
-#include <vector>
 
 namespace pcl_vts::detail {
-
-using Expansion = std::vector<double>;
 
 /// x + y == a + b exactly, x = fl(a + b).
 inline void twoSum(double a, double b, double& x, double& y)
@@ -24,94 +21,6 @@ inline void twoProduct(double a, double b, double& x, double& y)
 {
   x = a * b;
   y = std::fma(a, b, -x);
-}
-
-/// e + b, zero components removed.
-inline Expansion growExpansion(const Expansion& e, double b)
-{
-  Expansion h;
-  h.reserve(e.size() + 1);
-  double q = b;
-  for (const double ei : e) {
-    double sum, err;
-    twoSum(q, ei, sum, err);
-    if (err != 0.0)
-      h.push_back(err);
-    q = sum;
-  }
-  if (q != 0.0 || h.empty())
-    h.push_back(q);
-  return h;
-}
-
-inline Expansion expansionSum(const Expansion& e, const Expansion& f)
-{
-  Expansion h = e;
-  for (const double fi : f)
-    h = growExpansion(h, fi);
-  return h;
-}
-
-/// e * b.
-inline Expansion scaleExpansion(const Expansion& e, double b)
-{
-  Expansion h;
-  if (e.empty() || b == 0.0)
-    return {0.0};
-  h.reserve(2 * e.size());
-  double q, hh;
-  twoProduct(e[0], b, q, hh);
-  if (hh != 0.0)
-    h.push_back(hh);
-  for (std::size_t i = 1; i < e.size(); ++i) {
-    double p1, p0, sum;
-    twoProduct(e[i], b, p1, p0);
-    twoSum(q, p0, sum, hh);
-    if (hh != 0.0)
-      h.push_back(hh);
-    double q2;
-    twoSum(p1, sum, q2, hh);
-    if (hh != 0.0)
-      h.push_back(hh);
-    q = q2;
-  }
-  if (q != 0.0 || h.empty())
-    h.push_back(q);
-  return h;
-}
-
-inline Expansion expansionProduct(const Expansion& e, const Expansion& f)
-{
-  Expansion h{0.0};
-  for (const double fi : f)
-    h = expansionSum(h, scaleExpansion(e, fi));
-  return h;
-}
-
-inline Expansion negate(Expansion e)
-{
-  for (double& v : e)
-    v = -v;
-  return e;
-}
-
-/// a - b exactly, as a two-component expansion.
-inline Expansion exactDiff(double a, double b)
-{
-  double x, y;
-  twoSum(a, -b, x, y);
-  if (y == 0.0)
-    return {x};
-  return {y, x};
-}
-
-/// Sign of an expansion: the sign of its largest (last non-zero) component.
-inline int expansionSign(const Expansion& e)
-{
-  for (auto it = e.rbegin(); it != e.rend(); ++it)
-    if (*it != 0.0)
-      return *it > 0.0 ? 1 : -1;
-  return 0;
 }
 
 } // namespace pcl_vts::detail

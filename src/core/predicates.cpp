@@ -75,39 +75,67 @@ int incircleBigInt(const Point2& a, const Point2& b, const Point2& c, const Poin
   return det.sign();
 }
 
-using detail::Expansion;
-
-Expansion crossExact(const Expansion& ux, const Expansion& uy, const Expansion& vx,
-                     const Expansion& vy)
-{
-  return detail::expansionSum(detail::expansionProduct(ux, vy),
-                              detail::negate(detail::expansionProduct(uy, vx)));
-}
-
+/// Orientation from the raw coordinates (Shewchuk's orient2dexact), on the stack:
+/// ax(by - cy) + bx(cy - ay) + cx(ay - by) as three exact 4-term cross products.
 int orientExpansion(const Point2& a, const Point2& b, const Point2& c)
 {
-  const Expansion acx = detail::exactDiff(a.x, c.x), acy = detail::exactDiff(a.y, c.y);
-  const Expansion bcx = detail::exactDiff(b.x, c.x), bcy = detail::exactDiff(b.y, c.y);
-  return detail::expansionSign(crossExact(acx, acy, bcx, bcy));
+  double at[4], bt[4], ct[4], v[8], w[12];
+  const int al = detail::crossZeroelim(a.x, b.y, a.x, c.y, at);
+  const int bl = detail::crossZeroelim(b.x, c.y, b.x, a.y, bt);
+  const int cl = detail::crossZeroelim(c.x, a.y, c.x, b.y, ct);
+  const int vl = detail::sumZeroelim(al, at, bl, bt, v);
+  const int wl = detail::sumZeroelim(vl, v, cl, ct, w);
+  return detail::signOf(wl, w);
 }
 
+/// x * (x * e) + y * (y * e) with the sign of `sign`, into out (at most 96 terms for
+/// a 12-term e).
+int liftTimes(const double* e, int elen, double x, double y, double sign, double* out)
+{
+  double ex[24], exx[48], ey[24], eyy[48];
+  const int l1 = detail::scaleZeroelim(elen, e, x, ex);
+  const int l2 = detail::scaleZeroelim(l1, ex, sign * x, exx);
+  const int m1 = detail::scaleZeroelim(elen, e, y, ey);
+  const int m2 = detail::scaleZeroelim(m1, ey, sign * y, eyy);
+  return detail::sumZeroelim(l2, exx, m2, eyy, out);
+}
+
+/// In-circle from the raw coordinates (Shewchuk's incircleexact), on the stack.
 int incircleExpansion(const Point2& a, const Point2& b, const Point2& c,
                       const Point2& d)
 {
-  using detail::exactDiff;
-  using detail::expansionProduct;
-  using detail::expansionSum;
-  const Expansion adx = exactDiff(a.x, d.x), ady = exactDiff(a.y, d.y);
-  const Expansion bdx = exactDiff(b.x, d.x), bdy = exactDiff(b.y, d.y);
-  const Expansion cdx = exactDiff(c.x, d.x), cdy = exactDiff(c.y, d.y);
-  const auto lift = [](const Expansion& x, const Expansion& y) {
-    return expansionSum(expansionProduct(x, x), expansionProduct(y, y));
-  };
-  const Expansion det = expansionSum(
-      expansionSum(expansionProduct(lift(adx, ady), crossExact(bdx, bdy, cdx, cdy)),
-                   expansionProduct(lift(bdx, bdy), crossExact(cdx, cdy, adx, ady))),
-      expansionProduct(lift(cdx, cdy), crossExact(adx, ady, bdx, bdy)));
-  return detail::expansionSign(det);
+  using detail::crossZeroelim;
+  using detail::sumZeroelim;
+  double ab[4], bc[4], cd[4], da[4], ac[4], bd[4];
+  const int abl = crossZeroelim(a.x, b.y, b.x, a.y, ab);
+  const int bcl = crossZeroelim(b.x, c.y, c.x, b.y, bc);
+  const int cdl = crossZeroelim(c.x, d.y, d.x, c.y, cd);
+  const int dal = crossZeroelim(d.x, a.y, a.x, d.y, da);
+  const int acl = crossZeroelim(a.x, c.y, c.x, a.y, ac);
+  const int bdl = crossZeroelim(b.x, d.y, d.x, b.y, bd);
+  double nac[4], nbd[4];
+  for (int i = 0; i < 4; ++i) {
+    nac[i] = -ac[i];
+    nbd[i] = -bd[i];
+  }
+  double t8[8], cda[12], dab[12], abc[12], bcd[12];
+  int t = sumZeroelim(cdl, cd, dal, da, t8);
+  const int cdal = sumZeroelim(t, t8, acl, ac, cda);
+  t = sumZeroelim(dal, da, abl, ab, t8);
+  const int dabl = sumZeroelim(t, t8, bdl, bd, dab);
+  t = sumZeroelim(abl, ab, bcl, bc, t8);
+  const int abcl = sumZeroelim(t, t8, acl, nac, abc);
+  t = sumZeroelim(bcl, bc, cdl, cd, t8);
+  const int bcdl = sumZeroelim(t, t8, bdl, nbd, bcd);
+  double adet[96], bdet[96], cdet[96], ddet[96], abdet[192], cddet[192], det[384];
+  const int al = liftTimes(bcd, bcdl, a.x, a.y, 1.0, adet);
+  const int bl = liftTimes(cda, cdal, b.x, b.y, -1.0, bdet);
+  const int cl = liftTimes(dab, dabl, c.x, c.y, 1.0, cdet);
+  const int dl = liftTimes(abc, abcl, d.x, d.y, -1.0, ddet);
+  const int abdl = sumZeroelim(al, adet, bl, bdet, abdet);
+  const int cddl = sumZeroelim(cl, cdet, dl, ddet, cddet);
+  const int detl = sumZeroelim(abdl, abdet, cddl, cddet, det);
+  return detail::signOf(detl, det);
 }
 
 /// True when a - b is exactly representable (its rounding error is zero).

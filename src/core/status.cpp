@@ -1,5 +1,7 @@
 #include <pcl_vts/core/status.h>
 
+#include <charconv>
+
 namespace pcl_vts {
 
 const char* statusCodeName(StatusCode code)
@@ -25,6 +27,13 @@ const char* statusCodeName(StatusCode code)
     return "INTERNAL_ERROR";
   }
   return "UNKNOWN";
+}
+
+std::string formatValue(double value)
+{
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, result.ptr);
 }
 
 std::string Status::toString() const

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 namespace pcl_vts {
 namespace {
@@ -24,14 +23,6 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start)
 {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string formatNumber(double v)
-{
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
 }
 
 /// Drops points with a non-finite coordinate; rejects magnitudes the grid cannot hold.
@@ -50,9 +41,9 @@ Status conditionInput(const double* xyz, std::size_t n, std::vector<Point2>& xy,
     }
     if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE)
       return Status::error(StatusCode::COORDINATE_RANGE,
-                           "point " + std::to_string(k) + " has XY (" +
-                               formatNumber(x) + ", " + formatNumber(y) +
-                               "), beyond +-" + formatNumber(MAX_ABS_COORDINATE) +
+                           "point " + std::to_string(k) + " has XY (" + formatValue(x) +
+                               ", " + formatValue(y) + "), beyond +-" +
+                               formatValue(MAX_ABS_COORDINATE) +
                                "; shift or rescale the coordinates");
     xy.push_back({x, y});
     z.push_back(h);
@@ -79,8 +70,8 @@ Status checkExtent(const std::vector<Point2>& xy)
   const double extent = std::max(xmax - xmin, ymax - ymin);
   if (extent > 0.0 && extent < MIN_EXTENT)
     return Status::error(StatusCode::COORDINATE_RANGE,
-                         "the XY extent " + formatNumber(extent) + " is below " +
-                             formatNumber(MIN_EXTENT) + "; rescale the coordinates");
+                         "the XY extent " + formatValue(extent) + " is below " +
+                             formatValue(MIN_EXTENT) + "; rescale the coordinates");
   return Status::success();
 }
 
@@ -90,7 +81,7 @@ Status validateOptions(const VtsOptions& options)
 {
   if (!std::isfinite(options.cell_size) || options.cell_size < 0.0)
     return Status::error(StatusCode::INVALID_PARAMETER,
-                         "cell_size = " + formatNumber(options.cell_size) +
+                         "cell_size = " + formatValue(options.cell_size) +
                              " must be finite and >= 0 (0 = automatic)");
   switch (options.duplicate_rule) {
   case DuplicateRule::LOWEST_Z:

@@ -16,7 +16,8 @@ namespace pcl_vts {
 constexpr std::uint32_t CROWDED_CELL_POINTS = 32;
 
 /// A node of the quadtree inside a crowded cell. Its points are grid.points[begin,
-/// end); every one lies in [x0, x1] x [y0, y1] widened by grid.slack.
+/// end); [x0, x1] x [y0, y1] is their exact bounding box (empty nodes keep their
+/// parent's box).
 struct SubCell {
   double x0, y0, x1, y1;
   std::uint32_t begin, end;

@@ -34,6 +34,9 @@ struct [[nodiscard]] Status {
   std::string toString() const;
 };
 
+/// A number for a message: shortest form that reads back to the same double.
+std::string formatValue(double value);
+
 /// What happened to the input on its way to the mesh.
 struct Diagnostics {
   std::size_t points_in = 0;          ///< points handed to the pipeline
