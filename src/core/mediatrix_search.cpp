@@ -18,6 +18,8 @@ constexpr double MIN_LENGTH = 1e-90;
 constexpr double MAX_LENGTH = 1e90;
 // The edge rectangle is skipped (straight to widening) when larger than this.
 constexpr std::size_t MAX_LOCAL_CELLS = 64;
+// A best circle covering at most this many cells is scanned directly, no widening.
+constexpr std::size_t MAX_DISK_CELLS = 256;
 
 double squaredDistanceToRect(double px, double py, double x0, double y0, double x1,
                              double y1)
@@ -109,14 +111,6 @@ MediatrixSearch::Window MediatrixSearch::diskCells(const SafeDisk& disk) const
   const double reach = disk.radius + grid_.slack;
   return {grid_.column(disk.cx - reach), grid_.column(disk.cx + reach),
           grid_.row(disk.cy - reach), grid_.row(disk.cy + reach)};
-}
-
-bool MediatrixSearch::diskInsideWindow(const SafeDisk& disk, const Window& w) const
-{
-  if (!disk.valid || w.i0 > w.i1)
-    return false;
-  const Window r = diskCells(disk);
-  return r.i0 >= w.i0 && r.i1 <= w.i1 && r.j0 >= w.j0 && r.j1 <= w.j1;
 }
 
 bool MediatrixSearch::windowHasCrowdedCell(const Window& w) const
@@ -273,9 +267,19 @@ VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
         if (i != fi || j != fj)
           testCell(grid_.cellId(i, j), q);
     q.refreshDisk(grid_);
-    if (q.best != INVALID_ID && diskInsideWindow(q.disk, w)) {
-      ++stats_.local;
-      return q.best;
+    if (q.best != INVALID_ID && q.disk.valid) {
+      // The circle spills out of the rectangle: its cells, when few, still cover it.
+      const Window r = diskCells(q.disk);
+      const std::size_t r_cells = static_cast<std::size_t>(r.i1 - r.i0 + 1) *
+                                  static_cast<std::size_t>(r.j1 - r.j0 + 1);
+      if (r_cells <= MAX_DISK_CELLS && !windowHasCrowdedCell(r)) {
+        for (std::uint32_t j = r.j0; j <= r.j1; ++j)
+          for (std::uint32_t i = r.i0; i <= r.i1; ++i)
+            if (!w.contains(i, j))
+              testCell(grid_.cellId(i, j), q);
+        ++stats_.local;
+        return q.best;
+      }
     }
   }
   ++stats_.widened;

@@ -83,7 +83,6 @@ class MediatrixSearch {
   }
   bool windowHasCrowdedCell(const Window& w) const;
   Window diskCells(const SafeDisk& disk) const;
-  bool diskInsideWindow(const SafeDisk& disk, const Window& w) const;
   void widen(Query& q, const Window& done);
   /// World rectangle of a block, widened by the grid slack.
   void blockBounds(const Block& b, double& x0, double& y0, double& x1,
