@@ -14,6 +14,38 @@ constexpr double MAX_CELLS_PER_POINT = 64.0;
 constexpr double MAX_CELLS_FLOOR = 1 << 22;
 constexpr double MAX_CELLS_ABSOLUTE = 1u << 30;
 
+/// Refines an area-based cell size for clustered data: when the points occupy only a
+/// fraction of the bounding box, the occupied cells hold many more than k points.
+/// Counting occupied cells once and shrinking the cells so that occupied cells hold
+/// about k points keeps the edge rectangles small; the total number of cells is kept
+/// below MAX_REFINED_CELLS_PER_POINT * n.
+double refineForOccupancy(const std::vector<Point2>& points, double xmin, double ymin,
+                          double width, double height, double size)
+{
+  constexpr double MAX_REFINED_CELLS_PER_POINT = 4.0;
+  const std::size_t n = points.size();
+  const auto nx = static_cast<std::size_t>(width / size) + 1;
+  const auto ny = static_cast<std::size_t>(height / size) + 1;
+  std::vector<bool> occupied(nx * ny, false);
+  std::size_t count = 0;
+  const double inv = 1.0 / size;
+  for (const Point2& p : points) {
+    const auto i = std::min(static_cast<std::size_t>((p.x - xmin) * inv), nx - 1);
+    const auto j = std::min(static_cast<std::size_t>((p.y - ymin) * inv), ny - 1);
+    if (!occupied[j * nx + i]) {
+      occupied[j * nx + i] = true;
+      ++count;
+    }
+  }
+  const double per_cell = static_cast<double>(n) / static_cast<double>(count);
+  if (per_cell <= 2.0 * DEFAULT_POINTS_PER_CELL)
+    return size;
+  const double refined = size * std::sqrt(DEFAULT_POINTS_PER_CELL / per_cell);
+  const double floor = std::sqrt(
+      width * height / (MAX_REFINED_CELLS_PER_POINT * static_cast<double>(n)));
+  return std::max(refined, floor);
+}
+
 } // namespace
 
 double defaultCellSize(double width, double height, std::size_t n)
@@ -44,9 +76,11 @@ Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
   // A cell wider than the data is one cell either way: clamp, so cell indices and
   // circle bounds stay in the data's range.
   const double extent = std::max(width, height);
-  const double size = cell_size > 0.0
-                          ? (extent > 0.0 ? std::min(cell_size, extent) : cell_size)
-                          : defaultCellSize(width, height, n);
+  double size = cell_size > 0.0
+                    ? (extent > 0.0 ? std::min(cell_size, extent) : cell_size)
+                    : defaultCellSize(width, height, n);
+  if (cell_size == 0.0 && n > 0 && width > 0.0 && height > 0.0)
+    size = refineForOccupancy(points, xmin, ymin, width, height, size);
   const double nx = std::floor(width / size) + 1.0;
   const double ny = std::floor(height / size) + 1.0;
   const double limit =

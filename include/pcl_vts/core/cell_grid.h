@@ -59,7 +59,9 @@ constexpr double DEFAULT_POINTS_PER_CELL = 2.0;
 /// but never so small that one row or column gets more than n / k cells (thin strips).
 double defaultCellSize(double width, double height, std::size_t n);
 
-/// Buckets points into a grid. `cell_size` 0 means defaultCellSize().
+/// Buckets points into a grid. `cell_size` 0 means automatic: defaultCellSize(), then
+/// shrunk (up to 4 cells per point) when the occupied cells hold over twice the
+/// target count, as clustered data does.
 /// \param[in] points XY of n points (finite).
 /// \param[out] grid the grid; grid.points holds the points in cell order.
 /// \param[out] order per grid slot k: the index in `points` it came from.
