@@ -252,14 +252,12 @@ class Reporter {
 
   void begin(const char* format, ...) __attribute__((format(printf, 2, 3)))
   {
-    if (quiet_)
-      return;
     va_list args;
     va_start(args, format);
-    std::vprintf(format, args);
+    print(format, args);
     va_end(args);
     std::fflush(stdout);
-    open_ = true;
+    open_ = !quiet_;
   }
 
   void done(double ms, const std::string& what)
@@ -273,11 +271,9 @@ class Reporter {
 
   void line(const char* format, ...) __attribute__((format(printf, 2, 3)))
   {
-    if (quiet_)
-      return;
     va_list args;
     va_start(args, format);
-    std::vprintf(format, args);
+    print(format, args);
     va_end(args);
   }
 
@@ -296,6 +292,12 @@ class Reporter {
   }
 
  private:
+  void print(const char* format, va_list args) const
+  {
+    if (!quiet_)
+      std::vprintf(format, args);
+  }
+
   bool quiet_;
   bool open_ = false;
 };
