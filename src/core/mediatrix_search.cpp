@@ -75,6 +75,7 @@ MediatrixSearch::MediatrixSearch(const CellGrid& grid, const CellPyramid& pyrami
 void MediatrixSearch::testRange(std::uint32_t begin, std::uint32_t end, Query& q)
 {
   ++stats_.cells_visited;
+  stats_.points_tested += end - begin;
   for (std::uint32_t k = begin; k < end; ++k) {
     const Point2& p = grid_.points[k];
     // Outside the safe disk means strictly outside the exact circle: not a candidate.

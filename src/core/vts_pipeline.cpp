@@ -189,6 +189,7 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   diag.local_searches = stats.local;
   diag.widened_searches = stats.widened;
   diag.cells_visited = stats.cells_visited;
+  diag.points_tested = stats.points_tested;
   if (!grown.ok()) {
     result.mesh = TriangleMesh{};
     return grown;

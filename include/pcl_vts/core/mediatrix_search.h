@@ -20,7 +20,8 @@ namespace pcl_vts {
 struct SearchStats {
   std::size_t local = 0;         ///< searches settled inside the edge rectangle
   std::size_t widened = 0;       ///< searches that needed the pyramid stage
-  std::size_t cells_visited = 0; ///< cells whose points were tested
+  std::size_t cells_visited = 0; ///< cells (or sub-cells) whose points were tested
+  std::size_t points_tested = 0; ///< candidate points looked at
 };
 
 /// A disk that certainly contains the exact circumcircle (closed) of a, b, p.

@@ -51,6 +51,7 @@ struct Diagnostics {
       0; ///< third-point searches settled in the edge rectangle
   std::size_t widened_searches = 0; ///< searches that needed the widening stage
   std::size_t cells_visited = 0;    ///< grid cells whose points were tested
+  std::size_t points_tested = 0;    ///< candidate points looked at by the searches
   double seconds_grid = 0.0;        ///< input conditioning + grid build
   double seconds_hull = 0.0;        ///< convex hull
   double seconds_triangulate = 0.0; ///< region growing
