@@ -9,6 +9,7 @@ PACKAGES=(
   libcgal-dev libgmp-dev libmpfr-dev   # the Delaunay oracle in tests and benchmarks
   libgtest-dev libbenchmark-dev
   clang-format
+  time                  # peak-memory figures in make bench
 )
 
 missing=()
