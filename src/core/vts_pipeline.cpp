@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <thread>
 
 namespace pcl_vts {
 namespace {
@@ -183,8 +184,11 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   start = Clock::now();
   TriangleMesh& mesh = result.mesh;
   SearchStats stats;
+  const unsigned threads = options.threads > 0
+                               ? options.threads
+                               : std::max(1u, std::thread::hardware_concurrency());
   Status grown = triangulateGrid(grid, pyramid, subdivision, result.hull,
-                                 mesh.triangles, mesh.halfedges, stats);
+                                 mesh.triangles, mesh.halfedges, stats, threads);
   diag.seconds_triangulate = secondsSince(start);
   diag.local_searches = stats.local;
   diag.widened_searches = stats.widened;

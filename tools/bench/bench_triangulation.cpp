@@ -1,5 +1,5 @@
 // One measurement per process, so that peak RSS belongs to one method and one input:
-//   bench_triangulation METHOD DIST N [SEED]
+//   bench_triangulation METHOD DIST N [SEED [THREADS]]
 //   METHOD: vts | cgal      DIST: jittered | uniform | clustered | grid
 //   bench_triangulation write-pcd DIST N FILE [SEED]: the same input as a binary PCD
 //   with float64 x y z, shifted to UTM-like coordinates (+5e5 east, +5e6 north).
@@ -136,6 +136,7 @@ int main(int argc, char** argv)
   const std::string method = argv[1], dist = argv[2];
   const auto n = static_cast<std::size_t>(std::atof(argv[3]));
   const unsigned seed = argc > 4 ? static_cast<unsigned>(std::atoi(argv[4])) : 1u;
+  const unsigned threads = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 1u;
   std::vector<double> xyz = generate(dist, n, seed);
   std::vector<Traits::Point_2> cgal_points;
   if (method == "cgal") {
@@ -150,6 +151,7 @@ int main(int argc, char** argv)
   if (method == "vts") {
     pcl_vts::VtsOptions options;
     options.check_output = false;
+    options.threads = threads;
     pcl_vts::VtsResult result;
     const pcl_vts::Status status =
         pcl_vts::runVtsPipeline(xyz.data(), n, options, result);
@@ -169,10 +171,11 @@ int main(int argc, char** argv)
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double peak = peakRssMiB();
-  std::printf("{\"method\":\"%s\",\"dist\":\"%s\",\"n\":%zu,\"seconds\":%.4f,"
+  std::printf("{\"method\":\"%s\",\"dist\":\"%s\",\"n\":%zu,\"threads\":%u,"
+              "\"seconds\":%.4f,"
               "\"ns_per_point\":%.1f,\"triangles\":%zu,\"peak_rss_mib\":%.1f,"
               "\"input_rss_mib\":%.1f,\"bytes_per_point_above_input\":%.1f}\n",
-              method.c_str(), dist.c_str(), n, seconds,
+              method.c_str(), dist.c_str(), n, method == "vts" ? threads : 1u, seconds,
               1e9 * seconds / static_cast<double>(n), triangles, peak, baseline,
               (peak - baseline) * 1024.0 * 1024.0 / static_cast<double>(n));
   return 0;

@@ -22,11 +22,14 @@ namespace pcl_vts {
 /// \param[out] triangles 3 grid point ids per triangle, CCW
 /// \param[out] halfedges twin per halfedge, INVALID_ID on the hull
 /// \param[out] stats search statistics
+/// \param[in] threads threads running the searches (>= 1); the output is identical
+///            for every value
 /// \return INTERNAL_ERROR if the region growing failed to tile the hull (a bug)
 Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
                        const CellSubdivision& subdivision,
                        const std::vector<VertexId>& hull,
                        std::vector<VertexId>& triangles,
-                       std::vector<HalfedgeId>& halfedges, SearchStats& stats);
+                       std::vector<HalfedgeId>& halfedges, SearchStats& stats,
+                       unsigned threads = 1);
 
 } // namespace pcl_vts

@@ -18,6 +18,9 @@ struct VtsOptions {
   /// (docs/decisions.md). Must be finite and >= 0.
   double cell_size = 0.0;
   DuplicateRule duplicate_rule = DuplicateRule::LOWEST_Z;
+  /// Threads for the triangulation; 0 = all hardware threads. The output is
+  /// identical for every value.
+  unsigned threads = 1;
   /// Validate the output against its post-conditions (triangle count, twins, CCW)
   /// before returning; a failure is INTERNAL_ERROR. Cheap (linear).
   bool check_output = true;

@@ -1,0 +1,29 @@
+// Local point spacing of a triangulated point set, the length scale of the
+// reconstruction post-passes: per vertex the shortest incident edge (its nearest
+// neighbour distance when the mesh is Delaunay), smoothed by the median over the
+// vertex and its edge neighbours so that one isolated or crowded point does not set
+// the scale of its neighbourhood. docs/reconstruction.md, "Spacing".
+#pragma once
+
+#include <pcl_vts/core/mesh_arrays.h>
+
+#include <vector>
+
+namespace pcl_vts {
+
+struct PointSpacing {
+  /// Per vertex: median, over the vertex and its neighbours, of their shortest
+  /// incident edge; 0 for a vertex without triangle.
+  std::vector<double> local;
+  /// Median of the shortest incident edge over the vertices used by triangles; 0 when
+  /// there is no triangle.
+  double global_median = 0.0;
+};
+
+/// Measures the spacing of the vertices of mesh (triangles and halfedges read).
+PointSpacing measurePointSpacing(const TriangleMesh& mesh);
+
+/// Median of values (copied; 0 when empty). Upper median for an even count.
+double medianOf(std::vector<double> values);
+
+} // namespace pcl_vts
