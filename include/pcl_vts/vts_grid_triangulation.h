@@ -82,6 +82,14 @@ class VTSGridTriangulation : public SurfaceReconstruction<PointInT> {
   /** \brief Get the duplicate-XY rule. */
   inline pcl_vts::DuplicateRule getDuplicateRule() const { return duplicate_rule_; }
 
+  /** \brief Set the number of threads running the third-point searches.
+   * \param[in] threads 1 (default), or 0 for all hardware threads
+   * \note The triangles are identical for every thread count. */
+  inline void setNumberOfThreads(unsigned int threads) { threads_ = threads; }
+
+  /** \brief Get the number of threads set (0 = all hardware threads). */
+  inline unsigned int getNumberOfThreads() const { return threads_; }
+
   /** \brief Status of the last reconstruct() call: OK, or the code and message of
    * what stopped it (INVALID_PARAMETER, TOO_FEW_POINTS, ALL_COLLINEAR, ...). */
   inline const pcl_vts::Status& getLastStatus() const { return last_status_; }
@@ -138,6 +146,7 @@ class VTSGridTriangulation : public SurfaceReconstruction<PointInT> {
 
   double cell_size_{0.0};
   pcl_vts::DuplicateRule duplicate_rule_{pcl_vts::DuplicateRule::LOWEST_Z};
+  unsigned int threads_{1};
   pcl_vts::Status last_status_;
   pcl_vts::Diagnostics diagnostics_;
 };

@@ -293,6 +293,22 @@ TEST(VTSGridTriangulation, CellSizeChangesSpeedNotTriangles)
   }
 }
 
+TEST(VTSGridTriangulation, ThreadsChangeSpeedNotTriangles)
+{
+  const auto cloud = jitteredGrid<pcl::PointXYZ>(60, 40, 1.0, 0.0, 0.0, 5);
+  pcl::VTSGridTriangulation<pcl::PointXYZ> vts;
+  EXPECT_EQ(vts.getNumberOfThreads(), 1u);
+  const auto reference = triangulate(vts, cloud);
+  ASSERT_FALSE(reference.empty());
+  for (const unsigned threads : {2u, 0u}) {
+    vts.setNumberOfThreads(threads);
+    const auto polygons = triangulate(vts, cloud);
+    ASSERT_EQ(polygons.size(), reference.size());
+    for (std::size_t t = 0; t < polygons.size(); ++t)
+      EXPECT_EQ(polygons[t].vertices, reference[t].vertices) << "triangle " << t;
+  }
+}
+
 TEST(VTSGridTriangulation, ExactGridWithCocircularTies)
 {
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);

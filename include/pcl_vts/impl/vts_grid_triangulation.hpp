@@ -98,6 +98,7 @@ bool pcl::VTSGridTriangulation<PointInT>::triangulate(
   pcl_vts::VtsOptions options;
   options.cell_size = cell_size_;
   options.duplicate_rule = duplicate_rule_;
+  options.threads = threads_;
   pcl_vts::Status status = pcl_vts::validateOptions(options);
   if (!status.ok()) {
     fail(std::move(status));
