@@ -87,9 +87,10 @@ void MediatrixSearch::testRange(std::uint32_t begin, std::uint32_t end, Query& q
     if (q.best != INVALID_ID &&
         incirclePerturbed(q.pa, q.pb, grid_.points[q.best], p) != Sign::POSITIVE)
       continue;
+    // The old disk keeps rejecting: the open side of the new, smaller circle lies
+    // inside it. The new disk is computed when needed (most candidates are replaced).
     q.best = k;
-    q.disk_fresh = false; // computed when needed: most candidates are replaced soon
-    q.reject_r2 = std::numeric_limits<double>::infinity();
+    q.disk_fresh = false;
   }
 }
 

@@ -70,7 +70,8 @@ class MediatrixSearch {
     SafeDisk disk; ///< of best, when disk_fresh
     bool disk_fresh = false;
     /// Points farther than sqrt(reject_r2) from (reject_cx, reject_cy) are outside the
-    /// current best circle; infinite while no usable disk is known.
+    /// current best circle or right of the edge: the last safe disk computed, which
+    /// contains the open side of every later (smaller) circle; infinite before.
     double reject_cx = 0.0;
     double reject_cy = 0.0;
     double reject_r2 = std::numeric_limits<double>::infinity();
