@@ -76,6 +76,29 @@ Status checkExtent(const std::vector<Point2>& xy)
   return Status::success();
 }
 
+/// z per vertex: the representative's input z, or the mean over its merged points.
+std::vector<double> vertexHeights(const double* xyz, std::size_t n,
+                                  const std::vector<VertexId>& input_to_vertex,
+                                  const std::vector<std::uint32_t>& source,
+                                  DuplicateRule rule)
+{
+  std::vector<double> z(source.size());
+  for (std::size_t v = 0; v < source.size(); ++v)
+    z[v] = xyz[3 * static_cast<std::size_t>(source[v]) + 2];
+  if (rule != DuplicateRule::MEAN_Z)
+    return z;
+  std::vector<std::uint32_t> count(source.size(), 0);
+  std::fill(z.begin(), z.end(), 0.0);
+  for (std::size_t k = 0; k < n; ++k)
+    if (input_to_vertex[k] != INVALID_ID) {
+      z[input_to_vertex[k]] += xyz[3 * k + 2];
+      ++count[input_to_vertex[k]];
+    }
+  for (std::size_t v = 0; v < z.size(); ++v)
+    z[v] /= static_cast<double>(count[v]);
+  return z;
+}
+
 } // namespace
 
 Status validateOptions(const VtsOptions& options)
@@ -136,20 +159,20 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   std::vector<VertexId> slot_to_vertex;
   diag.duplicates_merged =
       mergeDuplicates(grid, options.duplicate_rule, vz, vsource, slot_to_vertex);
+  // Vertex heights are rebuilt from the input after the triangulation (vertexHeights),
+  // so they do not add to the peak memory.
+  std::vector<double>().swap(vz);
   CellSubdivision subdivision;
   {
     std::vector<std::uint32_t> old_slot;
     subdivideCrowdedCells(grid, subdivision, old_slot);
     if (!old_slot.empty()) { // crowded cells were reordered: follow the points
       std::vector<VertexId> new_id(old_slot.size());
-      std::vector<double> z2(old_slot.size());
       std::vector<std::uint32_t> source2(old_slot.size());
       for (std::size_t k = 0; k < old_slot.size(); ++k) {
         new_id[old_slot[k]] = static_cast<VertexId>(k);
-        z2[k] = vz[old_slot[k]];
         source2[k] = vsource[old_slot[k]];
       }
-      vz.swap(z2);
       vsource.swap(source2);
       for (VertexId& v : slot_to_vertex)
         v = new_id[v];
@@ -199,7 +222,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     return grown;
   }
   mesh.xy = std::move(grid.points);
-  mesh.z = std::move(vz);
+  mesh.z =
+      vertexHeights(xyz, n, result.input_to_vertex, vsource, options.duplicate_rule);
   result.source_index = std::move(vsource);
   diag.triangles = mesh.triangleCount();
 
