@@ -24,6 +24,9 @@ done
 for dist in uniform clustered grid; do
   run vts "$dist" 1000000; run cgal "$dist" 1000000
 done
+# Both cores: the same input with 2 threads (identical triangles).
+two_threads=$("$bench" vts jittered 1000000 1 2)
+echo "$two_threads" >&2
 
 # End to end: a 1e6-point float64 terrain PCD (UTM-like offsets) through pcd_to_mesh
 # --no-trim --no-fill, then an independent exact check with CGAL's predicates.
@@ -54,6 +57,10 @@ field() { sed -E "s/.*\"$2\":\"?([^,\"}]*).*/\1/" <<<"$1"; }
     ratio=$(awk -v a="$vs" -v b="$cs" 'BEGIN{printf "%.2f", a/b}')
     echo "| $(field "$v" dist) | $(field "$v" n) | $vs | $cs | $ratio | $(field "$v" ns_per_point) | $(field "$c" ns_per_point) | $(field "$v" peak_rss_mib) | $(field "$c" peak_rss_mib) | $(field "$v" bytes_per_point_above_input) | $(field "$c" bytes_per_point_above_input) | $(field "$v" triangles) |"
   done
+  echo
+  one=$(field "${rows[2]}" seconds); two=$(field "$two_threads" seconds)
+  echo "Threads (jittered, 1e6): 1 thread $one s, 2 threads $two s"\
+       "($(awk -v a="$one" -v b="$two" 'BEGIN{printf "%.2f", a/b}')x); see docs/scaling.md for 1-16."
   echo
   echo "End to end, \`pcd_to_mesh --no-trim --no-fill\` on a 1e6-point float64 binary PCD"
   echo "(jittered terrain at UTM-like offsets) to binary PLY: $e2e."
