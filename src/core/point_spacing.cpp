@@ -1,4 +1,4 @@
-// Point spacing: shortest incident edge per vertex, then a one-ring median.
+// Point spacing: median incident edge per vertex, then a one-ring median.
 #include <pcl_vts/core/point_spacing.h>
 
 #include <algorithm>
@@ -19,23 +19,7 @@ double medianOf(std::vector<double> values)
 PointSpacing measurePointSpacing(const TriangleMesh& mesh)
 {
   const std::size_t n = mesh.vertexCount();
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> shortest(n, inf);
-  // Every undirected edge appears as at least one halfedge; each is seen from both
-  // ends, so both vertices get it.
-  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
-    const VertexId a = mesh.triangles[e];
-    const VertexId b = mesh.triangles[nextHalfedge(e)];
-    const double len = std::hypot(mesh.xy[a].x - mesh.xy[b].x, mesh.xy[a].y - mesh.xy[b].y);
-    shortest[a] = std::min(shortest[a], len);
-    shortest[b] = std::min(shortest[b], len);
-  }
   PointSpacing spacing;
-  std::vector<double> used;
-  for (const double s : shortest)
-    if (s < inf)
-      used.push_back(s);
-  spacing.global_median = medianOf(used);
 
   // One-ring lists by counting sort of directed edges (both directions).
   std::vector<std::size_t> start(n + 1, 0);
@@ -55,14 +39,33 @@ PointSpacing measurePointSpacing(const TriangleMesh& mesh)
     if (mesh.halfedges[e] == INVALID_ID)
       ring[fill[b]++] = a;
   }
-  spacing.local.assign(n, 0.0);
+  // Per vertex: median incident edge length. Robust to a few long edges into a
+  // void (a rim vertex keeps most of its short ones) and to anisotropic sampling
+  // (scan lines: the shortest edge would only see the along-line spacing).
+  std::vector<double> own(n, 0.0);
   std::vector<double> values;
+  std::vector<double> used;
   for (VertexId v = 0; v < n; ++v) {
-    if (shortest[v] == inf)
+    if (start[v] == start[v + 1])
       continue;
-    values.assign(1, shortest[v]);
+    values.clear();
+    for (std::size_t k = start[v]; k < start[v + 1]; ++k) {
+      const Point2& p = mesh.xy[v];
+      const Point2& q = mesh.xy[ring[k]];
+      const double dx = p.x - q.x, dy = p.y - q.y;
+      values.push_back(std::sqrt(dx * dx + dy * dy)); // hypot is 5x slower
+    }
+    own[v] = medianOf(values);
+    used.push_back(own[v]);
+  }
+  spacing.global_median = medianOf(used);
+  spacing.local.assign(n, 0.0);
+  for (VertexId v = 0; v < n; ++v) {
+    if (start[v] == start[v + 1])
+      continue;
+    values.assign(1, own[v]);
     for (std::size_t k = start[v]; k < start[v + 1]; ++k)
-      values.push_back(shortest[ring[k]]);
+      values.push_back(own[ring[k]]);
     spacing.local[v] = medianOf(values);
   }
   return spacing;

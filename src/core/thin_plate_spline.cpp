@@ -77,7 +77,8 @@ bool ThinPlateSpline::fit(const std::vector<Point2>& xy, const std::vector<doubl
     scale_ = 1.0;
   affine_[0] = mean;
   for (std::size_t i = 0; i < n; ++i)
-    centres_.push_back({(xy[i].x - centre_.x) / scale_, (xy[i].y - centre_.y) / scale_});
+    centres_.push_back(
+        {(xy[i].x - centre_.x) / scale_, (xy[i].y - centre_.y) / scale_});
 
   if (n >= 4) {
     const std::size_t m = n + 3;

@@ -1,8 +1,8 @@
 // Local point spacing of a triangulated point set, the length scale of the
-// reconstruction post-passes: per vertex the shortest incident edge (its nearest
-// neighbour distance when the mesh is Delaunay), smoothed by the median over the
-// vertex and its edge neighbours so that one isolated or crowded point does not set
-// the scale of its neighbourhood. docs/reconstruction.md, "Spacing".
+// reconstruction post-passes: per vertex the median length of its incident edges,
+// smoothed by the median over the vertex and its edge neighbours so that one
+// isolated or crowded point, or a few edges into a void, do not set the scale of its
+// neighbourhood. docs/reconstruction.md, "Spacing".
 #pragma once
 
 #include <pcl_vts/core/mesh_arrays.h>
@@ -12,11 +12,11 @@
 namespace pcl_vts {
 
 struct PointSpacing {
-  /// Per vertex: median, over the vertex and its neighbours, of their shortest
-  /// incident edge; 0 for a vertex without triangle.
+  /// Per vertex: median, over the vertex and its neighbours, of their median
+  /// incident edge length; 0 for a vertex without triangle.
   std::vector<double> local;
-  /// Median of the shortest incident edge over the vertices used by triangles; 0 when
-  /// there is no triangle.
+  /// Median over the vertices used by triangles of their median incident edge
+  /// length; 0 when there is no triangle.
   double global_median = 0.0;
 };
 

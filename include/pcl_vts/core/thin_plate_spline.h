@@ -29,8 +29,8 @@ class ThinPlateSpline {
  private:
   Point2 centre_{0.0, 0.0};
   double scale_ = 1.0;
-  std::vector<Point2> centres_; ///< normalised sample positions
-  std::vector<double> weights_; ///< one per centre (empty: plane only)
+  std::vector<Point2> centres_;        ///< normalised sample positions
+  std::vector<double> weights_;        ///< one per centre (empty: plane only)
   double affine_[3] = {0.0, 0.0, 0.0}; ///< a + b x + c y (normalised x, y)
 };
 

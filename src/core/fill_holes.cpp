@@ -1,0 +1,324 @@
+// Hole filling: loops -> lattice points -> polygon CDT -> spline z -> append.
+// See fill_holes.h and docs/reconstruction.md.
+#include <pcl_vts/core/boundary_loops.h>
+#include <pcl_vts/core/fill_holes.h>
+#include <pcl_vts/core/point_spacing.h>
+#include <pcl_vts/core/polygon_triangulation.h>
+#include <pcl_vts/core/predicates.h>
+#include <pcl_vts/core/thin_plate_spline.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace pcl_vts {
+
+Status validateFillOptions(const FillOptions& options)
+{
+  if (!std::isfinite(options.max_hole_area) || options.max_hole_area < 0.0)
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "max_hole_area = " + formatValue(options.max_hole_area) +
+                             " must be finite and >= 0 (0 = automatic)");
+  if (!std::isfinite(options.point_spacing) || options.point_spacing < 0.0)
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "point_spacing = " + formatValue(options.point_spacing) +
+                             " must be finite and >= 0 (0 = automatic)");
+  if (!(options.rim_clearance >= 0.1 && options.rim_clearance <= 1.0))
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "rim_clearance = " + formatValue(options.rim_clearance) +
+                             " must be in [0.1, 1]");
+  if (options.rim_rings > 4)
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "rim_rings = " + std::to_string(options.rim_rings) +
+                             " must be in [0, 4]");
+  return Status::success();
+}
+
+namespace {
+
+/// Winding number of the closed polygon around p, exact (orient2d); p on an edge
+/// counts as outside (0) only when the crossing rule says so: callers keep points
+/// away from the rim.
+int windingNumber(const std::vector<Point2>& polygon, std::size_t size, const Point2& p)
+{
+  int winding = 0;
+  for (std::size_t i = 0; i < size; ++i) {
+    const Point2& a = polygon[i];
+    const Point2& b = polygon[(i + 1) % size];
+    if (a.y <= p.y) {
+      if (b.y > p.y && orient2d(a, b, p) == Sign::POSITIVE)
+        ++winding;
+    } else if (b.y <= p.y && orient2d(a, b, p) == Sign::NEGATIVE) {
+      --winding;
+    }
+  }
+  return winding;
+}
+
+double segmentDistance(const Point2& a, const Point2& b, const Point2& p)
+{
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double len2 = dx * dx + dy * dy;
+  double t = len2 > 0.0 ? ((p.x - a.x) * dx + (p.y - a.y) * dy) / len2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
+}
+
+/// Vertex neighbours (compressed rows), both directions of every edge.
+struct Adjacency {
+  std::vector<std::size_t> start;
+  std::vector<VertexId> ring;
+};
+
+Adjacency buildAdjacency(const TriangleMesh& mesh)
+{
+  Adjacency adj;
+  const std::size_t n = mesh.vertexCount();
+  adj.start.assign(n + 1, 0);
+  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
+    ++adj.start[mesh.triangles[e] + 1];
+    if (mesh.halfedges[e] == INVALID_ID)
+      ++adj.start[mesh.triangles[nextHalfedge(e)] + 1];
+  }
+  for (std::size_t v = 0; v < n; ++v)
+    adj.start[v + 1] += adj.start[v];
+  adj.ring.resize(adj.start[n]);
+  std::vector<std::size_t> fill(adj.start.begin(), adj.start.end() - 1);
+  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
+    const VertexId a = mesh.triangles[e];
+    const VertexId b = mesh.triangles[nextHalfedge(e)];
+    adj.ring[fill[a]++] = b;
+    if (mesh.halfedges[e] == INVALID_ID)
+      adj.ring[fill[b]++] = a;
+  }
+  return adj;
+}
+
+/// Hexagonal lattice points of spacing h strictly inside polygon[0..size) and at
+/// least clearance from its edges, appended to polygon. The lattice is anchored at
+/// multiples of h, so it does not depend on where the loop starts.
+void addLatticePoints(std::vector<Point2>& polygon, std::size_t size, double h,
+                      double clearance, bool snap_to_float)
+{
+  double x0 = polygon[0].x, x1 = x0, y0 = polygon[0].y, y1 = y0;
+  for (std::size_t i = 0; i < size; ++i) {
+    x0 = std::min(x0, polygon[i].x);
+    x1 = std::max(x1, polygon[i].x);
+    y0 = std::min(y0, polygon[i].y);
+    y1 = std::max(y1, polygon[i].y);
+  }
+  const double dy = h * std::sqrt(3.0) / 2.0;
+  const auto j0 = static_cast<long long>(std::floor(y0 / dy));
+  const auto j1 = static_cast<long long>(std::ceil(y1 / dy));
+  for (long long j = j0; j <= j1; ++j) {
+    const double y = static_cast<double>(j) * dy;
+    const double shift = (j % 2 != 0) ? 0.5 * h : 0.0;
+    const auto i0 = static_cast<long long>(std::floor((x0 - shift) / h));
+    const auto i1 = static_cast<long long>(std::ceil((x1 - shift) / h));
+    for (long long i = i0; i <= i1; ++i) {
+      Point2 p{static_cast<double>(i) * h + shift, y};
+      if (snap_to_float)
+        p = {static_cast<double>(static_cast<float>(p.x)),
+             static_cast<double>(static_cast<float>(p.y))};
+      if (p.x <= x0 || p.x >= x1 || p.y <= y0 || p.y >= y1)
+        continue;
+      if (windingNumber(polygon, size, p) == 0)
+        continue;
+      bool clear = true;
+      for (std::size_t k = 0; k < size && clear; ++k)
+        clear = segmentDistance(polygon[k], polygon[(k + 1) % size], p) >= clearance;
+      if (clear)
+        polygon.push_back(p);
+    }
+  }
+}
+
+/// Rim vertices and rings of neighbours around them (breadth first, loop order).
+std::vector<VertexId> rimRings(const Adjacency& adj, const std::vector<VertexId>& rim,
+                               std::size_t rings, std::vector<std::uint32_t>& stamp,
+                               std::uint32_t mark)
+{
+  std::vector<VertexId> samples;
+  for (const VertexId v : rim)
+    if (stamp[v] != mark) {
+      stamp[v] = mark;
+      samples.push_back(v);
+    }
+  std::size_t level_begin = 0;
+  for (std::size_t r = 0; r < rings; ++r) {
+    const std::size_t level_end = samples.size();
+    for (std::size_t k = level_begin; k < level_end; ++k)
+      for (std::size_t q = adj.start[samples[k]]; q < adj.start[samples[k] + 1]; ++q) {
+        const VertexId u = adj.ring[q];
+        if (stamp[u] != mark) {
+          stamp[u] = mark;
+          samples.push_back(u);
+        }
+      }
+    level_begin = level_end;
+  }
+  return samples;
+}
+
+} // namespace
+
+Status fillHoles(TriangleMesh& mesh, const FillOptions& options, FillResult& result)
+{
+  result = FillResult{};
+  Status status = validateFillOptions(options);
+  if (!status.ok())
+    return status;
+  BoundaryLoops loops;
+  status = findBoundaryLoops(mesh, loops);
+  if (!status.ok())
+    return status;
+  if (loops.holeCount() == 0) {
+    result.inserted.assign(mesh.vertexCount(), 0);
+    return Status::success();
+  }
+  const PointSpacing spacing = measurePointSpacing(mesh);
+  const double global_h = spacing.global_median;
+  result.max_hole_area = options.max_hole_area > 0.0
+                             ? options.max_hole_area
+                             : FillOptions::AUTO_HOLE_AREA_FACTOR * global_h * global_h;
+  const Adjacency adj = buildAdjacency(mesh);
+  const std::size_t input_vertices = mesh.vertexCount();
+
+  // One point strictly inside a triangle of each piece: a piece lies inside a hole
+  // of another piece entirely or not at all (pieces do not overlap).
+  std::vector<Point2> piece_probe(loops.componentCount(), Point2{0.0, 0.0});
+  std::vector<bool> probe_set(loops.componentCount(), false);
+  for (TriangleId t = 0; t < mesh.triangleCount(); ++t) {
+    const std::uint32_t c = loops.triangle_component[t];
+    if (probe_set[c])
+      continue;
+    const Point2& a = mesh.xy[mesh.triangles[3 * t]];
+    const Point2& b = mesh.xy[mesh.triangles[3 * t + 1]];
+    const Point2& d = mesh.xy[mesh.triangles[3 * t + 2]];
+    piece_probe[c] = {(a.x + b.x + d.x) / 3.0, (a.y + b.y + d.y) / 3.0};
+    probe_set[c] = true;
+  }
+
+  std::vector<std::uint32_t> stamp(input_vertices, 0);
+  std::uint32_t mark = 0;
+  std::vector<VertexId> new_triangles;
+  std::vector<HalfedgeId> new_halfedges;
+  const std::size_t input_corners = mesh.triangles.size();
+  for (const BoundaryLoop& loop : loops.loops) {
+    if (loop.is_outer)
+      continue;
+    ++result.holes_found;
+    const double area = -0.5 * loop.twice_area;
+    if (area > result.max_hole_area) {
+      ++result.holes_left_open;
+      continue;
+    }
+    if (loop.has_repeated_vertex) {
+      ++result.holes_skipped;
+      continue;
+    }
+    // The hole runs clockwise (mesh on its left): reversed, it is a CCW polygon whose
+    // edges are the twins of the rim halfedges.
+    const std::size_t size = loop.vertices.size();
+    std::vector<VertexId> rim(loop.vertices.rbegin(), loop.vertices.rend());
+    std::vector<Point2> points;
+    points.reserve(size);
+    for (const VertexId v : rim)
+      points.push_back(mesh.xy[v]);
+    bool encloses_piece = false;
+    for (std::size_t c = 0; c < loops.componentCount() && !encloses_piece; ++c)
+      encloses_piece =
+          c != loop.component && windingNumber(points, size, piece_probe[c]) != 0;
+    if (encloses_piece) {
+      ++result.holes_skipped;
+      continue;
+    }
+
+    std::vector<double> rim_spacing;
+    for (const VertexId v : rim)
+      rim_spacing.push_back(spacing.local[v]);
+    double h =
+        options.point_spacing > 0.0 ? options.point_spacing : medianOf(rim_spacing);
+    if (!(h > 0.0))
+      h = global_h;
+    if (h > 0.0)
+      addLatticePoints(points, size, h, options.rim_clearance * h,
+                       options.snap_to_float);
+
+    PolygonTriangulation patch;
+    if (!triangulatePolygon(points, size, patch).ok()) {
+      ++result.holes_skipped;
+      continue;
+    }
+
+    std::vector<Point2> sample_xy;
+    std::vector<double> sample_z;
+    const std::vector<VertexId> samples = rimRings(
+        adj, rim,
+        options.z_method == HoleZMethod::THIN_PLATE_SPLINE ? options.rim_rings : 0,
+        stamp, ++mark);
+    const std::size_t stride = (samples.size() + FillOptions::MAX_SPLINE_SAMPLES - 1) /
+                               FillOptions::MAX_SPLINE_SAMPLES;
+    for (std::size_t k = 0; k < samples.size(); k += std::max<std::size_t>(stride, 1)) {
+      sample_xy.push_back(mesh.xy[samples[k]]);
+      sample_z.push_back(mesh.z[samples[k]]);
+    }
+    double rim_mean = 0.0;
+    for (const VertexId v : rim)
+      rim_mean += mesh.z[v] / static_cast<double>(size);
+    ThinPlateSpline spline;
+    if (options.z_method == HoleZMethod::THIN_PLATE_SPLINE)
+      spline.fit(sample_xy, sample_z);
+
+    std::vector<VertexId> global(points.size());
+    std::copy(rim.begin(), rim.end(), global.begin());
+    for (std::size_t k = size; k < points.size(); ++k) {
+      if (!patch.steiner_used[k - size])
+        continue;
+      global[k] = static_cast<VertexId>(mesh.xy.size());
+      mesh.xy.push_back(points[k]);
+      double z = options.z_method == HoleZMethod::THIN_PLATE_SPLINE
+                     ? spline.evaluate(points[k])
+                     : rim_mean;
+      if (options.snap_to_float)
+        z = static_cast<double>(static_cast<float>(z));
+      mesh.z.push_back(z);
+      ++result.points_inserted;
+    }
+    // Twins: inside the patch from its own arrays; a patch edge rim[w-1] -> rim[w]
+    // is the twin of the loop halfedge leaving rim[w], loop.halfedges[size-1-w].
+    TriangleMesh local;
+    local.triangles.assign(patch.triangles.begin(), patch.triangles.end());
+    if (!local.rebuildHalfedges())
+      return Status::error(StatusCode::INTERNAL_ERROR, "hole patch is not manifold");
+    const auto base = static_cast<HalfedgeId>(input_corners + new_triangles.size());
+    for (HalfedgeId e = 0; e < local.triangles.size(); ++e) {
+      new_triangles.push_back(global[local.triangles[e]]);
+      if (local.halfedges[e] != INVALID_ID) {
+        new_halfedges.push_back(base + local.halfedges[e]);
+        continue;
+      }
+      const VertexId u = local.triangles[e];
+      const VertexId w = local.triangles[nextHalfedge(e)];
+      if (u >= size || w >= size || w != (u + 1) % size)
+        return Status::error(StatusCode::INTERNAL_ERROR,
+                             "hole patch boundary is not its polygon");
+      const HalfedgeId rim_edge = loop.halfedges[size - 1 - w];
+      new_halfedges.push_back(rim_edge);
+      mesh.halfedges[rim_edge] = base + e;
+    }
+    result.triangles_added += patch.triangles.size() / 3;
+    ++result.holes_filled;
+  }
+
+  mesh.triangles.insert(mesh.triangles.end(), new_triangles.begin(),
+                        new_triangles.end());
+  mesh.halfedges.insert(mesh.halfedges.end(), new_halfedges.begin(),
+                        new_halfedges.end());
+  result.inserted.assign(mesh.vertexCount(), 0);
+  std::fill(result.inserted.begin() + static_cast<std::ptrdiff_t>(input_vertices),
+            result.inserted.end(), 1);
+  return Status::success();
+}
+
+} // namespace pcl_vts

@@ -1,0 +1,80 @@
+// Trim -> fill, timed and checked. See reconstruct_surface.h.
+#include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/reconstruct_surface.h>
+
+#include <chrono>
+#include <string>
+
+namespace pcl_vts {
+
+Status validateReconstructionOptions(const ReconstructionOptions& options)
+{
+  if (options.trim) {
+    Status status = validateTrimOptions(options.trim_options);
+    if (!status.ok())
+      return status;
+  }
+  if (options.fill)
+    return validateFillOptions(options.fill_options);
+  return Status::success();
+}
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+} // namespace
+
+Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& options,
+                          ReconstructionDiagnostics& diagnostics)
+{
+  diagnostics = ReconstructionDiagnostics{};
+  Status status = validateReconstructionOptions(options);
+  if (!status.ok())
+    return status;
+  if (mesh.xy.size() != mesh.z.size() || mesh.triangles.size() % 3 != 0 ||
+      mesh.halfedges.size() != mesh.triangles.size())
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "mesh arrays disagree: " + std::to_string(mesh.xy.size()) +
+                             " xy, " + std::to_string(mesh.z.size()) + " z, " +
+                             std::to_string(mesh.triangles.size()) + " corners, " +
+                             std::to_string(mesh.halfedges.size()) + " halfedges");
+  for (const VertexId v : mesh.triangles)
+    if (v >= mesh.vertexCount())
+      return Status::error(StatusCode::INVALID_PARAMETER,
+                           "triangle corner " + std::to_string(v) +
+                               " is not a vertex id (" +
+                               std::to_string(mesh.vertexCount()) + " vertices)");
+  diagnostics.triangles_in = mesh.triangleCount();
+  if (options.trim) {
+    const auto start = std::chrono::steady_clock::now();
+    status = trimOutwardTriangles(mesh, options.trim_options, diagnostics.trim);
+    diagnostics.seconds_trim = secondsSince(start);
+    if (!status.ok())
+      return status;
+  }
+  if (options.fill) {
+    const auto start = std::chrono::steady_clock::now();
+    status = fillHoles(mesh, options.fill_options, diagnostics.fill);
+    diagnostics.seconds_fill = secondsSince(start);
+    if (!status.ok())
+      return status;
+  } else {
+    diagnostics.fill.inserted.assign(mesh.vertexCount(), 0);
+  }
+  diagnostics.triangles_out = mesh.triangleCount();
+  if (options.check_output) {
+    std::string why;
+    if (!isEdgeManifold(mesh, &why) || !halfedgesConsistent(mesh, &why) ||
+        !allTrianglesCcw(mesh, &why))
+      return Status::error(StatusCode::INTERNAL_ERROR,
+                           "reconstructed mesh check failed: " + why);
+  }
+  return Status::success();
+}
+
+} // namespace pcl_vts

@@ -1,0 +1,271 @@
+// Outward-triangle removal: keeps convex data whole, peels the bridges over a
+// concave notch and opens data voids into holes, measured against a synthetic
+// terrain with a known footprint (coverage >= 99 %, spill <= 0.5 %); never pinches a
+// vertex, counts lost vertices, is deterministic; works untuned on real DEMs.
+#include "support/asc_reader.h"
+#include "support/generators.h"
+#include "support/pipeline_checks.h"
+#include "support/surface_checks.h"
+
+#include <pcl_vts/core/boundary_loops.h>
+#include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/trim_outward_triangles.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace pcl_vts {
+namespace {
+
+TriangleMesh triangulate(const std::vector<double>& xyz)
+{
+  const test::PipelineRun run = test::runPipeline(xyz);
+  EXPECT_TRUE(run.status.ok()) << run.status.toString();
+  return run.result.mesh;
+}
+
+std::size_t unusedVertices(const TriangleMesh& mesh)
+{
+  std::vector<bool> used(mesh.vertexCount(), false);
+  for (const VertexId v : mesh.triangles)
+    used[v] = true;
+  std::size_t unused = 0;
+  for (const bool u : used)
+    unused += u ? 0 : 1;
+  return unused;
+}
+
+TEST(TrimOutwardTriangles, ConvexJitteredGridLosesOnlyHullSlivers)
+{
+  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE(seed);
+    TriangleMesh mesh = triangulate(
+        test::generatePoints(test::Distribution::JITTERED_GRID, 2500, seed));
+    const double area = twiceArea(mesh);
+    TrimResult result;
+    ASSERT_TRUE(trimOutwardTriangles(mesh, TrimOptions{}, result).ok());
+    test::expectValidSurfaceMesh(mesh);
+    // The hull's long thin slivers along the straight sides bridge the tiny
+    // concavities of the jittered outline; nothing else goes.
+    EXPECT_GT(twiceArea(mesh), 0.98 * area);
+    EXPECT_EQ(result.vertices_lost, 0u);
+    BoundaryLoops loops;
+    ASSERT_TRUE(findBoundaryLoops(mesh, loops).ok());
+    EXPECT_EQ(loops.loops.size(), 1u);
+    EXPECT_GT(result.spacing, 0.3);
+  }
+}
+
+TEST(TrimOutwardTriangles, SyntheticTerrainCoverageAndSpill)
+{
+  const test::SyntheticTerrain terrain = test::makeSyntheticTerrain(7);
+  TriangleMesh mesh = triangulate(terrain.xyz);
+  const test::CoverageFigures raw = test::measureCoverage(mesh, terrain, 0.25);
+  TrimResult result;
+  ASSERT_TRUE(trimOutwardTriangles(mesh, TrimOptions{}, result).ok());
+  test::expectValidSurfaceMesh(mesh);
+  const test::CoverageFigures trimmed = test::measureCoverage(mesh, terrain, 0.25);
+  std::printf("[ figures  ] untrimmed: coverage %.4f%% spill %.4f%%\n",
+              100 * raw.coverage(), 100 * raw.spillRatio());
+  std::printf("[ figures  ] trimmed (factor %.1f, spacing %.3f): coverage %.4f%% "
+              "spill %.4f%%, %zu triangles removed, %zu vertices lost\n",
+              TrimOptions{}.trim_factor, result.spacing, 100 * trimmed.coverage(),
+              100 * trimmed.spillRatio(), result.triangles_removed,
+              result.vertices_lost);
+  EXPECT_GT(raw.spillRatio(), 0.05); // the hull bridges the notch and the voids
+  EXPECT_GE(trimmed.coverage(), 0.99);
+  EXPECT_LE(trimmed.spillRatio(), 0.005);
+  EXPECT_EQ(unusedVertices(mesh), result.vertices_lost);
+
+  BoundaryLoops loops;
+  ASSERT_TRUE(findBoundaryLoops(mesh, loops).ok());
+  EXPECT_EQ(loops.componentCount(), 1u);
+  // Voids of radius 3, 6, 10, 25 opened (radius 2 may stay bridged).
+  EXPECT_GE(loops.holeCount(), 4u);
+  EXPECT_LE(loops.holeCount(), 5u);
+}
+
+TEST(TrimOutwardTriangles, WithoutOpenVoidsOnlyTheOutlineIsPeeled)
+{
+  const test::SyntheticTerrain terrain = test::makeSyntheticTerrain(7);
+  TriangleMesh mesh = triangulate(terrain.xyz);
+  TrimOptions options;
+  options.open_voids = false;
+  TrimResult result;
+  ASSERT_TRUE(trimOutwardTriangles(mesh, options, result).ok());
+  test::expectValidSurfaceMesh(mesh);
+  BoundaryLoops loops;
+  ASSERT_TRUE(findBoundaryLoops(mesh, loops).ok());
+  EXPECT_EQ(loops.holeCount(), 0u);
+  // The notch is gone: its centre is not covered any more.
+  test::SyntheticTerrain notch_only = terrain;
+  notch_only.voids.clear();
+  const test::CoverageFigures f = test::measureCoverage(mesh, notch_only, 0.5);
+  EXPECT_LE(f.spillRatio(), 0.005);
+  EXPECT_GT(result.triangles_removed, 0u);
+}
+
+TEST(TrimOutwardTriangles, IsDeterministic)
+{
+  const test::SyntheticTerrain terrain = test::makeSyntheticTerrain(11);
+  const TriangleMesh input = triangulate(terrain.xyz);
+  TriangleMesh a = input, b = input;
+  TrimResult ra, rb;
+  ASSERT_TRUE(trimOutwardTriangles(a, TrimOptions{}, ra).ok());
+  ASSERT_TRUE(trimOutwardTriangles(b, TrimOptions{}, rb).ok());
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.halfedges, b.halfedges);
+  EXPECT_EQ(ra.triangles_removed, rb.triangles_removed);
+  // Trimming again removes almost nothing: the peel ran until nothing changed; only
+  // the spacing re-measured at the new rim (its long edges gone) is a little shorter.
+  TrimResult again;
+  ASSERT_TRUE(trimOutwardTriangles(a, TrimOptions{}, again).ok());
+  EXPECT_LE(again.triangles_removed, a.triangleCount() / 1000);
+}
+
+TEST(TrimOutwardTriangles, AggressiveFactorNeverPinchesAVertex)
+{
+  for (const auto distribution :
+       {test::Distribution::UNIFORM, test::Distribution::CLUSTERED,
+        test::Distribution::BIG_VOIDS, test::Distribution::JITTERED_GRID}) {
+    for (const double factor : {1.2, 1.6, 2.5}) {
+      SCOPED_TRACE(test::distributionName(distribution) + " factor " +
+                   std::to_string(factor));
+      TriangleMesh mesh = triangulate(test::generatePoints(distribution, 3000, 5));
+      TrimOptions options;
+      options.trim_factor = factor;
+      TrimResult result;
+      ASSERT_TRUE(trimOutwardTriangles(mesh, options, result).ok());
+      test::expectValidSurfaceMesh(mesh);
+      EXPECT_EQ(unusedVertices(mesh), result.vertices_lost);
+      EXPECT_GT(result.triangles_removed, 0u);
+    }
+  }
+}
+
+TEST(TrimOutwardTriangles, MaxEdgeIsAnAbsoluteLimit)
+{
+  TriangleMesh mesh =
+      triangulate(test::generatePoints(test::Distribution::JITTERED_GRID, 2500, 4));
+  TrimOptions options;
+  options.trim_factor = 1000.0;
+  options.max_edge = 1.2; // shorter than many lattice diagonals
+  TrimResult result;
+  ASSERT_TRUE(trimOutwardTriangles(mesh, options, result).ok());
+  test::expectValidSurfaceMesh(mesh);
+  EXPECT_GT(result.triangles_removed, 0u);
+  for (std::size_t e = 0; e < mesh.triangles.size(); ++e) {
+    const Point2& a = mesh.xy[mesh.triangles[e]];
+    const Point2& b = mesh.xy[mesh.triangles[nextHalfedge(e)]];
+    // Survivors with a long edge were kept only to stay manifold.
+    if (std::hypot(a.x - b.x, a.y - b.y) > 1.2) {
+      EXPECT_GT(result.kept_to_stay_manifold, 0u);
+    }
+  }
+}
+
+TEST(TrimOutwardTriangles, InvalidOptionsAreRejected)
+{
+  TriangleMesh mesh =
+      triangulate(test::generatePoints(test::Distribution::UNIFORM, 100, 1));
+  const TriangleMesh copy = mesh;
+  TrimResult result;
+  for (const double factor : {1.0, 0.5, -2.0, std::nan(""), HUGE_VAL}) {
+    TrimOptions options;
+    options.trim_factor = factor;
+    const Status status = trimOutwardTriangles(mesh, options, result);
+    EXPECT_EQ(status.code, StatusCode::INVALID_PARAMETER);
+    EXPECT_NE(status.message.find("trim_factor"), std::string::npos) << status.message;
+  }
+  TrimOptions options;
+  options.max_edge = -1.0;
+  const Status status = trimOutwardTriangles(mesh, options, result);
+  EXPECT_EQ(status.code, StatusCode::INVALID_PARAMETER);
+  EXPECT_NE(status.message.find("max_edge = -1"), std::string::npos) << status.message;
+  EXPECT_EQ(mesh.triangles, copy.triangles);
+}
+
+TEST(TrimOutwardTriangles, LoneTriangleIsPeeledAndItsVerticesCountedLost)
+{
+  // A long thin triangle alone, over the absolute edge limit.
+  TriangleMesh mesh;
+  mesh.xy = {{0, 0}, {10, 0}, {0, 1}};
+  mesh.z = {0, 0, 0};
+  mesh.triangles = {0, 1, 2};
+  ASSERT_TRUE(mesh.rebuildHalfedges());
+  TrimOptions options;
+  options.max_edge = 5.0;
+  TrimResult result;
+  ASSERT_TRUE(trimOutwardTriangles(mesh, options, result).ok());
+  EXPECT_EQ(result.triangles_removed, 1u);
+  EXPECT_EQ(result.vertices_lost, 3u);
+  EXPECT_EQ(mesh.triangleCount(), 0u);
+  EXPECT_EQ(mesh.vertexCount(), 3u); // vertex ids stay valid
+}
+
+struct DemCase {
+  const char* path;
+  double max_spill; ///< mesh area over NODATA cells / valid area
+};
+
+class TrimRealDem : public ::testing::TestWithParam<DemCase> {};
+
+TEST_P(TrimRealDem, DefaultsFollowTheOutline)
+{
+  const std::string path = std::string(PCL_VTS_SHARED_DATA_DIR) + "/" + GetParam().path;
+  if (!std::ifstream(path).good())
+    GTEST_SKIP() << "shared data file not found: " << path;
+  test::AsciiGrid grid;
+  ASSERT_TRUE(test::readAsciiGrid(path, grid));
+  TriangleMesh mesh = triangulate(grid.xyz);
+  const double hull_area = twiceArea(mesh) / 2;
+  TrimResult result;
+  ASSERT_TRUE(trimOutwardTriangles(mesh, TrimOptions{}, result).ok());
+  test::expectValidSurfaceMesh(mesh);
+  EXPECT_EQ(unusedVertices(mesh), result.vertices_lost);
+  // Valid cells as a mask; sample each triangle area on a quarter-cell raster.
+  const double cs = grid.cellsize;
+  std::vector<bool> valid(grid.ncols * grid.nrows, false);
+  for (std::size_t k = 0; k < grid.xyz.size(); k += 3) {
+    const auto c = static_cast<std::size_t>((grid.xyz[k] - grid.xll) / cs);
+    const auto r = static_cast<std::size_t>((grid.xyz[k + 1] - grid.yll) / cs);
+    valid[r * grid.ncols + c] = true;
+  }
+  double spill = 0.0;
+  test::forEachCoveredSample(mesh, 0, cs / 4, [&](double x, double y, std::size_t) {
+    const auto c = static_cast<std::size_t>((x - grid.xll) / cs);
+    const auto r = static_cast<std::size_t>((y - grid.yll) / cs);
+    if (c >= grid.ncols || r >= grid.nrows || !valid[r * grid.ncols + c])
+      spill += cs * cs / 16;
+  });
+  const double mesh_area = twiceArea(mesh) / 2;
+  const double valid_area = static_cast<double>(grid.xyz.size() / 3) * cs * cs;
+  std::printf(
+      "[ figures  ] %s: valid cells %.0f, hull %.0f, trimmed %.0f (area units), "
+      "spill over NODATA %.3f%%, %zu triangles removed, %zu vertices lost\n",
+      GetParam().path, valid_area, hull_area, mesh_area, 100 * spill / valid_area,
+      result.triangles_removed, result.vertices_lost);
+  EXPECT_LE(spill, valid_area * GetParam().max_spill);
+  EXPECT_GT(mesh_area, valid_area * 0.85); // a half-cell rim is outside the centres
+}
+
+const DemCase DEMS[] = {
+    {"dem/landlab/west_bijou_gully.asc", 0.02},
+    {"dem/landlab/hugo_site.asc", 0.02},
+    {"dem/landlab/zSW3.asc", 0.02},
+};
+
+INSTANTIATE_TEST_SUITE_P(SharedData, TrimRealDem, ::testing::ValuesIn(DEMS),
+                         [](const ::testing::TestParamInfo<DemCase>& param_info) {
+                           std::string name = param_info.param.path;
+                           name = name.substr(name.rfind('/') + 1);
+                           return name.substr(0, name.find('.'));
+                         });
+
+} // namespace
+} // namespace pcl_vts
