@@ -119,6 +119,8 @@ Status validateOptions(const VtsOptions& options)
         "duplicate_rule = " + std::to_string(static_cast<int>(options.duplicate_rule)) +
             " is not a DuplicateRule");
   }
+  if (options.reconstruction.trim || options.reconstruction.fill)
+    return validateReconstructionOptions(options.reconstruction);
   return Status::success();
 }
 
@@ -233,6 +235,18 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
       result.mesh = TriangleMesh{};
       return Status::error(StatusCode::INTERNAL_ERROR, "output check failed: " + why);
     }
+  }
+
+  // Trim boundary, fill holes (each optional).
+  if (options.reconstruction.trim || options.reconstruction.fill) {
+    ReconstructionOptions post = options.reconstruction;
+    post.check_output = post.check_output && options.check_output;
+    if (Status s = reconstructSurface(mesh, post, result.reconstruction); !s.ok()) {
+      result.mesh = TriangleMesh{};
+      return s;
+    }
+    result.source_index.resize(mesh.vertexCount(), INVALID_ID); // inserted points
+    diag.triangles = mesh.triangleCount();
   }
   return Status::success();
 }

@@ -5,6 +5,7 @@
 
 #include <pcl_vts/core/merge_duplicates.h>
 #include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/core/reconstruct_surface.h>
 #include <pcl_vts/core/status.h>
 
 #include <cstddef>
@@ -12,6 +13,15 @@
 #include <vector>
 
 namespace pcl_vts {
+
+/// Reconstruction options with both passes off.
+inline ReconstructionOptions noPostPasses()
+{
+  ReconstructionOptions options;
+  options.trim = false;
+  options.fill = false;
+  return options;
+}
 
 struct VtsOptions {
   /// Grid cell edge length in input XY units; 0 = derived from the point density
@@ -21,6 +31,10 @@ struct VtsOptions {
   /// Threads for the triangulation; 0 = all hardware threads. The output is
   /// identical for every value.
   unsigned threads = 1;
+  /// Post-passes after the triangulation (docs/reconstruction.md). Off by default
+  /// here, so the core returns the exact Delaunay triangulation of the hull;
+  /// pcd_to_mesh turns both on unless --no-trim / --no-fill.
+  ReconstructionOptions reconstruction = noPostPasses();
   /// Validate the output against its post-conditions (triangle count, twins, CCW)
   /// before returning; a failure is INTERNAL_ERROR. Cheap (linear).
   bool check_output = true;
@@ -31,9 +45,10 @@ Status validateOptions(const VtsOptions& options);
 
 struct VtsResult {
   /// Vertices are the distinct XY positions (merged z applied); triangles are CCW,
-  /// tiling exactly the convex hull; halfedges give the twins.
+  /// tiling exactly the convex hull (unless post-passes ran); halfedges give twins.
   TriangleMesh mesh;
-  /// Per mesh vertex: index of the input point it came from.
+  /// Per mesh vertex: index of the input point it came from; INVALID_ID for points
+  /// inserted by hole filling (appended after the input's vertices).
   std::vector<std::uint32_t> source_index;
   /// Per input point: the mesh vertex that represents it (merged duplicates point to
   /// the same vertex), or INVALID_ID for dropped (non-finite) points.
@@ -41,6 +56,9 @@ struct VtsResult {
   /// Convex hull, CCW, as mesh vertex ids (collinear boundary points included).
   std::vector<VertexId> hull;
   Diagnostics diagnostics;
+  /// What trimming and filling did (zeros when they are off); fill.inserted flags
+  /// inserted vertices.
+  ReconstructionDiagnostics reconstruction;
 };
 
 /// Triangulates n points given as xyz triples (3n doubles). Never throws.
