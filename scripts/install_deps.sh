@@ -9,6 +9,7 @@ PACKAGES=(
   libcgal-dev libgmp-dev libmpfr-dev   # the Delaunay oracle in tests and benchmarks
   libgtest-dev libbenchmark-dev
   clang-format
+  clang libclang-rt-14-dev   # libFuzzer + ASan/UBSan runtimes: the reader fuzzers in ctest
   time                  # peak-memory figures in make bench
 )
 

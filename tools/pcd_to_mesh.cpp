@@ -1,11 +1,12 @@
-// pcd_to_mesh: PCD elevation point cloud -> exact Delaunay triangle mesh
-// (.ply/.obj/.vtk) through the PCL-free core (runVtsPipeline), keeping float64
-// coordinates intact. Shape of PCL's tools (tools/gp3_surface.cpp): one "[done, ...]"
-// line per stage; but every option is validated, each failure class has its own exit
-// code and one stderr line, and the output appears only when complete (mesh_writer.h).
+// pcd_to_mesh: elevation point cloud (PCD, LAS, ASCII grid, XYZ text, PLY) -> exact
+// Delaunay triangle mesh (.ply/.obj/.vtk) through the PCL-free core (runVtsPipeline),
+// keeping float64 coordinates intact. Shape of PCL's tools (tools/gp3_surface.cpp): one
+// "[done, ...]" line per stage; but every option is validated, each failure class has
+// its own exit code and one stderr line, and the output appears only when complete
+// (mesh_writer.h).
 #include <pcl_vts/core/vts_pipeline.h>
 #include <pcl_vts/mesh_writer.h>
-#include <pcl_vts/pcd_cloud_reader.h>
+#include <pcl_vts/point_cloud_loader.h>
 
 #include <pcl/console/print.h>
 
@@ -28,7 +29,7 @@ namespace {
 
 // One exit code per class of failure (listed in --help).
 constexpr int EXIT_USAGE = 1;    // unknown option, bad value, bad output extension
-constexpr int EXIT_INPUT = 2;    // input file missing, unreadable or not a valid PCD
+constexpr int EXIT_INPUT = 2;    // input file missing, unreadable or not valid
 constexpr int EXIT_DATA = 3;     // input read but unusable: no/too few/collinear points
 constexpr int EXIT_OUTPUT = 4;   // the mesh could not be written
 constexpr int EXIT_INTERNAL = 5; // a bug or out of memory
@@ -40,6 +41,7 @@ struct CliOptions {
   std::string input;
   std::string output;
   pcl_vts::VtsOptions vts;
+  pcl_vts::CloudLoadOptions load;
   bool no_trim = false;
   bool no_fill = false;
   bool ascii = false;
@@ -51,15 +53,25 @@ struct CliOptions {
 void printHelp()
 {
   std::printf(
-      "Usage: pcd_to_mesh INPUT.pcd OUTPUT.{ply,obj,vtk} [options]\n"
+      "Usage: pcd_to_mesh INPUT OUTPUT.{ply,obj,vtk} [options]\n"
       "\n"
       "Triangulates an elevation point cloud (z = f(x, y): terrain, DEM, horizon) "
       "with\n"
       "the VTS grid method: the exact Delaunay triangulation of the XY projection,\n"
       "tiling the convex hull of the distinct XY points.\n"
       "\n"
-      "Input:  PCD file (ascii, binary or binary_compressed) with fields x y z (or\n"
-      "        X Y Z), float32, float64 or integer; read in double precision.\n"
+      "Input:  format from the extension (any case), else from the content; always\n"
+      "        read in double precision:\n"
+      "        .pcd  PCD (ascii, binary, binary_compressed), fields x y z or X Y Z,\n"
+      "              float32, float64 or integer\n"
+      "        .las  LAS 1.0-1.4, point formats 0-10 (int32 * scale + offset);\n"
+      "              .laz is not read: convert it first ('pdal translate in.laz\n"
+      "              out.las' or 'laszip -i in.laz -o out.las')\n"
+      "        .asc  ESRI ASCII grid: one point per cell centre, NODATA skipped\n"
+      "        .xyz .txt .csv  text, x y z per line separated by blanks, commas or\n"
+      "              semicolons; optional header line naming x y z columns; extra\n"
+      "              columns ignored; '#' lines are comments\n"
+      "        .ply  the vertices of a PLY point cloud or mesh (faces ignored)\n"
       "Output: format from the extension (any case): .ply (binary little-endian "
       "unless\n"
       "        --ascii), .obj, .vtk (legacy ASCII polydata). Vertex coordinates are\n"
@@ -71,6 +83,10 @@ void printHelp()
       "  -h, --help          print this help and exit\n"
       "  --cell-size S       grid cell edge length in input XY units, S >= 0;\n"
       "                      0 = automatic from the point density (default: %g)\n"
+      "  --classes LIST      LAS only: keep these classification codes, e.g. 2 "
+      "(ground)\n"
+      "                      or 2,9 (ground and water) (default: all classes)\n"
+      "  --returns WHICH     LAS only: all | first | last (default: all)\n"
       "  --duplicates RULE   z kept where points share the same XY exactly:\n"
       "                      lowest | highest | mean | first (default: %s)\n"
       "  --no-trim           do not trim outward boundary triangles (default: trim);\n"
@@ -88,11 +104,12 @@ void printHelp()
       "Exit status:\n"
       "  0  success: the mesh was written\n"
       "  1  usage error: unknown option, bad or missing option value, wrong number of\n"
-      "     arguments, unknown output extension\n"
-      "  2  input file error: missing, unreadable, empty, not a PCD file, bad header,\n"
-      "     truncated body, no x/y/z fields\n"
-      "  3  input data unusable: no points, fewer than 3 distinct XY positions, all\n"
-      "     points collinear, coordinates out of range\n"
+      "     arguments, unknown output extension, --classes/--returns on non-LAS input\n"
+      "  2  input file error: missing, unreadable, empty, unknown format, bad header,\n"
+      "     truncated body, no x/y/z, a value that is not a number, LAZ input\n"
+      "  3  input data unusable: no points (or none left after --classes/--returns,\n"
+      "     all NODATA), fewer than 3 distinct XY positions, all points collinear,\n"
+      "     coordinates out of range\n"
       "  4  output error: the mesh could not be written (folder missing, not "
       "writable,\n"
       "     disk full); no output file is left behind\n"
@@ -150,7 +167,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
     const std::size_t eq = arg.find('=');
     const std::string name = arg.substr(0, eq);
     const bool inline_value = eq != std::string::npos;
-    const bool takes_value = name == "--cell-size" || name == "--duplicates";
+    const bool takes_value = name == "--cell-size" || name == "--duplicates" ||
+                             name == "--classes" || name == "--returns";
     if (inline_value && !takes_value) {
       error = "option '" + name + "' takes no value";
       return false;
@@ -177,6 +195,17 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
             "--duplicates: '" + value + "' is not one of lowest, highest, mean, first";
         return false;
       }
+    } else if (name == "--classes") {
+      if (pcl_vts::Status s = pcl_vts::parseClassList(value, opt.load.classes);
+          !s.ok()) {
+        error = s.message;
+        return false;
+      }
+    } else if (name == "--returns") {
+      if (!pcl_vts::parseLasReturnFilter(value, opt.load.returns)) {
+        error = "--returns: '" + value + "' is not one of all, first, last";
+        return false;
+      }
     } else if (name == "--no-trim")
       opt.no_trim = true;
     else if (name == "--no-fill")
@@ -196,7 +225,7 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
     return true;
   if (positional.size() != 2) {
     error = positional.size() < 2
-                ? "expected INPUT.pcd and OUTPUT.{ply,obj,vtk}, got " +
+                ? "expected INPUT and OUTPUT.{ply,obj,vtk}, got " +
                       std::to_string(positional.size()) + " file argument(s)"
                 : "unexpected extra argument '" + positional[2] + "'";
     return false;
@@ -340,21 +369,31 @@ int run(const CliOptions& opt)
   out.begin("Reading '%s' ", opt.input.c_str());
   auto start = Clock::now();
   std::vector<double> xyz;
-  pcl_vts::PcdCloudInfo info;
-  if (pcl_vts::Status s = pcl_vts::readPcdCloud(opt.input, xyz, info); !s.ok())
-    return out.fail(exitCodeFor(s.code), s.code == pcl_vts::StatusCode::IO_ERROR
-                                             ? "cannot read input " + s.message
-                                             : "input unusable: " + s.toString());
+  pcl_vts::CloudDescription input;
+  if (pcl_vts::Status s = pcl_vts::loadPointCloud(opt.input, opt.load, xyz, input);
+      !s.ok())
+    return out.fail(exitCodeFor(s.code),
+                    s.code == pcl_vts::StatusCode::IO_ERROR
+                        ? "cannot read input " + s.message
+                    : s.code == pcl_vts::StatusCode::INVALID_PARAMETER
+                        ? s.message
+                        : "input unusable: " + s.toString());
   const double ms_read = msSince(start);
-  out.done(ms_read, std::to_string(info.points) + " points, " + info.data_format +
-                        ", " + info.xyzDescription());
+  const std::size_t n_points = input.points_kept;
+  out.done(ms_read, std::to_string(input.points_read) + " points, " +
+                        pcl_vts::cloudFileFormatName(input.format) + " " +
+                        input.details +
+                        (input.points_kept != input.points_read
+                             ? ", " + std::to_string(input.points_kept) + " kept"
+                             : std::string()));
+  for (const std::string& note : input.notes)
+    out.line("  %s\n", note.c_str());
 
-  out.begin("Triangulating %zu points (grid, convex hull, region growing) ",
-            info.points);
+  out.begin("Triangulating %zu points (grid, convex hull, region growing) ", n_points);
   start = Clock::now();
   pcl_vts::VtsResult result;
   const pcl_vts::Status tri =
-      pcl_vts::runVtsPipeline(xyz.data(), info.points, opt.vts, result);
+      pcl_vts::runVtsPipeline(xyz.data(), n_points, opt.vts, result);
   if (tri.code == pcl_vts::StatusCode::INVALID_PARAMETER)
     return out.fail(EXIT_USAGE,
                     "options rejected for '" + opt.input + "': " + tri.message);
@@ -403,7 +442,8 @@ int run(const CliOptions& opt)
                          precision + ", " + std::to_string(written.bytes) + " bytes");
 
   out.line("Summary\n");
-  out.line("  %-20s %zu\n", "points read", info.points);
+  out.line("  %-20s %zu\n", "points read", input.points_read);
+  out.line("  %-20s %zu\n", "points kept", input.points_kept);
   out.line("  %-20s %zu\n", "non-finite dropped", d.non_finite_dropped);
   out.line("  %-20s %zu\n", "duplicates merged", d.duplicates_merged);
   out.line("  %-20s %zu\n", "distinct points", d.distinct_points);

@@ -29,6 +29,8 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <tuple>
+#include <unistd.h>
 #include <vector>
 
 #ifndef PCL_VTS_PCD_TO_MESH
@@ -687,7 +689,7 @@ TEST_F(PcdToMesh, BadOptionValuesAndUnknownOptionsAreUsageErrors)
                 before);
   expectFailure(run({"in.pcd", "out.ply", "--no-trim=yes"}), 1, "takes no value",
                 before);
-  expectFailure(run({"in.pcd"}), 1, "expected INPUT.pcd and OUTPUT", before);
+  expectFailure(run({"in.pcd"}), 1, "expected INPUT and OUTPUT", before);
   expectFailure(run({"in.pcd", "a.ply", "b.ply"}), 1, "unexpected extra argument",
                 before);
 }
@@ -719,8 +721,9 @@ TEST_F(PcdToMesh, HelpListsEveryOptionWithItsDefaultAndExitsZero)
     const CliResult r = run({flag});
     EXPECT_EQ(r.exit_code, 0);
     EXPECT_TRUE(r.err.empty()) << r.err;
-    for (const char* option : {"--cell-size", "--duplicates", "--no-trim", "--no-fill",
-                               "--ascii", "--double", "--quiet", "--help"})
+    for (const char* option :
+         {"--cell-size", "--duplicates", "--classes", "--returns", "--no-trim",
+          "--no-fill", "--ascii", "--double", "--quiet", "--help"})
       EXPECT_NE(r.out.find(option), std::string::npos) << option;
     std::size_t defaults = 0;
     for (std::size_t at = r.out.find("(default"); at != std::string::npos;
@@ -978,6 +981,403 @@ TEST(PcdToMeshCheckers, TriangulationCheckCatchesFlippedAndForeignVertices)
   TriangleMesh moved = good;
   moved.z[3] = std::nextafter(0.0, 1.0);
   EXPECT_NONFATAL_FAILURE(expectTriangulationOfInput(moved, input), "bit for bit");
+}
+
+// ---- other input formats (LAS, ASCII grid, XYZ text, PLY) through the same CLI
+// ------------------------------------------------------------------------------
+
+/// LAS 1.2, point format 0, written byte by byte: X Y Z int32 = round(v / scale),
+/// classification in the low 5 bits of byte 15.
+std::string lasFile(const std::vector<Xyz>& points, const std::vector<int>& classes,
+                    double scale, const Xyz& offset)
+{
+  std::string b(227, '\0');
+  const auto put = [&b](std::size_t at, const void* v, std::size_t n) {
+    std::memcpy(&b[at], v, n); // the test host is little-endian, as LAS is
+  };
+  std::memcpy(&b[0], "LASF", 4);
+  b[24] = 1;
+  b[25] = 2;
+  const std::uint16_t header_size = 227, record = 20;
+  const std::uint32_t offset_to_points = 227;
+  const auto count = static_cast<std::uint32_t>(points.size());
+  put(94, &header_size, 2);
+  put(96, &offset_to_points, 4);
+  put(105, &record, 2);
+  put(107, &count, 4);
+  for (int a = 0; a < 3; ++a) {
+    put(131 + 8 * a, &scale, 8);
+    put(155 + 8 * a, &offset[a], 8);
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::string r(record, '\0');
+    for (int a = 0; a < 3; ++a) {
+      const auto v =
+          static_cast<std::int32_t>(std::llround((points[i][a] - offset[a]) / scale));
+      std::memcpy(&r[4 * a], &v, 4);
+    }
+    r[14] = 0x09; // return 1 of 1
+    r[15] = static_cast<char>(classes.empty() ? 2 : classes[i]);
+    b += r;
+  }
+  return b;
+}
+
+/// What a LAS reader must return for lasFile's points: int32 * scale + offset.
+std::vector<Xyz> lasRoundTrip(const std::vector<Xyz>& points, double scale,
+                              const Xyz& offset)
+{
+  std::vector<Xyz> out;
+  for (const Xyz& p : points) {
+    Xyz q;
+    for (int a = 0; a < 3; ++a)
+      q[a] = static_cast<double>(
+                 static_cast<std::int32_t>(std::llround((p[a] - offset[a]) / scale))) *
+                 scale +
+             offset[a];
+    out.push_back(q);
+  }
+  return out;
+}
+
+std::string xyzText(const std::vector<Xyz>& points, const char* header, char sep)
+{
+  std::string s = header;
+  char line[160];
+  for (const Xyz& p : points) {
+    std::snprintf(line, sizeof(line), "%.17g%c%.17g%c%.17g\n", p[0], sep, p[1], sep,
+                  p[2]);
+    s += line;
+  }
+  return s;
+}
+
+std::string plyDouble(const std::vector<Xyz>& points)
+{
+  std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex " +
+                  std::to_string(points.size()) +
+                  "\nproperty double x\nproperty double y\nproperty double z\n"
+                  "end_header\n";
+  for (const Xyz& p : points)
+    s.append(reinterpret_cast<const char*>(p.data()), 24);
+  return s;
+}
+
+TEST_F(PcdToMesh, UtmMillimetreCloudRoundTripsThroughEveryInputFormat)
+{
+  const std::vector<Xyz> points = utmCloud(2000, 11);
+  const Xyz offset = {500000.0, 5000000.0, 0.0};
+  const std::vector<Xyz> las_points = lasRoundTrip(points, 0.001, offset);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      ASSERT_LE(std::abs(las_points[i][a] - points[i][a]), 1e-6) << "LAS scale 1 mm";
+  struct Case {
+    std::string input, bytes;
+    std::vector<Xyz> expected; ///< what the reader must give, bit for bit
+  };
+  const std::vector<Case> cases = {
+      {"utm.xyz", xyzText(points, "", ' '), points},
+      {"utm.CSV", xyzText(points, "X,Y,Z\n", ','), points},
+      {"utm.ply", plyDouble(points), points},
+      {"utm.las", lasFile(points, {}, 0.001, offset), las_points},
+      {"utm.pcd", binaryPcd64(points), points},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.input);
+    writeBytes(work(c.input), c.bytes);
+    const CliResult r = run({c.input, "out.ply"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(summaryValue(r.out, "points read"), points.size());
+    EXPECT_EQ(summaryValue(r.out, "points kept"), points.size());
+    MeshFile m;
+    ASSERT_TRUE(readPly(work("out.ply").string(), m));
+    EXPECT_EQ(m.vertex_type, "double");
+    ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, c.expected));
+    double worst = 0.0;
+    for (std::size_t v = 0; v < m.mesh.vertexCount(); ++v) {
+      // The input point nearest to this vertex (same XY within 1 mm).
+      double best = 1e300;
+      for (const Xyz& p : points)
+        if (std::abs(p[0] - m.mesh.xy[v].x) < 1e-3 &&
+            std::abs(p[1] - m.mesh.xy[v].y) < 1e-3)
+          best = std::min(best, std::max({std::abs(p[0] - m.mesh.xy[v].x),
+                                          std::abs(p[1] - m.mesh.xy[v].y),
+                                          std::abs(p[2] - m.mesh.z[v])}));
+      worst = std::max(worst, best);
+    }
+    EXPECT_LE(worst, 0.5e-3) << "every vertex within the 1 mm input resolution";
+  }
+}
+
+TEST_F(PcdToMesh, LasClassesOptionKeepsOnlyThoseClasses)
+{
+  std::vector<Xyz> points = utmCloud(600, 5);
+  std::vector<int> classes;
+  std::vector<Xyz> ground;
+  const Xyz offset = {500000.0, 5000000.0, 0.0};
+  const std::vector<Xyz> exact = lasRoundTrip(points, 0.001, offset);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    classes.push_back(i % 3 == 0 ? 2 : (i % 3 == 1 ? 1 : 9));
+    if (classes.back() != 1)
+      ground.push_back(exact[i]);
+  }
+  writeBytes(work("c.las"), lasFile(points, classes, 0.001, offset));
+  const CliResult r = run({"c.las", "g.ply", "--classes", "2,9"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summaryValue(r.out, "points read"), 600u);
+  EXPECT_EQ(summaryValue(r.out, "points kept"), ground.size());
+  MeshFile m;
+  ASSERT_TRUE(readPly(work("g.ply").string(), m));
+  ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, ground));
+
+  const auto before = workFiles();
+  expectFailure(run({"c.las", "g2.ply", "--classes=6"}), 3, "classes present: 1 (200)",
+                before);
+  expectFailure(run({"c.las", "g2.ply", "--classes", "2,300"}), 1, "'300'", before);
+  expectFailure(run({"c.las", "g2.ply", "--returns", "second"}), 1, "second", before);
+  writeBytes(work("t.xyz"), xyzText(points, "", ' '));
+  const auto before2 = workFiles();
+  expectFailure(run({"t.xyz", "g2.ply", "--classes", "2"}), 1, "LAS input only",
+                before2);
+}
+
+TEST_F(PcdToMesh, AscGridCellCentresWithNodataSkipped)
+{
+  writeBytes(work("g.asc"), "ncols 3\nnrows 3\nxllcorner 500000\nyllcorner 5000000\n"
+                            "cellsize 0.5\nnodata_value -9999\n"
+                            "1 2 3\n4 -9999 6\n7 8 9\n");
+  const CliResult r = run({"g.asc", "g.obj"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summaryValue(r.out, "points read"), 9u);
+  EXPECT_EQ(summaryValue(r.out, "points kept"), 8u);
+  MeshFile m;
+  ASSERT_TRUE(readObj(work("g.obj").string(), m));
+  std::vector<Xyz> expected;
+  const double z[3][3] = {{1, 2, 3}, {4, -9999, 6}, {7, 8, 9}};
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 3; ++col)
+      if (z[row][col] != -9999)
+        expected.push_back(
+            {500000 + 0.5 * (col + 0.5), 5000000 + 0.5 * (3 - row - 0.5), z[row][col]});
+  ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, expected));
+}
+
+TEST_F(PcdToMesh, BadInputOfEveryFormatIsOneLineAndNoFile)
+{
+  const std::vector<Xyz> points = utmCloud(50, 3);
+  const Xyz offset = {500000.0, 5000000.0, 0.0};
+  const std::string las = lasFile(points, {}, 0.001, offset);
+  std::string las_huge = las;
+  const std::uint32_t billions = 3000000000u;
+  std::memcpy(&las_huge[107], &billions, 4);
+  std::string laz = las;
+  laz[104] = static_cast<char>(0x80);
+  const std::string ply = plyDouble(points);
+  std::string ply_huge = ply;
+  ply_huge.replace(ply_huge.find("vertex 50"), 9, "vertex 3000000000");
+  const std::string asc_head =
+      "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
+  struct Case {
+    std::string name, bytes;
+    int exit_code;
+    std::string words;
+  };
+  const std::vector<Case> cases = {
+      {"e.las", "", 2, "empty (0 bytes)"},
+      {"e.asc", "", 2, "empty (0 bytes)"},
+      {"e.xyz", "", 2, "empty (0 bytes)"},
+      {"e.ply", "", 2, "empty (0 bytes)"},
+      {"h.las", las.substr(0, 227), 2, "truncated"},
+      {"h.ply", ply.substr(0, ply.find("end_header") + 11), 2, "truncated"},
+      {"h.asc", asc_head, 2, "truncated"},
+      {"h.csv", "x,y,z\n", 3, "header line only"},
+      {"t.las", las.substr(0, las.size() - 7), 2, "truncated"},
+      {"t.ply", ply.substr(0, ply.size() - 7), 2, "truncated"},
+      {"t.asc", asc_head + "1 2 3\n4 5\n", 2, "truncated"},
+      {"m.las", "LASX" + las.substr(4), 2, "no 'LASF' signature"},
+      {"m.ply", "ply2\n" + ply.substr(4), 2, "no 'ply' magic"},
+      {"m.asc", "ply\nformat ascii 1.0\n", 2, "not an ESRI ASCII grid"},
+      {"m.xyz", las, 2, "not a text file"},
+      {"b.las", las_huge, 2, "3000000000"},
+      {"b.ply", ply_huge, 2, "3000000000"},
+      {"b.asc", "ncols 90000\nnrows 90000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1\n",
+       2, "90000 x 90000"},
+      {"z.laz", laz, 2, "pdal translate"},
+      {"n.xyz", "1 2 3\n4 5 x\n", 2, "'x' is not a number"},
+      {"u.foo", "some text\n", 2, "unknown input format"},
+      {"same.xyz", "1 1 1\n1 1 2\n1 1 3\n1 1 4\n", 3, "TOO_FEW_POINTS"},
+      {"line.asc",
+       "ncols 5\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3 4 5\n", 3,
+       "ALL_COLLINEAR"},
+      {"nodata.asc", asc_head + "nodata_value 0\n0 0 0\n0 0 0\n", 3, "NODATA"},
+      {"nan.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+       "property float y\nproperty float z\nend_header\nnan 0 0\n0 nan 0\n"
+       "0 0 inf\n",
+       3, "EMPTY_INPUT"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    writeBytes(work(c.name), c.bytes);
+    const auto before = workFiles();
+    expectFailure(run({c.name, "out.ply"}), c.exit_code, c.words, before);
+  }
+}
+
+TEST_F(PcdToMesh, NonFinitePointsOfTextInputAreDroppedAndCounted)
+{
+  writeBytes(work("n.xyz"),
+             "0 0 1\n10 0 2\nnan 3 3\n0 10 3\n4 4 inf\n10 10 4\n5 5 5\n");
+  const CliResult r = run({"n.xyz", "out.ply"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summaryValue(r.out, "points read"), 7u);
+  EXPECT_EQ(summaryValue(r.out, "non-finite dropped"), 2u);
+  EXPECT_EQ(summaryValue(r.out, "triangles"), 4u);
+}
+
+TEST_F(PcdToMesh, SharedLasAndDemFilesMeshDirectly)
+{
+  const std::string las = SHARED_DATA + "/las/pdal/simple.las";
+  const std::string asc = SHARED_DATA + "/dem/landlab/hugo_site.asc";
+  if (!fs::exists(las) || !fs::exists(asc))
+    GTEST_SKIP() << "shared data not found at " << SHARED_DATA;
+  CliResult r = run({las, "s.ply", "--classes", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summaryValue(r.out, "points read"), 1065u);
+  EXPECT_EQ(summaryValue(r.out, "points kept"), 276u);
+  EXPECT_EQ(summaryValue(r.out, "distinct points"), 276u);
+  r = run({asc, "h.ply"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summaryValue(r.out, "points read"), 76u * 55u);
+  EXPECT_EQ(summaryValue(r.out, "points kept"), 2152u);
+  EXPECT_EQ(summaryValue(r.out, "distinct points"), 2152u);
+}
+
+TEST_F(PcdToMesh, InputThatIsAFolderIsAnInputError)
+{
+  for (const char* name : {"d.las", "d.xyz", "d.asc", "d.ply", "d.pcd"}) {
+    fs::create_directory(work(name));
+    const auto before = workFiles();
+    expectFailure(run({name, "out.ply"}), 2, "", before);
+    const CliResult r = run({name, "out.ply"});
+    EXPECT_TRUE(r.err.find("not a regular file") != std::string::npos ||
+                r.err.find("Is a directory") != std::string::npos)
+        << r.err;
+  }
+}
+
+TEST_F(PcdToMesh, UnreadableInputAndUnwritableFolderAreErrors)
+{
+  if (::geteuid() == 0)
+    GTEST_SKIP() << "running as root: file permissions do not apply";
+  writeBytes(work("in.xyz"), "0 0 0\n1 0 0\n0 1 0\n");
+  fs::permissions(work("in.xyz"), fs::perms::none);
+  fs::create_directory(work("ro"));
+  fs::permissions(work("ro"), fs::perms::owner_read | fs::perms::owner_exec);
+  const auto before = workFiles();
+  expectFailure(run({"in.xyz", "out.ply"}), 2, "Permission denied", before);
+  fs::permissions(work("in.xyz"), fs::perms::owner_all);
+  expectFailure(run({"in.xyz", "ro/out.ply"}), 4, "not writable", before);
+  fs::permissions(work("ro"), fs::perms::owner_all);
+}
+
+TEST_F(PcdToMesh, UtmMillimetreAscGridKeepsEveryCellCentre)
+{
+  // 30 x 20 cells of 1 mm at easting 5e5, northing 5e6: every centre must come out
+  // within far less than the 1 mm resolution of its exact decimal position.
+  const int ncols = 30, nrows = 20;
+  std::string grid = "ncols 30\nnrows 20\nxllcorner 500000.000\nyllcorner 5000000.000\n"
+                     "cellsize 0.001\nnodata_value -9999\n";
+  std::map<std::pair<int, int>, double> z;
+  for (int r = 0; r < nrows; ++r) {
+    for (int c = 0; c < ncols; ++c) {
+      const double v = 120.0 + 0.001 * ((r * 7919 + c * 104729) % 20000);
+      char text[32];
+      std::snprintf(text, sizeof(text), "%.3f ", v);
+      grid += text;
+      z[{c, nrows - 1 - r}] = std::strtod(text, nullptr);
+    }
+    grid += "\n";
+  }
+  writeBytes(work("utm.asc"), grid);
+  const CliResult r = run({"utm.asc", "utm.ply"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summaryValue(r.out, "points kept"), std::size_t(ncols * nrows));
+  MeshFile m;
+  ASSERT_TRUE(readPly(work("utm.ply").string(), m));
+  ASSERT_EQ(m.mesh.vertexCount(), std::size_t(ncols * nrows));
+  EXPECT_EQ(m.vertex_type, "double");
+  std::set<std::pair<int, int>> seen;
+  for (std::size_t v = 0; v < m.mesh.vertexCount(); ++v) {
+    // Exact centre of cell (c, row from the bottom): 5e5 + (c + 0.5) mm.
+    const long double fx =
+        (static_cast<long double>(m.mesh.xy[v].x) - 500000.0L) * 1000;
+    const long double fy =
+        (static_cast<long double>(m.mesh.xy[v].y) - 5000000.0L) * 1000;
+    const auto c = static_cast<int>(std::floor(fx));
+    const auto row = static_cast<int>(std::floor(fy));
+    ASSERT_TRUE(c >= 0 && c < ncols && row >= 0 && row < nrows) << v;
+    EXPECT_LE(std::abs(fx - (c + 0.5L)), 1e-6L) << "x off its centre by > 1 nm";
+    EXPECT_LE(std::abs(fy - (row + 0.5L)), 1e-6L) << "y off its centre by > 1 nm";
+    EXPECT_EQ(m.mesh.z[v], z.at({c, row}));
+    seen.insert({c, row});
+  }
+  EXPECT_EQ(seen.size(), std::size_t(ncols * nrows));
+}
+
+TEST_F(PcdToMesh, EverySharedLasAscAndPcdFileMeshesDirectly)
+{
+  if (!fs::exists(SHARED_DATA + "/las"))
+    GTEST_SKIP() << "shared data not found at " << SHARED_DATA;
+  // Points in each file (records, or valid cells of a grid) from
+  // ../shared/data/README.md; PCD files are checked against PCL's own reader.
+  const std::map<std::string, std::pair<std::size_t, std::size_t>> expected = {
+      {"las/pdal/autzen_trim.las", {110000, 110000}},
+      {"las/from_laz/lidR_Topography.las", {73403, 73403}},
+      {"las/from_laz/pdal_las_with_several_extra_byte_bloc.las", {697721, 697721}},
+      {"las/pdal/hexbin-crop.las", {38367, 38367}},
+      {"las/pdal/4_6_crop.las", {23875, 23875}},
+      {"las/laspy/file_with_both_wkt_and_geotiff_vlrs.las", {25408, 25408}},
+      {"las/pdal/sample_c.las", {14408, 14408}},
+      {"las/liblas/certainty3d-color-utm-feet-navd88.las", {10126, 10126}},
+      {"las/pdal/mvk-thin.las", {6280, 6280}},
+      {"las/pdal/epsg_4326.las", {5380, 5380}},
+      {"las/pdal/warsaw_small.las", {3000, 3000}},
+      {"las/pdal/simple.las", {1065, 1065}},
+      {"las/pdal/test1_4.las", {1000, 1000}},
+      {"dem/landlab/west_bijou_gully.asc", {43 * 89, 1088}},
+      {"dem/landlab/hugo_site.asc", {76 * 55, 2152}},
+      {"dem/landlab/zSW3.asc", {300 * 452, 100448}},
+      {"dem/landlab/pre_runout_DEM.asc", {80 * 122, 9638}},
+      {"dem/landlab/SRTMGL3_boulder_40.09_-105.55.asc", {240 * 144, 34560}},
+      {"dem/topotoolbox/exampleDEM_orkhon.asc", {98 * 180, 17640}},
+      {"dem/pysheds/dem.derived.asc", {367 * 359, 131753}},
+      {"dem/topotoolbox/srtm_bigtujunga30m_utm11.derived.asc", {1197 * 643, 769671}}};
+  std::size_t files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(SHARED_DATA)) {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".las" && ext != ".asc" && ext != ".pcd")
+      continue;
+    const std::string rel = fs::relative(entry.path(), SHARED_DATA).string();
+    SCOPED_TRACE(rel);
+    ++files;
+    const CliResult r = run({entry.path().string(), "m.ply"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::size_t read = 0, kept = 0;
+    if (ext == ".pcd") {
+      // autzen-utm.pcd has float64 upper-case X Y Z, which PointXYZ cannot map.
+      read = kept = rel.find("autzen") != std::string::npos
+                        ? 1065
+                        : loadFloat32Pcd(entry.path().string()).size();
+    } else {
+      ASSERT_EQ(expected.count(rel), 1u) << "a new file: add its counts here";
+      std::tie(read, kept) = expected.at(rel);
+    }
+    EXPECT_EQ(summaryValue(r.out, "points read"), read);
+    EXPECT_EQ(summaryValue(r.out, "points kept"), kept);
+    EXPECT_GT(summaryValue(r.out, "triangles"), kept / 2);
+  }
+  EXPECT_EQ(files, 13u + 8u + 33u);
 }
 
 } // namespace

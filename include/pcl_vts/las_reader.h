@@ -1,0 +1,80 @@
+// Reads the x, y, z of an uncompressed LAS 1.0-1.4 file (point formats 0-10) into
+// doubles: int32 * scale + offset, records stepped by the header's record length
+// (extra bytes), optional classification and return filters. Every size the header
+// claims is checked against the file before anything is allocated; LAZ is refused
+// with the command that converts it. PCL-free (std + POSIX); no LAS library needed.
+#pragma once
+
+#include <pcl_vts/core/status.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl_vts {
+
+/// Which returns of each pulse are kept.
+enum class LasReturnFilter {
+  ALL,   ///< every point (default)
+  FIRST, ///< return number 1
+  LAST   ///< return number == number of returns
+};
+
+/// Parses "all" | "first" | "last"; false on anything else.
+bool parseLasReturnFilter(const std::string& text, LasReturnFilter& filter);
+const char* lasReturnFilterName(LasReturnFilter filter);
+
+struct LasReadOptions {
+  /// Classification codes to keep, e.g. {2} for ground; empty = every class.
+  /// Formats 0-5 store the class in the low 5 bits, formats 6-10 in a full byte.
+  std::vector<std::uint8_t> classes;
+  LasReturnFilter returns = LasReturnFilter::ALL;
+};
+
+/// What the reader found, for the caller's summary.
+struct LasInfo {
+  int version_major = 0;
+  int version_minor = 0;
+  int point_format = 0;             ///< 0-10
+  std::size_t record_length = 0;    ///< bytes per point record (>= format minimum)
+  std::size_t header_size = 0;      ///< bytes of the public header block
+  std::size_t offset_to_points = 0; ///< byte offset of the first point record
+  std::uint64_t points_in_header = 0;
+  std::uint64_t points_read = 0; ///< records read (== points_in_header on success)
+  std::uint64_t points_kept = 0; ///< records that passed the filters
+  std::array<double, 3> scale{};
+  std::array<double, 3> offset{};
+  std::array<double, 3> header_min{}; ///< bounds as the header states them
+  std::array<double, 3> header_max{};
+  std::array<double, 3> min{}; ///< bounds of the kept points (computed)
+  std::array<double, 3> max{};
+  /// Records read per classification code (formats 0-5: 0-31 only).
+  std::array<std::uint64_t, 256> class_counts{};
+  std::string system_identifier;
+  std::string generating_software;
+
+  /// "LAS 1.2, point format 3, 34-byte records".
+  std::string description() const;
+};
+
+/// Reads every point record of a LAS file and keeps those passing the filters.
+/// \param[in] path the .las file
+/// \param[in] options classification / return filters
+/// \param[out] xyz 3 doubles per kept point, in file order; cleared on error
+/// \param[out] info header fields and counts; meaningful on success
+/// \return IO_ERROR (one line naming the file) when it is missing, unreadable, not
+///         LAS, LAZ-compressed (the message says how to convert), of an unsupported
+///         version or point format, has an inconsistent header or is truncated;
+///         EMPTY_INPUT when it holds 0 points or no point passes the filters (the
+///         message lists the classes present).
+Status readLasCloud(const std::string& path, const LasReadOptions& options,
+                    std::vector<double>& xyz, LasInfo& info);
+
+/// Same, on bytes in memory; name is used in messages only.
+Status parseLasCloud(const std::uint8_t* data, std::size_t size,
+                     const std::string& name, const LasReadOptions& options,
+                     std::vector<double>& xyz, LasInfo& info);
+
+} // namespace pcl_vts

@@ -1,0 +1,61 @@
+// One entry point for every input the CLI reads: the reader is chosen by the file's
+// extension (any case) or, for an unknown extension, by its first bytes; the result
+// is always xyz doubles plus a description for the summary. PCD goes through PCL
+// (pcd_cloud_reader.h); LAS, ASCII grid, XYZ text and PLY readers are PCL-free.
+#pragma once
+
+#include <pcl_vts/core/status.h>
+#include <pcl_vts/las_reader.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl_vts {
+
+enum class CloudFileFormat { PCD, LAS, ASC, XYZ, PLY };
+
+/// "PCD", "LAS", "ASCII grid", "XYZ text", "PLY".
+const char* cloudFileFormatName(CloudFileFormat format);
+
+/// Reader by extension: .pcd, .las/.laz, .asc, .xyz/.txt/.csv, .ply (any case).
+/// False for any other extension (or none).
+bool cloudFileFormatFromExtension(const std::string& path, CloudFileFormat& format);
+
+/// Reader by content: "LASF", "ply", a PCD header keyword, an ASCII grid "ncols".
+/// False when none matches.
+bool cloudFileFormatFromContent(const std::uint8_t* data, std::size_t size,
+                                CloudFileFormat& format);
+
+struct CloudLoadOptions {
+  /// LAS only: classification codes to keep (empty = all); a non-empty list on any
+  /// other format is INVALID_PARAMETER.
+  std::vector<std::uint8_t> classes;
+  /// LAS only: returns to keep; anything but ALL on another format is
+  /// INVALID_PARAMETER.
+  LasReturnFilter returns = LasReturnFilter::ALL;
+};
+
+struct CloudDescription {
+  CloudFileFormat format = CloudFileFormat::PCD;
+  std::size_t points_read = 0; ///< points (records, valid cells, lines) in the file
+  std::size_t points_kept = 0; ///< points returned (after filters, NODATA skipped)
+  /// One line for the summary: "LAS 1.2, point format 3, 34-byte records; ...".
+  std::string details;
+  /// Extra facts worth a summary line each ("1734 NODATA cells skipped").
+  std::vector<std::string> notes;
+};
+
+/// Parses a classification list "2" or "2,9" (each 0-255) for CloudLoadOptions.
+/// \return INVALID_PARAMETER naming the bad item.
+Status parseClassList(const std::string& text, std::vector<std::uint8_t>& classes);
+
+/// Reads path into 3 doubles per kept point.
+/// \return the reader's status (IO_ERROR, EMPTY_INPUT); IO_ERROR for an unknown
+///         extension whose content is not recognised either; INVALID_PARAMETER for a
+///         LAS-only option on another format.
+Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
+                      std::vector<double>& xyz, CloudDescription& description);
+
+} // namespace pcl_vts

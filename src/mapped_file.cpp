@@ -1,0 +1,53 @@
+// mmap of a whole regular file; failures name the file and the system's reason.
+#include <pcl_vts/mapped_file.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace pcl_vts {
+
+MappedFile::~MappedFile()
+{
+  if (data_ != nullptr)
+    ::munmap(const_cast<std::uint8_t*>(data_), size_);
+}
+
+Status MappedFile::open(const std::string& path)
+{
+  const auto fail = [&](const std::string& what) {
+    return Status::error(StatusCode::IO_ERROR, "'" + path + "': " + what);
+  };
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    return fail(std::string("cannot open: ") + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    const int err = errno;
+    ::close(fd);
+    return fail(std::string("cannot stat: ") + std::strerror(err));
+  }
+  if (!S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return fail("not a regular file");
+  }
+  size_ = static_cast<std::size_t>(st.st_size);
+  if (size_ == 0) {
+    ::close(fd);
+    return Status::success();
+  }
+  void* map = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+  const int err = errno;
+  ::close(fd);
+  if (map == MAP_FAILED) {
+    size_ = 0;
+    return fail(std::string("cannot map: ") + std::strerror(err));
+  }
+  data_ = static_cast<const std::uint8_t*>(map);
+  return Status::success();
+}
+
+} // namespace pcl_vts

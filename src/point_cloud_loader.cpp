@@ -1,0 +1,259 @@
+// Extension first (users name their files), content second (for odd names); each
+// reader's info is folded into one CloudDescription so the CLI prints one shape.
+#include <pcl_vts/asc_grid_reader.h>
+#include <pcl_vts/pcd_cloud_reader.h>
+#include <pcl_vts/ply_point_reader.h>
+#include <pcl_vts/point_cloud_loader.h>
+#include <pcl_vts/xyz_text_reader.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+
+namespace pcl_vts {
+namespace {
+
+std::string lowerExtension(const std::string& path)
+{
+  const std::size_t slash = path.rfind('/');
+  const std::size_t dot = path.rfind('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+    return {};
+  std::string ext = path.substr(dot);
+  for (char& c : ext)
+    if (c >= 'A' && c <= 'Z')
+      c = static_cast<char>(c - 'A' + 'a');
+  return ext;
+}
+
+bool startsWith(const std::uint8_t* data, std::size_t size, const char* prefix)
+{
+  const std::size_t n = std::strlen(prefix);
+  return size >= n && std::memcmp(data, prefix, n) == 0;
+}
+
+std::string fmt(double v)
+{
+  return formatValue(v);
+}
+
+} // namespace
+
+const char* cloudFileFormatName(CloudFileFormat format)
+{
+  switch (format) {
+  case CloudFileFormat::PCD:
+    return "PCD";
+  case CloudFileFormat::LAS:
+    return "LAS";
+  case CloudFileFormat::ASC:
+    return "ASCII grid";
+  case CloudFileFormat::XYZ:
+    return "XYZ text";
+  case CloudFileFormat::PLY:
+    return "PLY";
+  }
+  return "unknown";
+}
+
+bool cloudFileFormatFromExtension(const std::string& path, CloudFileFormat& format)
+{
+  const std::string ext = lowerExtension(path);
+  if (ext == ".pcd")
+    format = CloudFileFormat::PCD;
+  else if (ext == ".las" || ext == ".laz")
+    format = CloudFileFormat::LAS;
+  else if (ext == ".asc")
+    format = CloudFileFormat::ASC;
+  else if (ext == ".xyz" || ext == ".txt" || ext == ".csv")
+    format = CloudFileFormat::XYZ;
+  else if (ext == ".ply")
+    format = CloudFileFormat::PLY;
+  else
+    return false;
+  return true;
+}
+
+bool cloudFileFormatFromContent(const std::uint8_t* data, std::size_t size,
+                                CloudFileFormat& format)
+{
+  std::size_t skip = 0; // leading blanks and comment lines of a PCD header
+  if (startsWith(data, size, "LASF"))
+    format = CloudFileFormat::LAS;
+  else if (startsWith(data, size, "ply\n") || startsWith(data, size, "ply\r"))
+    format = CloudFileFormat::PLY;
+  else {
+    while (skip < size && data[skip] == '#') {
+      while (skip < size && data[skip] != '\n')
+        ++skip;
+      ++skip;
+    }
+    const std::uint8_t* p = data + std::min(skip, size);
+    const std::size_t n = size - std::min(skip, size);
+    std::string word;
+    for (std::size_t i = 0; i < n && i < 16; ++i) {
+      const char c = static_cast<char>(p[i]);
+      if (c == ' ' || c == '\t' || c == '\r' || c == '\n')
+        break;
+      word += static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+    }
+    if (word == "version" || word == "fields")
+      format = CloudFileFormat::PCD;
+    else if (word == "ncols" || word == "nrows")
+      format = CloudFileFormat::ASC;
+    else
+      return false;
+  }
+  return true;
+}
+
+Status parseClassList(const std::string& text, std::vector<std::uint8_t>& classes)
+{
+  classes.clear();
+  const auto bad = [&](const std::string& item) {
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "--classes: '" + item + "' in '" + text +
+                             "' is not a class code 0-255 (e.g. --classes 2 or 2,9)");
+  };
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma - start);
+    if (item.empty() || item.size() > 3 ||
+        item.find_first_not_of("0123456789") != std::string::npos)
+      return bad(item);
+    const int value = std::stoi(item);
+    if (value > 255)
+      return bad(item);
+    if (std::find(classes.begin(), classes.end(), value) == classes.end())
+      classes.push_back(static_cast<std::uint8_t>(value));
+    if (comma == std::string::npos)
+      break;
+    start = comma + 1;
+  }
+  return Status::success();
+}
+
+Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
+                      std::vector<double>& xyz, CloudDescription& d)
+{
+  d = CloudDescription();
+  xyz.clear();
+  if (!cloudFileFormatFromExtension(path, d.format)) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+      return Status::error(StatusCode::IO_ERROR,
+                           "'" + path + "': cannot open: " + std::strerror(errno));
+    std::uint8_t head[256] = {};
+    in.read(reinterpret_cast<char*>(head), sizeof(head));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (!cloudFileFormatFromContent(head, got, d.format))
+      return Status::error(
+          StatusCode::IO_ERROR,
+          "'" + path + "': unknown input format: the extension '" +
+              lowerExtension(path) +
+              "' is none of .pcd .las .laz .asc .xyz .txt .csv .ply and the content "
+              "is not recognised");
+  }
+  if (d.format != CloudFileFormat::LAS &&
+      (!options.classes.empty() || options.returns != LasReturnFilter::ALL))
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         std::string("--classes and --returns apply to LAS input "
+                                     "only; '") +
+                             path + "' is " + cloudFileFormatName(d.format));
+  Status s;
+  switch (d.format) {
+  case CloudFileFormat::PCD: {
+    PcdCloudInfo info;
+    s = readPcdCloud(path, xyz, info);
+    if (!s.ok())
+      return s;
+    d.points_read = d.points_kept = info.points;
+    d.details = info.data_format + ", " + info.xyzDescription();
+    break;
+  }
+  case CloudFileFormat::LAS: {
+    LasReadOptions las;
+    las.classes = options.classes;
+    las.returns = options.returns;
+    LasInfo info;
+    s = readLasCloud(path, las, xyz, info);
+    if (!s.ok())
+      return s;
+    d.points_read = static_cast<std::size_t>(info.points_read);
+    d.points_kept = static_cast<std::size_t>(info.points_kept);
+    d.details = std::to_string(info.version_major) + "." +
+                std::to_string(info.version_minor) + ", point format " +
+                std::to_string(info.point_format) + ", " +
+                std::to_string(info.record_length) + "-byte records";
+    std::string classes;
+    for (int c = 0; c < 256; ++c)
+      if (info.class_counts[c] != 0)
+        classes += (classes.empty() ? "" : ", ") + std::to_string(c) + ": " +
+                   std::to_string(info.class_counts[c]);
+    d.notes.push_back("classes in file: " + classes);
+    d.notes.push_back("scale " + fmt(info.scale[0]) + " " + fmt(info.scale[1]) + " " +
+                      fmt(info.scale[2]) + ", offset " + fmt(info.offset[0]) + " " +
+                      fmt(info.offset[1]) + " " + fmt(info.offset[2]));
+    if (!options.classes.empty() || options.returns != LasReturnFilter::ALL) {
+      std::string filter;
+      for (std::uint8_t c : options.classes)
+        filter += (filter.empty() ? "classes " : ",") + std::to_string(c);
+      if (options.returns != LasReturnFilter::ALL)
+        filter += std::string(filter.empty() ? "" : ", ") +
+                  lasReturnFilterName(options.returns) + " returns";
+      d.notes.push_back("filter " + filter + ": " + std::to_string(d.points_kept) +
+                        " of " + std::to_string(d.points_read) + " points kept");
+    }
+    break;
+  }
+  case CloudFileFormat::ASC: {
+    AscGridInfo info;
+    s = readAscGrid(path, xyz, info);
+    if (!s.ok())
+      return s;
+    d.points_read = info.ncols * info.nrows;
+    d.points_kept = info.points;
+    d.details =
+        std::to_string(info.ncols) + " x " + std::to_string(info.nrows) + " cells of " +
+        fmt(info.cell_dx) +
+        (info.cell_dx == info.cell_dy ? std::string() : " x " + fmt(info.cell_dy)) +
+        (info.centre_registered ? ", xllcenter" : ", xllcorner");
+    d.notes.push_back(std::to_string(info.nodata_cells) + " NODATA cells skipped" +
+                      (info.has_nodata ? " (NODATA = " + fmt(info.nodata) + ")"
+                                       : std::string(" (no NODATA_value)")));
+    break;
+  }
+  case CloudFileFormat::XYZ: {
+    XyzTextInfo info;
+    s = readXyzText(path, xyz, info);
+    if (!s.ok())
+      return s;
+    d.points_read = d.points_kept = info.points;
+    d.details = "columns " + std::to_string(info.column[0] + 1) + " " +
+                std::to_string(info.column[1] + 1) + " " +
+                std::to_string(info.column[2] + 1) +
+                (info.header.empty() ? ", no header" : ", header line");
+    break;
+  }
+  case CloudFileFormat::PLY: {
+    PlyPointInfo info;
+    s = readPlyPoints(path, xyz, info);
+    if (!s.ok())
+      return s;
+    d.points_read = d.points_kept = info.vertices;
+    d.details = info.format + ", x y z " + info.xyz_types[0] +
+                (info.xyz_types[0] == info.xyz_types[1] &&
+                         info.xyz_types[1] == info.xyz_types[2]
+                     ? std::string()
+                     : " " + info.xyz_types[1] + " " + info.xyz_types[2]) +
+                (info.faces ? ", " + std::to_string(info.faces) + " faces ignored"
+                            : std::string());
+    break;
+  }
+  }
+  return Status::success();
+}
+
+} // namespace pcl_vts

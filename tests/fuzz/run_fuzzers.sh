@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Builds one libFuzzer binary per reader (clang++, ASan + UBSan: the PCL-free LAS, ASCII
+# grid, XYZ and PLY readers, and the PCD reader where PCL is found) and runs each
+# for a bounded time on its seed corpus (test_data/fuzz_seeds/<reader>/); first replays
+# every kept crasher (tests/fuzz/regressions/<reader>/). Fails on any crash, leak, UB,
+# timeout or out-of-memory. Exit 77 (ctest: skipped) when clang's fuzzer runtime is
+# missing (scripts/install_deps.sh installs clang and libclang-rt-14-dev).
+#   usage: run_fuzzers.sh SOURCE_DIR WORK_DIR [SECONDS_PER_READER]   (default 20;
+#          PCL_VTS_FUZZ_SECONDS overrides)
+set -euo pipefail
+
+SRC=${1:?source dir}
+WORK=${2:?work dir}
+SECONDS_PER_READER=${PCL_VTS_FUZZ_SECONDS:-${3:-20}}
+CXX=${PCL_VTS_FUZZ_CXX:-clang++}
+
+if ! command -v "$CXX" >/dev/null 2>&1; then
+  echo "run_fuzzers: $CXX not found: skipped (scripts/install_deps.sh installs clang)"
+  exit 77
+fi
+mkdir -p "$WORK"
+probe="$WORK/probe.cpp"
+echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long) { return 0; }' >"$probe"
+if ! "$CXX" -fsanitize=fuzzer "$probe" -o "$WORK/probe" 2>/dev/null; then
+  echo "run_fuzzers: $CXX has no libFuzzer runtime: skipped (install libclang-rt-14-dev)"
+  exit 77
+fi
+
+# reader name -> its source (plus the shared helpers every reader uses). The PCD
+# reader needs PCL (headers + pcl_io, pcl_common): fuzzed only where they are found.
+READERS=(las_reader asc_grid_reader xyz_text_reader ply_point_reader)
+declare -A SEEDS=([las_reader]=las [asc_grid_reader]=asc [xyz_text_reader]=xyz
+                  [ply_point_reader]=ply [pcd_cloud_reader]=pcd)
+PCL_FLAGS=${PCL_VTS_FUZZ_PCL_FLAGS:-"-isystem /usr/include/pcl-1.13 -isystem /usr/include/eigen3"}
+if [ -d /usr/include/pcl-1.13 ] || [ -n "${PCL_VTS_FUZZ_PCL_FLAGS:-}" ]; then
+  READERS+=(pcd_cloud_reader)
+else
+  echo "run_fuzzers: PCL headers not found: the PCD reader is not fuzzed"
+fi
+FLAGS=(-std=c++17 -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined
+       -fno-sanitize-recover=undefined -I"$SRC/include")
+
+status=0
+for reader in "${READERS[@]}"; do
+  bin="$WORK/fuzz_$reader"
+  srcs=("$SRC/tests/fuzz/fuzz_$reader.cpp" "$SRC/src/$reader.cpp" "$SRC/src/mapped_file.cpp"
+        "$SRC/src/core/status.cpp")
+  newest=$(ls -t "${srcs[@]}" "$SRC/include/pcl_vts/$reader.h" "$SRC/src/text_scan.h" "$SRC/src/reader_guard.h" | head -1)
+  extra=()
+  if [ "$reader" = pcd_cloud_reader ]; then
+    # shellcheck disable=SC2206
+    extra=($PCL_FLAGS -lpcl_io -lpcl_common)
+  fi
+  if [ ! -x "$bin" ] || [ "$newest" -nt "$bin" ]; then
+    "$CXX" "${FLAGS[@]}" "${srcs[@]}" "${extra[@]}" -o "$bin"
+  fi
+  regressions="$SRC/tests/fuzz/regressions/$reader"
+  if [ -d "$regressions" ] && [ -n "$(ls -A "$regressions")" ]; then
+    if ! "$bin" -runs=0 "$regressions"/* >"$WORK/$reader.regressions.log" 2>&1; then
+      echo "run_fuzzers: $reader FAILED on a kept crasher; see $WORK/$reader.regressions.log"
+      tail -30 "$WORK/$reader.regressions.log"
+      status=1
+      continue
+    fi
+  fi
+  corpus="$WORK/corpus_$reader"
+  rm -rf "$corpus" "$WORK/artifacts_$reader"
+  mkdir -p "$corpus" "$WORK/artifacts_$reader"
+  # -seed fixed: the same inputs are tried on every run (deterministic test).
+  if "$bin" "$corpus" "$SRC/test_data/fuzz_seeds/${SEEDS[$reader]}" -seed=1 \
+      -max_total_time="$SECONDS_PER_READER" -timeout=10 -rss_limit_mb=2048 \
+      -malloc_limit_mb=512 -max_len=4096 -print_final_stats=1 \
+      -artifact_prefix="$WORK/artifacts_$reader/" >"$WORK/$reader.log" 2>&1; then
+    echo "run_fuzzers: $reader clean: $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$WORK/$reader.log" | grep -o '[0-9]*$') runs in ${SECONDS_PER_READER} s"
+  else
+    echo "run_fuzzers: $reader FAILED; crasher in $WORK/artifacts_$reader/ (keep it in tests/fuzz/regressions/$reader/)"
+    grep -E "ERROR|SUMMARY|runtime error|#[0-9]+ 0x" "$WORK/$reader.log" | head -30
+    status=1
+  fi
+done
+exit $status
