@@ -89,10 +89,19 @@ void printHelp()
       "  --returns WHICH     LAS only: all | first | last (default: all)\n"
       "  --duplicates RULE   z kept where points share the same XY exactly:\n"
       "                      lowest | highest | mean | first (default: %s)\n"
-      "  --no-trim           do not trim outward boundary triangles (default: trim);\n"
-      "                      trimming is not implemented yet and never runs\n"
-      "  --no-fill           do not fill holes (default: fill); hole filling is not\n"
-      "                      implemented yet and never runs\n"
+      "  --no-trim           keep the whole convex hull: do not remove outward\n"
+      "                      triangles (default: trim; docs/reconstruction.md)\n"
+      "  --trim-factor F     trim triangles whose longest edge or circumradius "
+      "exceeds\n"
+      "                      F x the local point spacing, F > 0 (default: %g)\n"
+      "  --max-edge L        also trim boundary triangles with an edge longer than L,\n"
+      "                      L >= 0 in XY units; 0 = no such limit (default: 0)\n"
+      "  --no-fill           leave holes open (default: fill holes)\n"
+      "  --max-hole-area A   fill only holes up to this XY area, A >= 0; 0 = "
+      "automatic\n"
+      "                      (500 x spacing^2) (default: 0)\n"
+      "  --threads N         threads for the triangulation, N >= 0; 0 = all cores\n"
+      "                      (default: 0; the mesh is the same for every N)\n"
       "  --ascii             ASCII PLY instead of binary (default: binary; .obj and "
       ".vtk\n"
       "                      are always ASCII)\n"
@@ -115,13 +124,15 @@ void printHelp()
       "     disk full); no output file is left behind\n"
       "  5  internal error (out of memory, or a bug: please report)\n"
       "Errors print one line on stderr starting with \"pcd_to_mesh: error: \".\n",
-      DEFAULT_CELL_SIZE, DEFAULT_DUPLICATES);
+      DEFAULT_CELL_SIZE, DEFAULT_DUPLICATES, pcl_vts::TrimOptions{}.trim_factor);
 }
 
 /// Strict: the whole text is one finite number >= 0 (PCL's parse_argument is not).
-bool parseCellSize(const char* text, double& value, std::string& error)
+/// A finite number >= 0 (or > 0 when zero_meaning is null) for option `name`.
+bool parseNonNegative(const std::string& name, const char* text, double& value,
+                      std::string& error, const char* zero_meaning)
 {
-  const std::string shown = std::string("--cell-size: '") + text + "'";
+  const std::string shown = name + ": '" + text + "'";
   if (*text == '\0' || std::isspace(static_cast<unsigned char>(*text))) {
     error = shown + " is not a number";
     return false;
@@ -134,11 +145,13 @@ bool parseCellSize(const char* text, double& value, std::string& error)
     return false;
   }
   if (!std::isfinite(value) || errno == ERANGE) {
-    error = shown + " is out of range (a finite number >= 0 is expected)";
+    error = shown + " is out of range (a finite number " +
+            (zero_meaning ? ">= 0" : "> 0") + " is expected)";
     return false;
   }
-  if (value < 0.0) {
-    error = shown + " must be >= 0 (0 = automatic from the point density)";
+  if (value < 0.0 || (zero_meaning == nullptr && value == 0.0)) {
+    error = zero_meaning ? shown + " must be >= 0 (0 = " + zero_meaning + ")"
+                         : shown + " must be > 0";
     return false;
   }
   return true;
@@ -150,6 +163,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
   std::vector<std::string> positional;
   bool options_done = false;
   opt.vts.cell_size = DEFAULT_CELL_SIZE;
+  opt.vts.threads = 0;                                       // every core
+  opt.vts.reconstruction = pcl_vts::ReconstructionOptions{}; // trim and fill
   if (!pcl_vts::parseDuplicateRule(DEFAULT_DUPLICATES, opt.vts.duplicate_rule)) {
     error = "internal: bad default duplicate rule";
     return false;
@@ -168,7 +183,9 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
     const std::string name = arg.substr(0, eq);
     const bool inline_value = eq != std::string::npos;
     const bool takes_value = name == "--cell-size" || name == "--duplicates" ||
-                             name == "--classes" || name == "--returns";
+                             name == "--classes" || name == "--returns" ||
+                             name == "--trim-factor" || name == "--max-edge" ||
+                             name == "--max-hole-area" || name == "--threads";
     if (inline_value && !takes_value) {
       error = "option '" + name + "' takes no value";
       return false;
@@ -187,8 +204,33 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
     if (name == "-h" || name == "--help")
       opt.help = true;
     else if (name == "--cell-size") {
-      if (!parseCellSize(value.c_str(), opt.vts.cell_size, error))
+      if (!parseNonNegative(name, value.c_str(), opt.vts.cell_size, error,
+                            "automatic from the point density"))
         return false;
+    } else if (name == "--trim-factor") {
+      if (!parseNonNegative(name, value.c_str(),
+                            opt.vts.reconstruction.trim_options.trim_factor, error,
+                            nullptr))
+        return false;
+    } else if (name == "--max-edge") {
+      if (!parseNonNegative(name, value.c_str(),
+                            opt.vts.reconstruction.trim_options.max_edge, error,
+                            "no limit"))
+        return false;
+    } else if (name == "--max-hole-area") {
+      if (!parseNonNegative(name, value.c_str(),
+                            opt.vts.reconstruction.fill_options.max_hole_area, error,
+                            "automatic"))
+        return false;
+    } else if (name == "--threads") {
+      double threads = 0.0;
+      if (!parseNonNegative(name, value.c_str(), threads, error, "all cores"))
+        return false;
+      if (threads != std::floor(threads) || threads > 4096.0) {
+        error = name + ": '" + value + "' must be a whole number of threads (<= 4096)";
+        return false;
+      }
+      opt.vts.threads = static_cast<unsigned>(threads);
     } else if (name == "--duplicates") {
       if (!pcl_vts::parseDuplicateRule(value.c_str(), opt.vts.duplicate_rule)) {
         error =
@@ -223,6 +265,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
   }
   if (opt.help)
     return true;
+  opt.vts.reconstruction.trim = !opt.no_trim;
+  opt.vts.reconstruction.fill = !opt.no_fill;
   if (positional.size() != 2) {
     error = positional.size() < 2
                 ? "expected INPUT and OUTPUT.{ply,obj,vtk}, got " +
@@ -349,11 +393,6 @@ int checkOutputPath(const std::string& path, Reporter& out)
   return 0;
 }
 
-std::string stageNote(bool switched_off, const char* option)
-{
-  return switched_off ? std::string(" (also switched off by ") + option + ")" : "";
-}
-
 int run(const CliOptions& opt)
 {
   Reporter out(opt.quiet);
@@ -389,7 +428,8 @@ int run(const CliOptions& opt)
   for (const std::string& note : input.notes)
     out.line("  %s\n", note.c_str());
 
-  out.begin("Triangulating %zu points (grid, convex hull, region growing) ", n_points);
+  out.begin("Meshing %zu points (grid, convex hull, region growing%s%s) ", n_points,
+            opt.no_trim ? "" : ", trim", opt.no_fill ? "" : ", fill");
   start = Clock::now();
   pcl_vts::VtsResult result;
   const pcl_vts::Status tri =
@@ -403,6 +443,7 @@ int run(const CliOptions& opt)
                         "' cannot be triangulated: " + tri.toString());
   std::vector<double>().swap(xyz);
   const pcl_vts::Diagnostics& d = result.diagnostics;
+  const pcl_vts::ReconstructionDiagnostics& rd = result.reconstruction;
   out.done(msSince(start), std::to_string(d.triangles) + " triangles");
   out.line(
       "  grid         [done, %.1f ms : %zu non-finite dropped, %zu duplicates merged "
@@ -413,18 +454,34 @@ int run(const CliOptions& opt)
   out.line("  hull         [done, %.1f ms : %zu hull vertices]\n", 1e3 * d.seconds_hull,
            d.hull_vertices);
   out.line("  triangulate  [done, %.1f ms : %zu triangles]\n",
-           1e3 * d.seconds_triangulate, d.triangles);
-  out.line("Trimming outward triangles: not implemented yet, not run%s\n",
-           stageNote(opt.no_trim, "--no-trim").c_str());
-  out.line("Filling holes: not implemented yet, not run%s\n",
-           stageNote(opt.no_fill, "--no-fill").c_str());
+           1e3 * d.seconds_triangulate,
+           opt.no_trim && opt.no_fill ? d.triangles : rd.triangles_in);
+  if (opt.no_trim)
+    out.line("  trim         [off : --no-trim]\n");
+  else
+    out.line(
+        "  trim         [done, %.1f ms : %zu outward triangles removed, %zu points "
+        "left without triangles, local spacing %.6g]\n",
+        1e3 * rd.seconds_trim, rd.trim.triangles_removed, rd.trim.vertices_lost,
+        rd.trim.spacing);
+  if (opt.no_fill)
+    out.line("  fill         [off : --no-fill]\n");
+  else
+    out.line(
+        "  fill         [done, %.1f ms : %zu holes found, %zu filled, %zu left open "
+        "(larger than %.6g), %zu points inserted]\n",
+        1e3 * rd.seconds_fill, rd.fill.holes_found, rd.fill.holes_filled,
+        rd.fill.holes_left_open, rd.fill.max_hole_area, rd.fill.points_inserted);
 
   out.begin("Writing '%s' ", opt.output.c_str());
   start = Clock::now();
   pcl_vts::MeshWriteOptions write_options;
   write_options.ascii = opt.ascii;
   write_options.force_double = opt.force_double;
-  write_options.comment = "pcl_vts pcd_to_mesh: Delaunay triangulation of " + opt.input;
+  write_options.comment =
+      std::string("pcl_vts pcd_to_mesh: ") +
+      (opt.no_trim && opt.no_fill ? "Delaunay triangulation of " : "surface mesh of ") +
+      opt.input;
   pcl_vts::MeshWriteInfo written;
   if (pcl_vts::Status s =
           pcl_vts::writeMesh(opt.output, result.mesh, write_options, &written);
@@ -449,10 +506,19 @@ int run(const CliOptions& opt)
   out.line("  %-20s %zu\n", "distinct points", d.distinct_points);
   out.line("  %-20s %zu\n", "hull vertices", d.hull_vertices);
   out.line("  %-20s %zu\n", "triangles", d.triangles);
-  out.line("  %-20s read %.1f, grid %.1f, hull %.1f, triangulate %.1f, write %.1f, "
-           "total %.1f\n",
+  if (!opt.no_trim)
+    out.line("  %-20s %zu\n", "trimmed triangles", rd.trim.triangles_removed);
+  if (!opt.no_fill) {
+    out.line("  %-20s %zu found, %zu filled, %zu left open, %zu not fillable\n",
+             "holes", rd.fill.holes_found, rd.fill.holes_filled,
+             rd.fill.holes_left_open, rd.fill.holes_skipped);
+    out.line("  %-20s %zu\n", "points inserted", rd.fill.points_inserted);
+  }
+  out.line("  %-20s read %.1f, grid %.1f, hull %.1f, triangulate %.1f, trim %.1f, "
+           "fill %.1f, write %.1f, total %.1f\n",
            "time (ms)", ms_read, 1e3 * d.seconds_grid, 1e3 * d.seconds_hull,
-           1e3 * d.seconds_triangulate, ms_write, msSince(t_total));
+           1e3 * d.seconds_triangulate, 1e3 * rd.seconds_trim, 1e3 * rd.seconds_fill,
+           ms_write, msSince(t_total));
   out.line("  %-20s %.1f MiB\n", "peak memory", peakMemoryMiB());
   out.line("  %-20s %s\n", "mesh written to", opt.output.c_str());
   std::fflush(stdout);

@@ -101,6 +101,14 @@ class PcdToMesh : public ::testing::Test {
   }
 
   /// Runs the CLI in work/; shell_prefix runs first in the same shell (e.g. ulimit).
+  /// The pure triangulation: the post-passes (trim, fill) switched off.
+  CliResult runDelaunay(std::vector<std::string> args) const
+  {
+    args.push_back("--no-trim");
+    args.push_back("--no-fill");
+    return run(args);
+  }
+
   CliResult run(const std::vector<std::string>& args,
                 const std::string& shell_prefix = "") const
   {
@@ -741,7 +749,7 @@ TEST_F(PcdToMesh, HelpListsEveryOptionWithItsDefaultAndExitsZero)
 TEST_F(PcdToMesh, Samp11GroundToBinaryPlyIsTheHullTriangulation)
 {
   const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
-  const CliResult r = run({input, "samp11.ply"});
+  const CliResult r = runDelaunay({input, "samp11.ply"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;
   EXPECT_EQ(workFiles(), std::vector<std::string>{"samp11.ply"}) << "temp file left";
@@ -759,8 +767,8 @@ TEST_F(PcdToMesh, Samp11GroundToBinaryPlyIsTheHullTriangulation)
   EXPECT_EQ(summaryValue(r.out, "hull vertices"), hullBoundaryCount(distinct));
   EXPECT_EQ(summaryValue(r.out, "triangles"), m.mesh.triangleCount());
   EXPECT_EQ(summaryValue(r.out, "duplicates merged"), points.size() - distinct.size());
-  EXPECT_NE(r.out.find("not implemented yet"), std::string::npos)
-      << "the summary must say trimming/filling did not run";
+  EXPECT_NE(r.out.find("trim         [off : --no-trim]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("fill         [off : --no-fill]"), std::string::npos) << r.out;
 
   // Default duplicate rule: the lowest z at each XY.
   std::map<std::pair<double, double>, double> lowest;
@@ -778,7 +786,7 @@ TEST_F(PcdToMesh, Samp11GroundToBinaryPlyIsTheHullTriangulation)
 TEST_F(PcdToMesh, AutzenFloat64UpperCaseXyzKeepsEveryBit)
 {
   const std::string input = TEST_DATA + "/autzen-utm.pcd";
-  const CliResult r = run({input, "autzen.ply", "--quiet"});
+  const CliResult r = runDelaunay({input, "autzen.ply", "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << "--quiet prints nothing:\n" << r.out;
   MeshFile m;
@@ -817,7 +825,7 @@ TEST_F(PcdToMesh, UtmMillimetreCloudRoundTripsExactlyThroughEveryFormat)
     SCOPED_TRACE(c.output);
     std::vector<std::string> args = {"utm.pcd", c.output};
     args.insert(args.end(), c.options.begin(), c.options.end());
-    const CliResult r = run(args);
+    const CliResult r = runDelaunay(args);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     MeshFile m;
     const std::string path = work(c.output).string();
@@ -882,7 +890,8 @@ TEST_F(PcdToMesh, PclWrittenFloat64FilesOfEveryDataKindRoundTrip)
     in.insert(bitsOf(p[0], p[1], p[2]));
   for (const char* name : {"a", "b", "c"}) {
     SCOPED_TRACE(name);
-    const CliResult r = run({std::string(name) + ".pcd", std::string(name) + ".ply"});
+    const CliResult r =
+        runDelaunay({std::string(name) + ".pcd", std::string(name) + ".ply"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("x y z float64"), std::string::npos) << r.out;
     MeshFile m;
@@ -913,7 +922,7 @@ TEST_F(PcdToMesh, NonFinitePointsAreDroppedAndCounted)
   bytes.replace(bytes.find("WIDTH 5"), 7, "WIDTH 7");
   bytes += "nan 3 3\n4 4 inf\n";
   writeBytes(work("nan.pcd"), bytes);
-  const CliResult r = run({"nan.pcd", "out.obj"});
+  const CliResult r = runDelaunay({"nan.pcd", "out.obj"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(summaryValue(r.out, "points read"), 7u);
   EXPECT_EQ(summaryValue(r.out, "non-finite dropped"), 2u);
@@ -926,7 +935,7 @@ TEST_F(PcdToMesh, NonFinitePointsAreDroppedAndCounted)
 TEST_F(PcdToMesh, NoTrimNoFillOutputIsDelaunay)
 {
   const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
-  const CliResult r = run({input, "dt.ply", "--no-trim", "--no-fill"});
+  const CliResult r = runDelaunay({input, "dt.ply", "--no-trim", "--no-fill"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   MeshFile m;
   ASSERT_TRUE(readPly(work("dt.ply").string(), m));
@@ -943,7 +952,8 @@ TEST_F(PcdToMesh, NoTrimNoFillOnSharedTerrainIsDelaunay)
        {"FSite8_red2-utm.pcd", "samp53-utm.pcd", "samp71-utm-ground.pcd"}) {
     SCOPED_TRACE(name);
     const std::string input = dir + "/" + name;
-    const CliResult r = run({input, "dt.ply", "--no-trim", "--no-fill", "--quiet"});
+    const CliResult r =
+        runDelaunay({input, "dt.ply", "--no-trim", "--no-fill", "--quiet"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     MeshFile m;
     ASSERT_TRUE(readPly(work("dt.ply").string(), m));
@@ -1085,7 +1095,7 @@ TEST_F(PcdToMesh, UtmMillimetreCloudRoundTripsThroughEveryInputFormat)
   for (const Case& c : cases) {
     SCOPED_TRACE(c.input);
     writeBytes(work(c.input), c.bytes);
-    const CliResult r = run({c.input, "out.ply"});
+    const CliResult r = runDelaunay({c.input, "out.ply"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(summaryValue(r.out, "points read"), points.size());
     EXPECT_EQ(summaryValue(r.out, "points kept"), points.size());
@@ -1122,7 +1132,7 @@ TEST_F(PcdToMesh, LasClassesOptionKeepsOnlyThoseClasses)
       ground.push_back(exact[i]);
   }
   writeBytes(work("c.las"), lasFile(points, classes, 0.001, offset));
-  const CliResult r = run({"c.las", "g.ply", "--classes", "2,9"});
+  const CliResult r = runDelaunay({"c.las", "g.ply", "--classes", "2,9"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(summaryValue(r.out, "points read"), 600u);
   EXPECT_EQ(summaryValue(r.out, "points kept"), ground.size());
@@ -1131,13 +1141,15 @@ TEST_F(PcdToMesh, LasClassesOptionKeepsOnlyThoseClasses)
   ASSERT_NO_FATAL_FAILURE(expectTriangulationOfInput(m.mesh, ground));
 
   const auto before = workFiles();
-  expectFailure(run({"c.las", "g2.ply", "--classes=6"}), 3, "classes present: 1 (200)",
+  expectFailure(runDelaunay({"c.las", "g2.ply", "--classes=6"}), 3,
+                "classes present: 1 (200)", before);
+  expectFailure(runDelaunay({"c.las", "g2.ply", "--classes", "2,300"}), 1, "'300'",
                 before);
-  expectFailure(run({"c.las", "g2.ply", "--classes", "2,300"}), 1, "'300'", before);
-  expectFailure(run({"c.las", "g2.ply", "--returns", "second"}), 1, "second", before);
+  expectFailure(runDelaunay({"c.las", "g2.ply", "--returns", "second"}), 1, "second",
+                before);
   writeBytes(work("t.xyz"), xyzText(points, "", ' '));
   const auto before2 = workFiles();
-  expectFailure(run({"t.xyz", "g2.ply", "--classes", "2"}), 1, "LAS input only",
+  expectFailure(runDelaunay({"t.xyz", "g2.ply", "--classes", "2"}), 1, "LAS input only",
                 before2);
 }
 
@@ -1146,7 +1158,7 @@ TEST_F(PcdToMesh, AscGridCellCentresWithNodataSkipped)
   writeBytes(work("g.asc"), "ncols 3\nnrows 3\nxllcorner 500000\nyllcorner 5000000\n"
                             "cellsize 0.5\nnodata_value -9999\n"
                             "1 2 3\n4 -9999 6\n7 8 9\n");
-  const CliResult r = run({"g.asc", "g.obj"});
+  const CliResult r = runDelaunay({"g.asc", "g.obj"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(summaryValue(r.out, "points read"), 9u);
   EXPECT_EQ(summaryValue(r.out, "points kept"), 8u);
@@ -1381,3 +1393,60 @@ TEST_F(PcdToMesh, EverySharedLasAscAndPcdFileMeshesDirectly)
 }
 
 } // namespace
+
+namespace pcl_vts {
+namespace {
+
+TEST_F(PcdToMesh, DefaultPipelineTrimsAndFillsIntoAManifoldMesh)
+{
+  const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
+  const CliResult full = run({input, "surface.ply", "--threads", "2"});
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  const CliResult raw = runDelaunay({input, "raw.ply"});
+  ASSERT_EQ(raw.exit_code, 0) << raw.err;
+  EXPECT_NE(full.out.find("  trim         [done"), std::string::npos) << full.out;
+  EXPECT_NE(full.out.find("  fill         [done"), std::string::npos) << full.out;
+
+  MeshFile surface, delaunay;
+  ASSERT_TRUE(readPly(work("surface.ply").string(), surface));
+  ASSERT_TRUE(readPly(work("raw.ply").string(), delaunay));
+  TriangleMesh& mesh = surface.mesh;
+  ASSERT_TRUE(mesh.rebuildHalfedges()) << "an edge is used by more than two triangles";
+  std::string why;
+  EXPECT_TRUE(isEdgeManifold(mesh, &why)) << why;
+  EXPECT_TRUE(allTrianglesCcw(mesh, &why)) << why;
+  // Inserted points are appended after the input's distinct points, which keep
+  // their positions; the summary counts agree with the file.
+  const std::size_t inserted = summaryValue(full.out, "points inserted");
+  EXPECT_GT(inserted, 0u) << "samp11 ground has building holes to fill";
+  ASSERT_EQ(mesh.vertexCount(), delaunay.mesh.vertexCount() + inserted);
+  for (std::size_t v = 0; v < delaunay.mesh.vertexCount(); ++v)
+    ASSERT_TRUE(mesh.xy[v] == delaunay.mesh.xy[v]) << "vertex " << v << " moved";
+  EXPECT_EQ(summaryValue(full.out, "triangles"), mesh.triangleCount());
+  EXPECT_GT(summaryValue(full.out, "trimmed triangles"), 0u);
+  // Trimming removed boundary triangles: the outline is no longer the hull's.
+  EXPECT_NE(boundaryEdgeCount(mesh), boundaryEdgeCount(delaunay.mesh));
+}
+
+TEST_F(PcdToMesh, PostPassOptionsAreValidated)
+{
+  const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"--trim-factor", "0"},
+        {"--trim-factor", "-1"},
+        {"--max-edge", "-2"},
+        {"--max-hole-area", "nan"},
+        {"--threads", "1.5"},
+        {"--threads", "-1"}}) {
+    std::vector<std::string> args = {input, "out.ply"};
+    args.insert(args.end(), bad.begin(), bad.end());
+    const CliResult r = run(args);
+    SCOPED_TRACE(bad[0] + " " + bad[1]);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find(bad[0]), std::string::npos) << r.err;
+    EXPECT_TRUE(workFiles().empty());
+  }
+}
+
+} // namespace
+} // namespace pcl_vts
