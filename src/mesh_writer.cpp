@@ -233,7 +233,7 @@ class Emitter {
 };
 
 void writePly(Emitter& out, const TriangleMesh& mesh, bool ascii, bool dbl,
-              const std::string& comment)
+              const std::string& comment, const std::vector<std::uint8_t>* flags)
 {
   const char* type = dbl ? "double" : "float";
   out.text("ply\nformat ")
@@ -248,14 +248,17 @@ void writePly(Emitter& out, const TriangleMesh& mesh, bool ascii, bool dbl,
       .text(type)
       .text(" y\nproperty ")
       .text(type)
-      .text(" z\nelement face ")
+      .text(flags ? " z\nproperty uchar inserted\nelement face " : " z\nelement face ")
       .number(static_cast<std::uint64_t>(mesh.triangleCount()))
       .text("\nproperty list uchar int vertex_indices\nend_header\n");
   const std::size_t n = mesh.vertexCount();
   for (std::size_t v = 0; v < n; ++v) {
     const double c[3] = {mesh.xy[v].x, mesh.xy[v].y, mesh.z[v]};
     if (ascii) {
-      out.number(c[0]).text(" ").number(c[1]).text(" ").number(c[2]).text("\n");
+      out.number(c[0]).text(" ").number(c[1]).text(" ").number(c[2]);
+      if (flags)
+        out.text(" ").number(std::uint64_t{(*flags)[v]});
+      out.text("\n");
       continue;
     }
     for (double value : c) {
@@ -264,6 +267,8 @@ void writePly(Emitter& out, const TriangleMesh& mesh, bool ascii, bool dbl,
       else
         out.binary(static_cast<float>(value));
     }
+    if (flags)
+      out.binary(static_cast<std::uint8_t>((*flags)[v]));
   }
   for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
     const VertexId* tri = &mesh.triangles[3 * t];
@@ -281,9 +286,16 @@ void writePly(Emitter& out, const TriangleMesh& mesh, bool ascii, bool dbl,
   }
 }
 
-void writeObj(Emitter& out, const TriangleMesh& mesh, const std::string& comment)
+void writeObj(Emitter& out, const TriangleMesh& mesh, const std::string& comment,
+              const std::vector<std::uint8_t>* flags)
 {
   out.text("# ").text(comment).text("\n# ");
+  if (flags) {
+    std::uint64_t count = 0;
+    for (const std::uint8_t f : *flags)
+      count += f != 0;
+    out.number(count).text(" inserted vertices (hole filling)\n# ");
+  }
   out.number(static_cast<std::uint64_t>(mesh.vertexCount())).text(" vertices, ");
   out.number(static_cast<std::uint64_t>(mesh.triangleCount())).text(" triangles\n");
   for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
@@ -299,7 +311,7 @@ void writeObj(Emitter& out, const TriangleMesh& mesh, const std::string& comment
 }
 
 void writeVtk(Emitter& out, const TriangleMesh& mesh, bool dbl,
-              const std::string& comment)
+              const std::string& comment, const std::vector<std::uint8_t>* flags)
 {
   const auto nt = static_cast<std::uint64_t>(mesh.triangleCount());
   out.text("# vtk DataFile Version 3.0\n").text(comment.substr(0, 255));
@@ -318,6 +330,12 @@ void writeVtk(Emitter& out, const TriangleMesh& mesh, bool dbl,
         .text(" ")
         .number(std::uint64_t{tri[1]});
     out.text(" ").number(std::uint64_t{tri[2]}).text("\n");
+  }
+  if (flags) {
+    out.text("POINT_DATA ").number(static_cast<std::uint64_t>(mesh.vertexCount()));
+    out.text("\nSCALARS inserted unsigned_char 1\nLOOKUP_TABLE default\n");
+    for (const std::uint8_t f : *flags)
+      out.number(std::uint64_t{f}).text("\n");
   }
 }
 
@@ -412,6 +430,12 @@ Status writeMesh(const std::string& path, const TriangleMesh& mesh,
   status = checkMesh(path, mesh);
   if (!status.ok())
     return status;
+  const std::vector<std::uint8_t>* flags = options.inserted;
+  if (flags != nullptr && flags->size() != mesh.vertexCount())
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "cannot write " + quoted(path) + ": " +
+                             std::to_string(flags->size()) + " inserted flags for " +
+                             std::to_string(mesh.vertexCount()) + " vertices");
 
   const bool ascii = options.ascii || format != MeshFileFormat::PLY;
   const bool dbl = options.force_double || !verticesExactInFloat(mesh);
@@ -424,13 +448,13 @@ Status writeMesh(const std::string& path, const TriangleMesh& mesh,
     Emitter out(file);
     switch (format) {
     case MeshFileFormat::PLY:
-      writePly(out, mesh, ascii, dbl, comment);
+      writePly(out, mesh, ascii, dbl, comment, flags);
       break;
     case MeshFileFormat::OBJ:
-      writeObj(out, mesh, comment);
+      writeObj(out, mesh, comment, flags);
       break;
     case MeshFileFormat::VTK:
-      writeVtk(out, mesh, dbl, comment);
+      writeVtk(out, mesh, dbl, comment, flags);
       break;
     }
     status = file.commit();

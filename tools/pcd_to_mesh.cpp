@@ -78,6 +78,9 @@ void printHelp()
       "        written exactly: double PLY properties whenever float32 would round,\n"
       "        text numbers that read back to the same double. The file is written\n"
       "        to a temporary file in the same folder and renamed when complete.\n"
+      "        When holes were filled, vertices carry a flag 'inserted' (1 = added\n"
+      "        by hole filling): a uchar PLY property, VTK point scalars, an OBJ "
+      "count.\n"
       "\n"
       "Options:\n"
       "  -h, --help          print this help and exit\n"
@@ -478,6 +481,8 @@ int run(const CliOptions& opt)
   pcl_vts::MeshWriteOptions write_options;
   write_options.ascii = opt.ascii;
   write_options.force_double = opt.force_double;
+  if (!opt.no_fill && rd.fill.inserted.size() == result.mesh.vertexCount())
+    write_options.inserted = &rd.fill.inserted; // marks the points hole filling added
   write_options.comment =
       std::string("pcl_vts pcd_to_mesh: ") +
       (opt.no_trim && opt.no_fill ? "Delaunay triangulation of " : "surface mesh of ") +

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace pcl_vts {
 
@@ -29,6 +30,10 @@ struct MeshWriteOptions {
   bool force_double = false;
   /// One line written as a comment in the file header (PLY, OBJ, VTK title).
   std::string comment = "pcl_vts";
+  /// Optional per-vertex 0/1 marks (one per vertex), written as a `uchar inserted`
+  /// vertex property (PLY) or point scalars named "inserted" (VTK); OBJ has no
+  /// per-vertex field and writes only their count in a comment.
+  const std::vector<std::uint8_t>* inserted = nullptr;
 };
 
 /// What writeMesh did, for the caller's summary.

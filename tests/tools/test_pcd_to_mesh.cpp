@@ -281,6 +281,7 @@ std::vector<Xyz> loadBinaryFloat64Pcd(const std::string& path,
 
 struct MeshFile {
   TriangleMesh mesh;
+  std::vector<std::uint8_t> inserted; ///< the optional "uchar inserted" property
   bool binary = false;
   std::string vertex_type; ///< "float" or "double" (PLY, VTK); "" for OBJ
 };
@@ -303,6 +304,8 @@ struct MeshFile {
     else if (a == "element") {
       in_vertex = b == "vertex";
       (in_vertex ? nv : nf) = std::stoul(c);
+    } else if (a == "property" && in_vertex && b == "uchar" && c == "inserted") {
+      vprops.push_back(c);
     } else if (a == "property" && in_vertex) {
       vprops.push_back(c);
       if (m.vertex_type.empty())
@@ -312,8 +315,9 @@ struct MeshFile {
     } else if (a == "property")
       face_ok = line == "property list uchar int vertex_indices";
   }
-  if (line != "end_header" || vprops != std::vector<std::string>{"x", "y", "z"} ||
-      !face_ok)
+  const bool flags = vprops == std::vector<std::string>{"x", "y", "z", "inserted"};
+  if (line != "end_header" ||
+      (vprops != std::vector<std::string>{"x", "y", "z"} && !flags) || !face_ok)
     return ::testing::AssertionFailure() << path << ": unexpected PLY header";
   const bool dbl = m.vertex_type == "double";
   m.mesh.xy.resize(nv);
@@ -333,6 +337,16 @@ struct MeshFile {
     }
     m.mesh.xy[v] = {c[0], c[1]};
     m.mesh.z[v] = c[2];
+    if (flags) {
+      unsigned flag = 0;
+      if (m.binary) {
+        unsigned char f8 = 0;
+        in.read(reinterpret_cast<char*>(&f8), 1);
+        flag = f8;
+      } else
+        in >> flag;
+      m.inserted.push_back(static_cast<std::uint8_t>(flag));
+    }
   }
   for (std::size_t t = 0; t < nf; ++t) {
     unsigned count = 0;
@@ -1422,6 +1436,11 @@ TEST_F(PcdToMesh, DefaultPipelineTrimsAndFillsIntoAManifoldMesh)
   ASSERT_EQ(mesh.vertexCount(), delaunay.mesh.vertexCount() + inserted);
   for (std::size_t v = 0; v < delaunay.mesh.vertexCount(); ++v)
     ASSERT_TRUE(mesh.xy[v] == delaunay.mesh.xy[v]) << "vertex " << v << " moved";
+  // The file marks exactly the inserted vertices; the pure triangulation has no mark.
+  ASSERT_EQ(surface.inserted.size(), mesh.vertexCount());
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+    EXPECT_EQ(surface.inserted[v], v >= delaunay.mesh.vertexCount() ? 1 : 0) << v;
+  EXPECT_TRUE(delaunay.inserted.empty());
   EXPECT_EQ(summaryValue(full.out, "triangles"), mesh.triangleCount());
   EXPECT_GT(summaryValue(full.out, "trimmed triangles"), 0u);
   // Trimming removed boundary triangles: the outline is no longer the hull's.
