@@ -7,6 +7,7 @@
 #include <pcl_vts/core/vts_pipeline.h>
 #include <pcl_vts/mesh_writer.h>
 #include <pcl_vts/point_cloud_loader.h>
+#include <pcl_vts/preprocess_cloud.h>
 
 #include <pcl/console/print.h>
 
@@ -42,6 +43,7 @@ struct CliOptions {
   std::string output;
   pcl_vts::VtsOptions vts;
   pcl_vts::CloudLoadOptions load;
+  pcl_vts::PreprocessOptions preprocess;
   bool no_trim = false;
   bool no_fill = false;
   bool ascii = false;
@@ -103,6 +105,18 @@ void printHelp()
       "  --max-hole-area A   fill only holes up to this XY area, A >= 0; 0 = "
       "automatic\n"
       "                      (500 x spacing^2) (default: 0)\n"
+      "  --crop X0,Y0,X1,Y1  keep only points with X0 <= x <= X1, Y0 <= y <= Y1\n"
+      "                      (default: no crop)\n"
+      "  --voxel S           keep one original point per S x S x S voxel, the one\n"
+      "                      nearest its centre, S >= 0 (default: 0 = off)\n"
+      "  --grid-min S        keep the lowest original point per S x S XY cell\n"
+      "                      (pcl::GridMinimum), S >= 0 (default: 0 = off)\n"
+      "  --outliers K,STD    drop statistical outliers "
+      "(pcl::StatisticalOutlierRemoval:\n"
+      "                      mean distance to K neighbours beyond STD deviations)\n"
+      "                      (default: off); preprocessing runs crop, voxel,\n"
+      "                      grid-min, outliers in this order, keeping original "
+      "points\n"
       "  --threads N         threads for the triangulation, N >= 0; 0 = all cores\n"
       "                      (default: 0; the mesh is the same for every N)\n"
       "  --ascii             ASCII PLY instead of binary (default: binary; .obj and "
@@ -131,6 +145,38 @@ void printHelp()
 }
 
 /// Strict: the whole text is one finite number >= 0 (PCL's parse_argument is not).
+/// Exactly `expected` comma-separated finite numbers for option `name`.
+bool parseNumberList(const std::string& name, const std::string& text,
+                     std::size_t expected, std::vector<double>& numbers,
+                     std::string& error)
+{
+  numbers.clear();
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma - start);
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || std::isspace(static_cast<unsigned char>(item[0])) ||
+        *end != '\0' || errno == ERANGE || !std::isfinite(v)) {
+      error = name + ": '" + text + "' is not " + std::to_string(expected) +
+              " comma-separated numbers";
+      return false;
+    }
+    numbers.push_back(v);
+    if (comma == std::string::npos)
+      break;
+    start = comma + 1;
+  }
+  if (numbers.size() != expected) {
+    error = name + ": '" + text + "' is not " + std::to_string(expected) +
+            " comma-separated numbers";
+    return false;
+  }
+  return true;
+}
+
 /// A finite number >= 0 (or > 0 when zero_meaning is null) for option `name`.
 bool parseNonNegative(const std::string& name, const char* text, double& value,
                       std::string& error, const char* zero_meaning)
@@ -185,10 +231,11 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
     const std::size_t eq = arg.find('=');
     const std::string name = arg.substr(0, eq);
     const bool inline_value = eq != std::string::npos;
-    const bool takes_value = name == "--cell-size" || name == "--duplicates" ||
-                             name == "--classes" || name == "--returns" ||
-                             name == "--trim-factor" || name == "--max-edge" ||
-                             name == "--max-hole-area" || name == "--threads";
+    const bool takes_value =
+        name == "--cell-size" || name == "--duplicates" || name == "--classes" ||
+        name == "--returns" || name == "--trim-factor" || name == "--max-edge" ||
+        name == "--max-hole-area" || name == "--threads" || name == "--crop" ||
+        name == "--voxel" || name == "--grid-min" || name == "--outliers";
     if (inline_value && !takes_value) {
       error = "option '" + name + "' takes no value";
       return false;
@@ -225,6 +272,37 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
                             opt.vts.reconstruction.fill_options.max_hole_area, error,
                             "automatic"))
         return false;
+    } else if (name == "--voxel") {
+      if (!parseNonNegative(name, value.c_str(), opt.preprocess.voxel, error, "off"))
+        return false;
+    } else if (name == "--grid-min") {
+      if (!parseNonNegative(name, value.c_str(), opt.preprocess.grid_min, error, "off"))
+        return false;
+    } else if (name == "--crop" || name == "--outliers") {
+      std::vector<double> numbers;
+      if (!parseNumberList(name, value, name == "--crop" ? 4 : 2, numbers, error))
+        return false;
+      if (name == "--crop") {
+        opt.preprocess.crop = true;
+        opt.preprocess.crop_min_x = numbers[0];
+        opt.preprocess.crop_min_y = numbers[1];
+        opt.preprocess.crop_max_x = numbers[2];
+        opt.preprocess.crop_max_y = numbers[3];
+      } else {
+        if (numbers[0] < 1.0 || numbers[0] > 10000.0 ||
+            numbers[0] != std::floor(numbers[0])) {
+          error =
+              "--outliers: K = '" + value + "' must start with a whole K in 1..10000";
+          return false;
+        }
+        opt.preprocess.outlier_k = static_cast<int>(numbers[0]);
+        opt.preprocess.outlier_std = numbers[1];
+      }
+      if (pcl_vts::Status st = pcl_vts::validatePreprocessOptions(opt.preprocess);
+          !st.ok()) {
+        error = name + ": " + st.message;
+        return false;
+      }
     } else if (name == "--threads") {
       double threads = 0.0;
       if (!parseNonNegative(name, value.c_str(), threads, error, "all cores"))
@@ -421,7 +499,6 @@ int run(const CliOptions& opt)
                         ? s.message
                         : "input unusable: " + s.toString());
   const double ms_read = msSince(start);
-  const std::size_t n_points = input.points_kept;
   out.done(ms_read, std::to_string(input.points_read) + " points, " +
                         pcl_vts::cloudFileFormatName(input.format) + " " +
                         input.details +
@@ -430,6 +507,23 @@ int run(const CliOptions& opt)
                              : std::string()));
   for (const std::string& note : input.notes)
     out.line("  %s\n", note.c_str());
+
+  double ms_preprocess = 0.0;
+  if (opt.preprocess.any()) {
+    out.begin("Preprocessing %zu points ", xyz.size() / 3);
+    start = Clock::now();
+    std::vector<pcl_vts::PreprocessStep> steps;
+    if (pcl_vts::Status s = pcl_vts::preprocessCloud(xyz, opt.preprocess, steps);
+        !s.ok())
+      return out.fail(exitCodeFor(s.code),
+                      "input '" + opt.input + "' after preprocessing: " + s.toString());
+    ms_preprocess = msSince(start);
+    out.done(ms_preprocess, std::to_string(xyz.size() / 3) + " points left");
+    for (const pcl_vts::PreprocessStep& st : steps)
+      out.line("  %-12s [done, %.1f ms : %zu -> %zu points]\n", st.name.c_str(), st.ms,
+               st.before, st.after);
+  }
+  const std::size_t n_points = xyz.size() / 3;
 
   out.begin("Meshing %zu points (grid, convex hull, region growing%s%s) ", n_points,
             opt.no_trim ? "" : ", trim", opt.no_fill ? "" : ", fill");
@@ -506,6 +600,8 @@ int run(const CliOptions& opt)
   out.line("Summary\n");
   out.line("  %-20s %zu\n", "points read", input.points_read);
   out.line("  %-20s %zu\n", "points kept", input.points_kept);
+  if (opt.preprocess.any())
+    out.line("  %-20s %zu (%.1f ms)\n", "after preprocessing", n_points, ms_preprocess);
   out.line("  %-20s %zu\n", "non-finite dropped", d.non_finite_dropped);
   out.line("  %-20s %zu\n", "duplicates merged", d.duplicates_merged);
   out.line("  %-20s %zu\n", "distinct points", d.distinct_points);

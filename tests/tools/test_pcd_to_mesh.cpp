@@ -1469,3 +1469,91 @@ TEST_F(PcdToMesh, PostPassOptionsAreValidated)
 
 } // namespace
 } // namespace pcl_vts
+
+namespace pcl_vts {
+namespace {
+
+/// Output vertices as bit patterns, and a check that each is an input point.
+std::set<PointBits> vertexBits(const MeshFile& m)
+{
+  std::set<PointBits> out;
+  for (std::size_t v = 0; v < m.mesh.vertexCount(); ++v)
+    out.insert(bitsOf(m.mesh.xy[v].x, m.mesh.xy[v].y, m.mesh.z[v]));
+  return out;
+}
+
+TEST_F(PcdToMesh, PreprocessingKeepsOriginalPointsBitForBit)
+{
+  std::vector<Xyz> points = utmCloud(4000, 7);
+  // A spike far above the surface for the outlier filter.
+  points.push_back({points[100][0] + 0.0005, points[100][1] + 0.0005, 1e4});
+  writeBytes(work("in.pcd"), binaryPcd64(points));
+  std::set<PointBits> input;
+  double xmin = points[0][0], xmax = xmin, ymin = points[0][1], ymax = ymin;
+  for (const Xyz& p : points) {
+    input.insert(bitsOf(p[0], p[1], p[2]));
+    xmin = std::min(xmin, p[0]);
+    xmax = std::max(xmax, p[0]);
+    ymin = std::min(ymin, p[1]);
+    ymax = std::max(ymax, p[1]);
+  }
+  const double xmid = 0.5 * (xmin + xmax), ymid = 0.5 * (ymin + ymax);
+  char crop[256];
+  std::snprintf(crop, sizeof(crop), "%.17g,%.17g,%.17g,%.17g", xmin, ymin, xmid, ymid);
+
+  const CliResult r = runDelaunay({"in.pcd", "crop.ply", "--crop", crop});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  MeshFile m;
+  ASSERT_TRUE(readPly(work("crop.ply").string(), m));
+  std::size_t inside = 0;
+  for (const Xyz& p : points)
+    inside += p[0] <= xmid && p[1] <= ymid;
+  EXPECT_EQ(m.mesh.vertexCount(), inside);
+  for (const PointBits& b : vertexBits(m))
+    EXPECT_TRUE(input.count(b)) << "a vertex is not an input point";
+  for (std::size_t v = 0; v < m.mesh.vertexCount(); ++v)
+    EXPECT_TRUE(m.mesh.xy[v].x <= xmid && m.mesh.xy[v].y <= ymid) << v;
+
+  const CliResult f = runDelaunay({"in.pcd", "filtered.ply", "--voxel", "1.5",
+                                   "--grid-min", "2", "--outliers", "8,3"});
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  MeshFile g;
+  ASSERT_TRUE(readPly(work("filtered.ply").string(), g));
+  // 80 m x 60 m: a 2 m grid keeps at most one point per cell.
+  EXPECT_LE(g.mesh.vertexCount(), 41u * 31u);
+  EXPECT_GT(g.mesh.vertexCount(), 500u);
+  for (const PointBits& b : vertexBits(g))
+    EXPECT_TRUE(input.count(b)) << "a vertex is not an input point";
+  for (std::size_t v = 0; v < g.mesh.vertexCount(); ++v)
+    EXPECT_LT(g.mesh.z[v], 1e3) << "the spike survived the outlier filter";
+  EXPECT_NE(f.out.find("  outliers     [done"), std::string::npos) << f.out;
+}
+
+TEST_F(PcdToMesh, PreprocessingOptionsAreValidated)
+{
+  const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"--voxel", "-1"},
+                                              {"--grid-min", "abc"},
+                                              {"--outliers", "8"},
+                                              {"--outliers", "0,2"},
+                                              {"--outliers", "8,-1"},
+                                              {"--crop", "1,2,3"},
+                                              {"--crop", "1,2,3,x"},
+                                              {"--crop", "5,0,1,1"}}) {
+    std::vector<std::string> args = {input, "out.ply"};
+    args.insert(args.end(), bad.begin(), bad.end());
+    const CliResult r = run(args);
+    SCOPED_TRACE(bad[0] + " " + bad[1]);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find(bad[0]), std::string::npos) << r.err;
+    EXPECT_TRUE(workFiles().empty());
+  }
+  // A crop that keeps nothing: unusable data, exit 3.
+  const CliResult r = run({input, "out.ply", "--crop", "0,0,1,1"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("crop"), std::string::npos) << r.err;
+  EXPECT_TRUE(workFiles().empty());
+}
+
+} // namespace
+} // namespace pcl_vts

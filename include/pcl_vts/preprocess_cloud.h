@@ -1,0 +1,45 @@
+// Optional preprocessing of the input points before the triangulation, in this order:
+// crop (XY box, exact in double), voxel thinning (one original point per cubic voxel,
+// the one nearest the voxel centre), grid minimum (pcl::GridMinimum: the lowest
+// original point per XY cell) and statistical outlier removal
+// (pcl::StatisticalOutlierRemoval). Every step keeps original points: the doubles of
+// the survivors are untouched (PCL's float types see offset-shifted copies only).
+#pragma once
+
+#include <pcl_vts/core/status.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace pcl_vts {
+
+struct PreprocessOptions {
+  bool crop = false;
+  double crop_min_x = 0.0, crop_min_y = 0.0, crop_max_x = 0.0, crop_max_y = 0.0;
+  double voxel = 0.0;       ///< voxel edge length; 0 = off
+  double grid_min = 0.0;    ///< GridMinimum resolution; 0 = off
+  int outlier_k = 0;        ///< neighbours for the outlier statistics; 0 = off
+  double outlier_std = 0.0; ///< standard-deviation multiplier (> 0 when k > 0)
+
+  bool any() const { return crop || voxel > 0.0 || grid_min > 0.0 || outlier_k > 0; }
+};
+
+/// One preprocessing step as reported in the summary.
+struct PreprocessStep {
+  std::string name; ///< "crop", "voxel", "grid-min", "outliers", "non-finite"
+  std::size_t before = 0;
+  std::size_t after = 0;
+  double ms = 0.0;
+};
+
+/// Checks the options; the message names the value.
+Status validatePreprocessOptions(const PreprocessOptions& options);
+
+/// Applies the enabled steps to xyz (3 doubles per point) in place. Points with a
+/// non-finite coordinate are dropped first (reported as a "non-finite" step) when any
+/// step is enabled. EMPTY_INPUT when nothing survives.
+Status preprocessCloud(std::vector<double>& xyz, const PreprocessOptions& options,
+                       std::vector<PreprocessStep>& steps);
+
+} // namespace pcl_vts
