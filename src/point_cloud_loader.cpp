@@ -1,6 +1,7 @@
 // Extension first (users name their files), content second (for odd names); each
 // reader's info is folded into one CloudDescription so the CLI prints one shape.
 #include <pcl_vts/asc_grid_reader.h>
+#include <pcl_vts/geotiff_reader.h>
 #include <pcl_vts/pcd_cloud_reader.h>
 #include <pcl_vts/ply_point_reader.h>
 #include <pcl_vts/point_cloud_loader.h>
@@ -53,6 +54,8 @@ const char* cloudFileFormatName(CloudFileFormat format)
     return "XYZ text";
   case CloudFileFormat::PLY:
     return "PLY";
+  case CloudFileFormat::GEOTIFF:
+    return "GeoTIFF";
   }
   return "unknown";
 }
@@ -70,6 +73,8 @@ bool cloudFileFormatFromExtension(const std::string& path, CloudFileFormat& form
     format = CloudFileFormat::XYZ;
   else if (ext == ".ply")
     format = CloudFileFormat::PLY;
+  else if (ext == ".tif" || ext == ".tiff")
+    format = CloudFileFormat::GEOTIFF;
   else
     return false;
   return true;
@@ -83,6 +88,10 @@ bool cloudFileFormatFromContent(const std::uint8_t* data, std::size_t size,
     format = CloudFileFormat::LAS;
   else if (startsWith(data, size, "ply\n") || startsWith(data, size, "ply\r"))
     format = CloudFileFormat::PLY;
+  else if (size >= 4 &&
+           ((data[0] == 'I' && data[1] == 'I' && data[2] == 42 && data[3] == 0) ||
+            (data[0] == 'M' && data[1] == 'M' && data[2] == 0 && data[3] == 42)))
+    format = CloudFileFormat::GEOTIFF;
   else {
     while (skip < size && data[skip] == '#') {
       while (skip < size && data[skip] != '\n')
@@ -153,7 +162,8 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
           StatusCode::IO_ERROR,
           "'" + path + "': unknown input format: the extension '" +
               lowerExtension(path) +
-              "' is none of .pcd .las .laz .asc .xyz .txt .csv .ply and the content "
+              "' is none of .pcd .las .laz .asc .xyz .txt .csv .ply .tif and the "
+              "content "
               "is not recognised");
   }
   if (d.format != CloudFileFormat::LAS &&
@@ -250,6 +260,18 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
                      : " " + info.xyz_types[1] + " " + info.xyz_types[2]) +
                 (info.faces ? ", " + std::to_string(info.faces) + " faces ignored"
                             : std::string());
+    break;
+  }
+  case CloudFileFormat::GEOTIFF: {
+    GeoTiffInfo info;
+    s = readGeoTiff(path, xyz, info);
+    if (!s.ok())
+      return s;
+    d.points_read = info.columns * info.rows;
+    d.points_kept = info.valid_cells;
+    d.details = info.driver + ", " + std::to_string(info.columns) + " x " +
+                std::to_string(info.rows) + " cells";
+    d.notes.push_back(std::to_string(info.nodata_cells) + " NODATA cells skipped");
     break;
   }
   }

@@ -14,16 +14,18 @@
 
 namespace pcl_vts {
 
-enum class CloudFileFormat { PCD, LAS, ASC, XYZ, PLY };
+enum class CloudFileFormat { PCD, LAS, ASC, XYZ, PLY, GEOTIFF };
 
-/// "PCD", "LAS", "ASCII grid", "XYZ text", "PLY".
+/// "PCD", "LAS", "ASCII grid", "XYZ text", "PLY", "GeoTIFF".
 const char* cloudFileFormatName(CloudFileFormat format);
 
-/// Reader by extension: .pcd, .las/.laz, .asc, .xyz/.txt/.csv, .ply (any case).
+/// Reader by extension: .pcd, .las/.laz, .asc, .xyz/.txt/.csv, .ply, .tif/.tiff
+/// (any case).
 /// False for any other extension (or none).
 bool cloudFileFormatFromExtension(const std::string& path, CloudFileFormat& format);
 
-/// Reader by content: "LASF", "ply", a PCD header keyword, an ASCII grid "ncols".
+/// Reader by content: "LASF", "ply", a PCD header keyword, an ASCII grid "ncols",
+/// a TIFF byte-order mark.
 /// False when none matches.
 bool cloudFileFormatFromContent(const std::uint8_t* data, std::size_t size,
                                 CloudFileFormat& format);

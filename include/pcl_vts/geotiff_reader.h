@@ -1,0 +1,34 @@
+// GeoTIFF (and any single-band raster GDAL reads) as points at the cell centres,
+// NODATA cells skipped. GDAL is an optional dependency: without it (the build did not
+// find GDAL) the reader refuses with a message saying how to convert to an ASCII grid.
+#pragma once
+
+#include <pcl_vts/core/status.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace pcl_vts {
+
+struct GeoTiffInfo {
+  std::size_t columns = 0, rows = 0;
+  std::size_t valid_cells = 0;
+  std::size_t nodata_cells = 0;
+  bool has_nodata = false;
+  double nodata = 0.0;
+  double pixel_width = 0.0, pixel_height = 0.0; ///< geotransform [1] and [5]
+  std::string driver;                           ///< GDAL driver, e.g. "GTiff"
+};
+
+/// True when this build reads rasters through GDAL.
+bool geoTiffSupported();
+
+/// Reads band 1 of a raster: one point per valid cell centre, x and y from the
+/// geotransform (rotation terms included), z the cell value, in double.
+/// \return IO_ERROR (cannot open, no GDAL in this build), EMPTY_INPUT (every cell
+///         NODATA)
+Status readGeoTiff(const std::string& path, std::vector<double>& xyz,
+                   GeoTiffInfo& info);
+
+} // namespace pcl_vts

@@ -1,0 +1,65 @@
+// GeoTIFF input through GDAL: the two shared GeoTIFF DEMs give exactly the points of
+// their lossless ASCII-grid copies (gdal_translate -of AAIGrid, see the data README).
+#include <pcl_vts/asc_grid_reader.h>
+#include <pcl_vts/geotiff_reader.h>
+#include <pcl_vts/point_cloud_loader.h>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <filesystem>
+#include <set>
+#include <string>
+
+namespace pcl_vts {
+namespace {
+
+std::set<std::array<double, 3>> asSet(const std::vector<double>& xyz)
+{
+  std::set<std::array<double, 3>> out;
+  for (std::size_t k = 0; k + 2 < xyz.size(); k += 3)
+    out.insert({xyz[k], xyz[k + 1], xyz[k + 2]});
+  return out;
+}
+
+TEST(GeoTiffReader, SharedDemsMatchTheirAsciiGridCopies)
+{
+  if (!geoTiffSupported())
+    GTEST_SKIP() << "this build has no GDAL";
+  const std::string root = PCL_VTS_SHARED_DATA_DIR;
+  for (const std::string stem :
+       {"dem/topotoolbox/srtm_bigtujunga30m_utm11", "dem/pysheds/dem"}) {
+    SCOPED_TRACE(stem);
+    const std::string tif = root + "/" + stem + ".tif",
+                      asc = root + "/" + stem + ".derived.asc";
+    if (!std::filesystem::exists(tif) || !std::filesystem::exists(asc))
+      GTEST_SKIP() << "shared data absent: " << tif;
+    std::vector<double> from_tif, from_asc;
+    CloudDescription dt, da;
+    ASSERT_TRUE(loadPointCloud(tif, {}, from_tif, dt).ok());
+    ASSERT_TRUE(loadPointCloud(asc, {}, from_asc, da).ok());
+    EXPECT_EQ(dt.format, CloudFileFormat::GEOTIFF);
+    EXPECT_EQ(dt.points_kept, da.points_kept);
+    // Cell centres agree to rounding of the two geotransform forms; z exactly.
+    ASSERT_EQ(from_tif.size(), from_asc.size());
+    const auto a = asSet(from_tif), b = asSet(from_asc);
+    auto ia = a.begin(), ib = b.begin();
+    std::size_t far = 0;
+    for (; ia != a.end() && ib != b.end(); ++ia, ++ib)
+      far += std::abs((*ia)[0] - (*ib)[0]) > 1e-6 ||
+             std::abs((*ia)[1] - (*ib)[1]) > 1e-6 || (*ia)[2] != (*ib)[2];
+    EXPECT_EQ(far, 0u);
+  }
+}
+
+TEST(GeoTiffReader, UnreadableRasterIsAnInputError)
+{
+  std::vector<double> xyz;
+  GeoTiffInfo info;
+  const Status s = readGeoTiff("/nonexistent/dem.tif", xyz, info);
+  EXPECT_EQ(s.code, StatusCode::IO_ERROR);
+  EXPECT_NE(s.message.find("dem.tif"), std::string::npos) << s.message;
+}
+
+} // namespace
+} // namespace pcl_vts
