@@ -70,6 +70,8 @@ void printHelp()
       "              .laz is not read: convert it first ('pdal translate in.laz\n"
       "              out.las' or 'laszip -i in.laz -o out.las')\n"
       "        .asc  ESRI ASCII grid: one point per cell centre, NODATA skipped\n"
+      "        .tif .tiff  GeoTIFF (band 1, through GDAL when the build found it):\n"
+      "              one point per cell centre, NODATA skipped\n"
       "        .xyz .txt .csv  text, x y z per line separated by blanks, commas or\n"
       "              semicolons; optional header line naming x y z columns; extra\n"
       "              columns ignored; '#' lines are comments\n"
