@@ -102,6 +102,23 @@ class PcdToMesh : public ::testing::Test {
 
   /// Runs the CLI in work/; shell_prefix runs first in the same shell (e.g. ulimit).
   /// The pure triangulation: the post-passes (trim, fill) switched off.
+  /// Each {option, value} on input is a usage error (exit 1) naming the option, and
+  /// leaves no file behind.
+  void
+  expectUsageErrors(const std::string& input,
+                    const std::vector<std::vector<std::string>>& option_values) const
+  {
+    for (const std::vector<std::string>& bad : option_values) {
+      std::vector<std::string> args = {input, "out.ply"};
+      args.insert(args.end(), bad.begin(), bad.end());
+      const CliResult r = run(args);
+      SCOPED_TRACE(bad[0] + " " + bad[1]);
+      EXPECT_EQ(r.exit_code, 1) << r.err;
+      EXPECT_NE(r.err.find(bad[0]), std::string::npos) << r.err;
+      EXPECT_TRUE(workFiles().empty());
+    }
+  }
+
   CliResult runDelaunay(std::vector<std::string> args) const
   {
     args.push_back("--no-trim");
@@ -1450,21 +1467,12 @@ TEST_F(PcdToMesh, DefaultPipelineTrimsAndFillsIntoAManifoldMesh)
 TEST_F(PcdToMesh, PostPassOptionsAreValidated)
 {
   const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
-  for (const std::vector<std::string>& bad :
-       {std::vector<std::string>{"--trim-factor", "0"},
-        {"--trim-factor", "-1"},
-        {"--max-edge", "-2"},
-        {"--max-hole-area", "nan"},
-        {"--threads", "1.5"},
-        {"--threads", "-1"}}) {
-    std::vector<std::string> args = {input, "out.ply"};
-    args.insert(args.end(), bad.begin(), bad.end());
-    const CliResult r = run(args);
-    SCOPED_TRACE(bad[0] + " " + bad[1]);
-    EXPECT_EQ(r.exit_code, 1) << r.err;
-    EXPECT_NE(r.err.find(bad[0]), std::string::npos) << r.err;
-    EXPECT_TRUE(workFiles().empty());
-  }
+  expectUsageErrors(input, {{"--trim-factor", "0"},
+                            {"--trim-factor", "-1"},
+                            {"--max-edge", "-2"},
+                            {"--max-hole-area", "nan"},
+                            {"--threads", "1.5"},
+                            {"--threads", "-1"}});
 }
 
 } // namespace
@@ -1532,22 +1540,14 @@ TEST_F(PcdToMesh, PreprocessingKeepsOriginalPointsBitForBit)
 TEST_F(PcdToMesh, PreprocessingOptionsAreValidated)
 {
   const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
-  for (const std::vector<std::string>& bad : {std::vector<std::string>{"--voxel", "-1"},
-                                              {"--grid-min", "abc"},
-                                              {"--outliers", "8"},
-                                              {"--outliers", "0,2"},
-                                              {"--outliers", "8,-1"},
-                                              {"--crop", "1,2,3"},
-                                              {"--crop", "1,2,3,x"},
-                                              {"--crop", "5,0,1,1"}}) {
-    std::vector<std::string> args = {input, "out.ply"};
-    args.insert(args.end(), bad.begin(), bad.end());
-    const CliResult r = run(args);
-    SCOPED_TRACE(bad[0] + " " + bad[1]);
-    EXPECT_EQ(r.exit_code, 1) << r.err;
-    EXPECT_NE(r.err.find(bad[0]), std::string::npos) << r.err;
-    EXPECT_TRUE(workFiles().empty());
-  }
+  expectUsageErrors(input, {{"--voxel", "-1"},
+                            {"--grid-min", "abc"},
+                            {"--outliers", "8"},
+                            {"--outliers", "0,2"},
+                            {"--outliers", "8,-1"},
+                            {"--crop", "1,2,3"},
+                            {"--crop", "1,2,3,x"},
+                            {"--crop", "5,0,1,1"}});
   // A crop that keeps nothing: unusable data, exit 3.
   const CliResult r = run({input, "out.ply", "--crop", "0,0,1,1"});
   EXPECT_EQ(r.exit_code, 3) << r.err;
