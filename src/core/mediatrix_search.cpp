@@ -20,6 +20,14 @@ constexpr double MAX_LENGTH = 1e90;
 constexpr std::size_t MAX_LOCAL_CELLS = 64;
 // A best circle covering at most this many cells is scanned directly, no widening.
 constexpr std::size_t MAX_DISK_CELLS = 256;
+// The guess scans the cells within this distance (in edge lengths, at least half a
+// cell) of the circumcentre of the equilateral apex, m + n / (2 sqrt 3), when they are
+// at most GUESS_CELLS.
+constexpr double GUESS_CENTRE = 0.2887;
+constexpr double GUESS_RADIUS = 0.62;
+constexpr std::size_t GUESS_CELLS = 9;
+// The guess's circle is settled directly when it covers at most this many cells.
+constexpr std::size_t QUICK_CELLS = 16;
 
 double squaredDistanceToRect(double px, double py, double x0, double y0, double x1,
                              double y1)
@@ -72,6 +80,41 @@ MediatrixSearch::MediatrixSearch(const CellGrid& grid, const CellPyramid& pyrami
     , sub_(subdivision)
 {}
 
+VertexId MediatrixSearch::guessThirdPoint(const Query& q) const
+{
+  // Circle centres through a and b are m + t n (n the left normal, |n| = |ab|); a left
+  // point p gives t(p) = (|p - m|^2 - |ab|^2 / 4) / (2 (p - m).n), and the Delaunay
+  // apex has the smallest t. Compared as fractions: no division.
+  const double mx = 0.5 * (q.pa.x + q.pb.x), my = 0.5 * (q.pa.y + q.pb.y);
+  const double nx = q.pa.y - q.pb.y, ny = q.pb.x - q.pa.x;
+  const double quarter = 0.25 * (nx * nx + ny * ny);
+  const double gx = mx + GUESS_CENTRE * nx, gy = my + GUESS_CENTRE * ny;
+  const double reach =
+      std::max(GUESS_RADIUS * std::sqrt(4.0 * quarter), 0.5 * grid_.cell_size);
+  const Window w{grid_.column(gx - reach), grid_.column(gx + reach),
+                 grid_.row(gy - reach), grid_.row(gy + reach)};
+  if (cellCount(w) > GUESS_CELLS || windowHasCrowdedCell(w))
+    return INVALID_ID;
+  const std::uint32_t i0 = w.i0, i1 = w.i1, j0 = w.j0, j1 = w.j1;
+  VertexId best = INVALID_ID;
+  double best_num = 1.0, best_den = 0.0; // t = +infinity
+  for (std::uint32_t j = j0; j <= j1; ++j) {
+    const CellId row = grid_.cellId(0, j);
+    for (std::uint32_t k = grid_.cell_start[row + i0];
+         k < grid_.cell_start[row + i1 + 1]; ++k) {
+      const double dx = grid_.points[k].x - mx, dy = grid_.points[k].y - my;
+      const double den = dx * nx + dy * ny;
+      const double num = dx * dx + dy * dy - quarter;
+      if (den > 0.0 && num * best_den < best_num * den && k != q.a && k != q.b) {
+        best = k;
+        best_num = num;
+        best_den = den;
+      }
+    }
+  }
+  return best;
+}
+
 void MediatrixSearch::testRange(std::uint32_t begin, std::uint32_t end, Query& q)
 {
   ++stats_.cells_visited;
@@ -82,7 +125,8 @@ void MediatrixSearch::testRange(std::uint32_t begin, std::uint32_t end, Query& q
     const double dx = p.x - q.reject_cx, dy = p.y - q.reject_cy;
     if (dx * dx + dy * dy > q.reject_r2)
       continue;
-    if (k == q.a || k == q.b || orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
+    if (k == q.a || k == q.b || k == q.best ||
+        orient2d(q.pa, q.pb, p) != Sign::POSITIVE)
       continue;
     if (q.best != INVALID_ID &&
         incirclePerturbed(q.pa, q.pb, grid_.points[q.best], p) != Sign::POSITIVE)
@@ -229,6 +273,26 @@ VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
   q.pa = grid_.points[a];
   q.pb = grid_.points[b];
 
+  // Quick path: a floating-point guess of the apex, certified exactly on the cells of
+  // its safe disk. Any valid left candidate may start the exact tests; a good one makes
+  // the disk tight, so nearly every other point is rejected by one distance test.
+  const VertexId guess = guessThirdPoint(q);
+  if (guess != INVALID_ID &&
+      orient2d(q.pa, q.pb, grid_.points[guess]) == Sign::POSITIVE) {
+    q.best = guess;
+    q.refreshDisk(grid_);
+    if (q.disk.valid) {
+      const Window r = diskCells(q.disk);
+      if (cellCount(r) <= QUICK_CELLS && !windowHasCrowdedCell(r)) {
+        for (std::uint32_t j = r.j0; j <= r.j1; ++j)
+          for (std::uint32_t i = r.i0; i <= r.i1; ++i)
+            testCell(grid_.cellId(i, j), q);
+        ++stats_.local;
+        return q.best;
+      }
+    }
+  }
+
   // The rectangle supported by the edge: the cells spanned by a and b, dilated by one.
   const std::uint32_t ia = grid_.column(q.pa.x), ib = grid_.column(q.pb.x);
   const std::uint32_t ja = grid_.row(q.pa.y), jb = grid_.row(q.pb.y);
@@ -241,18 +305,20 @@ VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
   if (cells > MAX_LOCAL_CELLS || windowHasCrowdedCell(w)) {
     w = Window{1, 0, 1, 0};
   } else {
-    // Nearest circumcentre first: start at the cell where the mediatrix enters the
-    // open side (half an edge length from the midpoint), then the rest of the window.
-    const double half = 0.5;
-    const double fx = 0.5 * (q.pa.x + q.pb.x) - half * (q.pb.y - q.pa.y);
-    const double fy = 0.5 * (q.pa.y + q.pb.y) + half * (q.pb.x - q.pa.x);
-    const std::uint32_t fi = std::clamp(grid_.column(fx), w.i0, w.i1);
-    const std::uint32_t fj = std::clamp(grid_.row(fy), w.j0, w.j1);
-    testCell(grid_.cellId(fi, fj), q);
+    // Nearest circumcentre first: the guess if any, else the cell where the mediatrix
+    // enters the open side (half an edge length from the midpoint).
+    std::uint32_t fi = w.i1 + 1, fj = w.j1 + 1; // no foot cell tested yet
+    if (q.best == INVALID_ID) {
+      const double fx = 0.5 * (q.pa.x + q.pb.x) - 0.5 * (q.pb.y - q.pa.y);
+      const double fy = 0.5 * (q.pa.y + q.pb.y) + 0.5 * (q.pb.x - q.pa.x);
+      fi = std::clamp(grid_.column(fx), w.i0, w.i1);
+      fj = std::clamp(grid_.row(fy), w.j0, w.j1);
+      testCell(grid_.cellId(fi, fj), q);
+    }
     q.refreshDisk(grid_);
-    // Usually the foot cell already holds the apex, and its circle spans only a few
-    // of the window's cells: visit just those. Later candidates lie inside this circle
-    // and so do their circles' open sides, so the cells stay sufficient.
+    // Usually the apex is known now and its circle spans only a few of the window's
+    // cells: visit just those. Later candidates lie inside this circle and so do their
+    // circles' open sides, so the cells stay sufficient.
     if (q.best != INVALID_ID && q.disk.valid) {
       const Window r = diskCells(q.disk);
       if (r.i0 >= w.i0 && r.i1 <= w.i1 && r.j0 >= w.j0 && r.j1 <= w.j1) {

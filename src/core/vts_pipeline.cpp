@@ -119,6 +119,10 @@ Status validateOptions(const VtsOptions& options)
         "duplicate_rule = " + std::to_string(static_cast<int>(options.duplicate_rule)) +
             " is not a DuplicateRule");
   }
+  if ((options.strip_columns & (options.strip_columns - 1)) != 0)
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "strip_columns = " + std::to_string(options.strip_columns) +
+                             " must be 0 (automatic) or a power of two");
   if (options.reconstruction.trim || options.reconstruction.fill)
     return validateReconstructionOptions(options.reconstruction);
   return Status::success();
@@ -212,8 +216,9 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   const unsigned threads = options.threads > 0
                                ? options.threads
                                : std::max(1u, std::thread::hardware_concurrency());
-  Status grown = triangulateGrid(grid, pyramid, subdivision, result.hull,
-                                 mesh.triangles, mesh.halfedges, stats, threads);
+  Status grown =
+      triangulateGrid(grid, pyramid, subdivision, result.hull, mesh.triangles,
+                      mesh.halfedges, stats, threads, options.strip_columns);
   diag.seconds_triangulate = secondsSince(start);
   diag.local_searches = stats.local;
   diag.widened_searches = stats.widened;

@@ -104,6 +104,12 @@ TEST_P(VtsPipelineProperty, DelaunayOfTheHullAndEqualToCgal)
   if (cannotHaveTies(pc.distribution)) {
     EXPECT_FALSE(summary.cocircular_ties);
   }
+  // Strips one column wide: nearly every triangle sits on a strip border.
+  VtsOptions narrow;
+  narrow.strip_columns = 1;
+  const PipelineRun strips = runPipeline(xyz, narrow);
+  ASSERT_TRUE(strips.status.ok()) << strips.status.toString();
+  expectValidTriangulation(xyz, strips);
 }
 
 INSTANTIATE_TEST_SUITE_P(Generators, VtsPipelineProperty,

@@ -148,6 +148,7 @@ int main(int argc, char** argv)
   const double baseline = currentRssMiB();
   const auto start = std::chrono::steady_clock::now();
   std::size_t triangles = 0;
+  std::string stages;
   if (method == "vts") {
     pcl_vts::VtsOptions options;
     options.check_output = false;
@@ -160,6 +161,18 @@ int main(int argc, char** argv)
       return 2;
     }
     triangles = result.mesh.triangleCount();
+    const pcl_vts::Diagnostics& d = result.diagnostics;
+    const double searches = static_cast<double>(d.local_searches + d.widened_searches);
+    char buffer[256];
+    std::snprintf(buffer, sizeof buffer,
+                  ",\"grid_s\":%.4f,\"hull_s\":%.4f,\"triangulate_s\":%.4f,"
+                  "\"cells_per_search\":%.2f,\"points_per_search\":%.2f,"
+                  "\"widened_share\":%.5f",
+                  d.seconds_grid, d.seconds_hull, d.seconds_triangulate,
+                  static_cast<double>(d.cells_visited) / searches,
+                  static_cast<double>(d.points_tested) / searches,
+                  static_cast<double>(d.widened_searches) / searches);
+    stages = buffer;
   } else if (method == "cgal") {
     // Range insertion: CGAL spatially sorts first, its fastest use.
     Delaunay dt(cgal_points.begin(), cgal_points.end());
@@ -174,9 +187,9 @@ int main(int argc, char** argv)
   std::printf("{\"method\":\"%s\",\"dist\":\"%s\",\"n\":%zu,\"threads\":%u,"
               "\"seconds\":%.4f,"
               "\"ns_per_point\":%.1f,\"triangles\":%zu,\"peak_rss_mib\":%.1f,"
-              "\"input_rss_mib\":%.1f,\"bytes_per_point_above_input\":%.1f}\n",
+              "\"input_rss_mib\":%.1f,\"bytes_per_point_above_input\":%.1f%s}\n",
               method.c_str(), dist.c_str(), n, method == "vts" ? threads : 1u, seconds,
               1e9 * seconds / static_cast<double>(n), triangles, peak, baseline,
-              (peak - baseline) * 1024.0 * 1024.0 / static_cast<double>(n));
+              (peak - baseline) * 1024.0 * 1024.0 / static_cast<double>(n), stages.c_str());
   return 0;
 }

@@ -1,8 +1,9 @@
-// Stage 2: Delaunay triangulation by region growing (VTS, thesis section 3.6). From a
-// seed hull edge, every open edge of the growing region asks the mediatrix search for
-// its third point on the open side; each answer is the unique Delaunay triangle of the
-// perturbed point set, so triangles never overlap and the pool empties exactly when
-// the hull is tiled. Hull edges are never searched: they bound the triangulation.
+// Stage 2: Delaunay triangulation by region growing (VTS, thesis section 3.6). From
+// seed Delaunay edges, every open edge of the growing region asks the mediatrix
+// search for its third point on the open side; each answer is the unique Delaunay
+// triangle of the perturbed point set, so triangles never overlap and the growth
+// stops exactly when the hull is tiled. Hull edges are never searched. The grid's
+// columns are cut into strips grown independently (in parallel) and merged.
 #pragma once
 
 #include <pcl_vts/core/cell_grid.h>
@@ -22,14 +23,15 @@ namespace pcl_vts {
 /// \param[out] triangles 3 grid point ids per triangle, CCW
 /// \param[out] halfedges twin per halfedge, INVALID_ID on the hull
 /// \param[out] stats search statistics
-/// \param[in] threads threads running the searches (>= 1); the output is identical
+/// \param[in] threads threads growing strips (0 or 1: one); the output is identical
 ///            for every value
+/// \param[in] strip_columns strip width in columns, a power of two; 0 = automatic
 /// \return INTERNAL_ERROR if the region growing failed to tile the hull (a bug)
 Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
                        const CellSubdivision& subdivision,
                        const std::vector<VertexId>& hull,
                        std::vector<VertexId>& triangles,
                        std::vector<HalfedgeId>& halfedges, SearchStats& stats,
-                       unsigned threads = 1);
+                       unsigned threads = 1, std::uint32_t strip_columns = 0);
 
 } // namespace pcl_vts

@@ -78,6 +78,15 @@ class MediatrixSearch {
     void refreshDisk(const CellGrid& grid);
   };
 
+  /// Floating-point only: the point with the smallest circumcentre offset along the
+  /// mediatrix among the cells around the likely circumcentre, or INVALID_ID. It only
+  /// seeds the exact tests: a good first candidate makes the safe disk tight.
+  VertexId guessThirdPoint(const Query& q) const;
+  static std::size_t cellCount(const Window& w)
+  {
+    return static_cast<std::size_t>(w.i1 - w.i0 + 1) *
+           static_cast<std::size_t>(w.j1 - w.j0 + 1);
+  }
   void testRange(std::uint32_t begin, std::uint32_t end, Query& q);
   void testCell(CellId cell, Query& q)
   {

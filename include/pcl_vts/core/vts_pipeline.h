@@ -31,6 +31,11 @@ struct VtsOptions {
   /// Threads for the triangulation; 0 = all hardware threads. The output is
   /// identical for every value.
   unsigned threads = 1;
+  /// Width of the strips of grid columns grown independently (docs/algorithm.md,
+  /// section 4); 0 = automatic (about 32 strips, at least 32 columns wide), else a
+  /// power of two. A tuning and testing knob: the triangulation is the same for every
+  /// value, only the triangle order changes.
+  std::uint32_t strip_columns = 0;
   /// Post-passes after the triangulation (docs/reconstruction.md). Off by default
   /// here, so the core returns the exact Delaunay triangulation of the hull;
   /// pcd_to_mesh turns both on unless --no-trim / --no-fill.

@@ -1,0 +1,390 @@
+#include "strip_growth.h"
+
+#include <pcl_vts/core/predicates.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace pcl_vts {
+namespace detail {
+namespace {
+
+// Halfedge slot states while growing: a twin (< OPEN), an open halfedge (OPEN | link
+// to the next open halfedge of the same origin), or CLOSED (no twin and never will:
+// the right side of a hull edge).
+constexpr HalfedgeId OPEN = 0x80000000u;
+constexpr HalfedgeId NIL = OPEN_LIST_END;
+constexpr HalfedgeId CLOSED = INVALID_ID;
+// Halfedge ids must stay below NIL.
+constexpr std::size_t MAX_TRIANGLES = NIL / 3;
+
+/// Open-list heads of the vertices outside the strip that its triangles touch: a
+/// small open-addressing map (the strip's own vertices use the shared array).
+class ForeignHeads {
+ public:
+  HalfedgeId& operator[](VertexId v)
+  {
+    if (2 * (size_ + 1) > keys_.size())
+      grow();
+    std::size_t i = slot(v);
+    while (keys_[i] != v && keys_[i] != INVALID_ID)
+      i = (i + 1) & (keys_.size() - 1);
+    if (keys_[i] == INVALID_ID) {
+      keys_[i] = v;
+      heads_[i] = NIL;
+      ++size_;
+    }
+    return heads_[i];
+  }
+
+ private:
+  std::size_t slot(VertexId v) const { return (v * 2654435761u) & (keys_.size() - 1); }
+  void grow()
+  {
+    std::vector<VertexId> keys = std::move(keys_);
+    std::vector<HalfedgeId> heads = std::move(heads_);
+    keys_.assign(std::max<std::size_t>(64, 2 * keys.size()), INVALID_ID);
+    heads_.assign(keys_.size(), NIL);
+    for (std::size_t k = 0; k < keys.size(); ++k)
+      if (keys[k] != INVALID_ID) {
+        std::size_t i = slot(keys[k]);
+        while (keys_[i] != INVALID_ID)
+          i = (i + 1) & (keys_.size() - 1);
+        keys_[i] = keys[k];
+        heads_[i] = heads[k];
+      }
+  }
+
+  std::vector<VertexId> keys_;
+  std::vector<HalfedgeId> heads_;
+  std::size_t size_ = 0;
+};
+
+class Growth {
+ public:
+  Growth(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
+         const std::vector<VertexId>& hull_next, MediatrixSearch& search,
+         std::vector<HalfedgeId>& open_head, std::vector<std::uint8_t>& covered,
+         StripMesh& mesh)
+      : grid_(grid)
+      , hull_next_(hull_next)
+      , search_(search)
+      , open_head_(open_head)
+      , covered_(covered)
+      , mesh_(mesh)
+      , first_column_(strip << layout.shift)
+      , end_column_(std::min(grid.nx, (strip + 1) << layout.shift))
+      , low_(first_column_ == 0 ? -std::numeric_limits<double>::infinity()
+                                : static_cast<double>(first_column_))
+      , high_(end_column_ == grid.nx ? std::numeric_limits<double>::infinity()
+                                     : static_cast<double>(end_column_))
+  {}
+
+  Status run()
+  {
+    // Every vertex of the strip gets a seed unless an earlier growth reached it: the
+    // triangles around a reached vertex are all grown (its edges are expandable), so
+    // in the end each owned triangle, whose leftmost vertex is in the strip, exists.
+    reserve();
+    for (std::uint32_t j = 0; j < grid_.ny; ++j) {
+      const CellId row = grid_.cellId(0, j);
+      for (VertexId v = grid_.cell_start[row + first_column_];
+           v < grid_.cell_start[row + end_column_]; ++v) {
+        if (covered_[v])
+          continue;
+        if (Status s = seedAt(v); !s.ok())
+          return s;
+        if (Status s = grow(); !s.ok())
+          return s;
+      }
+    }
+    finish();
+    return Status::success();
+  }
+
+ private:
+  VertexId origin(HalfedgeId e) const { return mesh_.triangles[e]; }
+  VertexId target(HalfedgeId e) const { return mesh_.triangles[nextHalfedge(e)]; }
+  /// The column coordinate of v before truncation: column(x) = clamp(floor(t)), so
+  /// comparing t with the strip's integer bounds decides membership the same way.
+  double columnCoordinate(VertexId v) const
+  {
+    return (grid_.points[v].x - grid_.origin_x) * grid_.inv_cell_size;
+  }
+  bool inStrip(VertexId v) const
+  {
+    const double t = columnCoordinate(v);
+    return t >= low_ && t < high_;
+  }
+  /// Growth crosses an edge only next to a strip vertex: it stays in the stars of the
+  /// strip's vertices, which hold every owned triangle.
+  bool expandable(HalfedgeId e) const
+  {
+    return inStrip(origin(e)) || inStrip(target(e));
+  }
+  bool isOpen(HalfedgeId e) const
+  {
+    const HalfedgeId h = mesh_.halfedges[e];
+    return h >= OPEN && h != CLOSED;
+  }
+  HalfedgeId nextOpen(HalfedgeId e) const { return mesh_.halfedges[e] & ~OPEN; }
+  HalfedgeId& head(VertexId v) { return inStrip(v) ? open_head_[v] : foreign_[v]; }
+
+  void reserve()
+  {
+    std::size_t vertices = 0;
+    for (std::uint32_t j = 0; j < grid_.ny; ++j) {
+      const CellId row = grid_.cellId(0, j);
+      vertices +=
+          grid_.cell_start[row + end_column_] - grid_.cell_start[row + first_column_];
+    }
+    const std::size_t expected = 2 * vertices + vertices / 16 + 64;
+    mesh_.triangles.reserve(3 * expected);
+    mesh_.halfedges.reserve(3 * expected);
+    mesh_.owned.reserve(expected);
+  }
+
+  HalfedgeId addTriangle(VertexId a, VertexId b, VertexId c)
+  {
+    const auto e = static_cast<HalfedgeId>(mesh_.triangles.size());
+    const double ta = columnCoordinate(a), tb = columnCoordinate(b),
+                 tc = columnCoordinate(c);
+    for (const auto& [v, t] : {std::pair{a, ta}, std::pair{b, tb}, std::pair{c, tc}}) {
+      mesh_.triangles.push_back(v);
+      mesh_.halfedges.push_back(CLOSED);
+      if (t >= low_ && t < high_)
+        covered_[v] = 1;
+    }
+    // Owned: the leftmost vertex column is in the strip (one vertex is, so none is
+    // right of it).
+    const bool owned = ta >= low_ && tb >= low_ && tc >= low_;
+    mesh_.owned.push_back(owned ? 1 : 0);
+    mesh_.owned_count += owned ? 1 : 0;
+    return e;
+  }
+
+  void link(HalfedgeId e, HalfedgeId f)
+  {
+    mesh_.halfedges[e] = f;
+    mesh_.halfedges[f] = e;
+  }
+
+  /// Links e with its open twin if that exists; otherwise e becomes open.
+  /// Returns true when e is new open work.
+  bool linkOrOpen(HalfedgeId e)
+  {
+    const VertexId from = origin(e), to = target(e);
+    HalfedgeId& first = head(to);
+    HalfedgeId prev = NIL;
+    for (HalfedgeId h = first; h != NIL; prev = h, h = nextOpen(h))
+      if (target(h) == from) {
+        if (prev == NIL)
+          first = nextOpen(h);
+        else
+          mesh_.halfedges[prev] = OPEN | nextOpen(h);
+        link(e, h);
+        return false;
+      }
+    HalfedgeId& own = head(from);
+    mesh_.halfedges[e] = OPEN | own;
+    own = e;
+    return true;
+  }
+
+  /// Removes open e from its origin's list; it ends CLOSED.
+  void close(HalfedgeId e)
+  {
+    HalfedgeId& first = head(origin(e));
+    HalfedgeId prev = NIL;
+    for (HalfedgeId h = first; h != NIL; prev = h, h = nextOpen(h))
+      if (h == e) {
+        if (prev == NIL)
+          first = nextOpen(h);
+        else
+          mesh_.halfedges[prev] = OPEN | nextOpen(h);
+        mesh_.halfedges[e] = CLOSED;
+        return;
+      }
+  }
+
+  void openEdges(HalfedgeId first, HalfedgeId end)
+  {
+    for (HalfedgeId g = first; g < end; ++g)
+      if (linkOrOpen(g) && expandable(g))
+        pool_.push_back(g);
+  }
+
+  Status grow()
+  {
+    while (!pool_.empty()) {
+      const HalfedgeId e = pool_.back();
+      pool_.pop_back();
+      if (!isOpen(e))
+        continue;
+      const VertexId x = origin(e), y = target(e);
+      if (hull_next_[x] == y) {
+        close(e); // the right side of a hull edge is outside
+        continue;
+      }
+      const VertexId p = search_.findThirdPoint(y, x);
+      if (p == INVALID_ID)
+        return Status::error(StatusCode::INTERNAL_ERROR,
+                             "no Delaunay triangle found across interior edge " +
+                                 std::to_string(x) + "-" + std::to_string(y));
+      if (mesh_.owned.size() >= MAX_TRIANGLES)
+        return Status::error(StatusCode::INVALID_PARAMETER,
+                             "too many triangles for 32-bit halfedge ids");
+      close(e);
+      const HalfedgeId f = addTriangle(y, x, p);
+      link(f, e);
+      openEdges(f + 1, f + 3);
+    }
+    return Status::success();
+  }
+
+  /// Points near v sorted by floating-point distance; the exact nearest neighbour is
+  /// among them (rings of cells are scanned until no farther ring can beat the best).
+  void seedCandidates(VertexId v)
+  {
+    candidates_.clear();
+    const Point2 pv = grid_.points[v];
+    const auto i = static_cast<std::int64_t>(grid_.column(pv.x));
+    const auto j = static_cast<std::int64_t>(grid_.row(pv.y));
+    double best = std::numeric_limits<double>::infinity();
+    const auto scan = [&](std::int64_t ci, std::int64_t cj) {
+      if (ci < 0 || cj < 0 || ci >= grid_.nx || cj >= grid_.ny)
+        return;
+      const CellId c =
+          grid_.cellId(static_cast<std::uint32_t>(ci), static_cast<std::uint32_t>(cj));
+      for (VertexId w = grid_.cell_start[c]; w < grid_.cell_start[c + 1]; ++w) {
+        if (w == v)
+          continue;
+        const double dx = grid_.points[w].x - pv.x, dy = grid_.points[w].y - pv.y;
+        const double d2 = dx * dx + dy * dy;
+        candidates_.emplace_back(d2, w);
+        best = std::min(best, d2);
+      }
+    };
+    for (std::int64_t r = 0;; ++r) {
+      if (r == 0)
+        scan(i, j);
+      for (std::int64_t k = -r; k <= r && r > 0; ++k) {
+        scan(i + k, j - r);
+        scan(i + k, j + r);
+        if (k != -r && k != r) {
+          scan(i - r, j + k);
+          scan(i + r, j + k);
+        }
+      }
+      // Points of rings beyond r are at least r cells (less the slack) away.
+      const double reach = static_cast<double>(r) * grid_.cell_size - 2.0 * grid_.slack;
+      const bool all =
+          i - r <= 0 && j - r <= 0 && i + r >= grid_.nx - 1 && j + r >= grid_.ny - 1;
+      if (all || (reach > 0.0 && best * (1.0 + 1e-6) < reach * reach))
+        break;
+    }
+    std::sort(candidates_.begin(), candidates_.end());
+  }
+
+  /// Starts growing at v from an edge v-w proved Delaunay: the apexes on its two sides
+  /// are found by the exact search, and the edge is in the triangulation iff the right
+  /// apex is outside the circle of the left triangle (or it is a hull edge). The exact
+  /// nearest neighbour always passes, so trying candidates by distance ends.
+  Status seedAt(VertexId v)
+  {
+    seedCandidates(v);
+    for (const auto& [d2, w] : candidates_) {
+      const VertexId p = search_.findThirdPoint(v, w);
+      const VertexId q = search_.findThirdPoint(w, v);
+      bool delaunay = false;
+      if (p != INVALID_ID && q != INVALID_ID)
+        delaunay = incirclePerturbed(grid_.points[v], grid_.points[w], grid_.points[p],
+                                     grid_.points[q]) == Sign::NEGATIVE;
+      else if (p != INVALID_ID || q != INVALID_ID)
+        delaunay = hull_next_[v] == w || hull_next_[w] == v;
+      if (!delaunay)
+        continue;
+      HalfedgeId e = CLOSED, f = CLOSED;
+      if (p != INVALID_ID)
+        e = addTriangle(v, w, p);
+      if (q != INVALID_ID)
+        f = addTriangle(w, v, q);
+      if (e != CLOSED && f != CLOSED)
+        link(e, f);
+      if (e != CLOSED)
+        openEdges(e + 1, e + 3);
+      if (f != CLOSED)
+        openEdges(f + 1, f + 3);
+      return Status::success();
+    }
+    return Status::error(StatusCode::INTERNAL_ERROR,
+                         "no Delaunay edge found at point " + std::to_string(v));
+  }
+
+  /// Owned halfedges whose twin is not owned, or still open off the hull, are
+  /// strip borders: the merge pairs them with the neighbouring strip's.
+  void finish()
+  {
+    for (std::size_t t = 0; t < mesh_.owned.size(); ++t) {
+      if (!mesh_.owned[t])
+        continue;
+      for (HalfedgeId e = static_cast<HalfedgeId>(3 * t); e < 3 * t + 3; ++e) {
+        const HalfedgeId h = mesh_.halfedges[e];
+        if (h < OPEN)
+          mesh_.halfedges[e] = mesh_.owned[h / 3] ? h : StripMesh::BORDER;
+        else if (h != CLOSED)
+          mesh_.halfedges[e] =
+              hull_next_[origin(e)] == target(e) ? INVALID_ID : StripMesh::BORDER;
+        else
+          mesh_.halfedges[e] = INVALID_ID;
+      }
+    }
+  }
+
+  const CellGrid& grid_;
+  const std::vector<VertexId>& hull_next_;
+  MediatrixSearch& search_;
+  std::vector<HalfedgeId>& open_head_;
+  std::vector<std::uint8_t>& covered_;
+  StripMesh& mesh_;
+  const std::uint32_t first_column_;
+  const std::uint32_t end_column_;
+  const double low_; ///< column coordinates in [low_, high_) are in the strip
+  const double high_;
+  ForeignHeads foreign_;
+  std::vector<HalfedgeId> pool_;
+  std::vector<std::pair<double, VertexId>> candidates_;
+};
+
+} // namespace
+
+StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)
+{
+  constexpr std::uint32_t TARGET_STRIPS = 32;
+  constexpr std::uint32_t MIN_WIDTH_SHIFT = 5; // 32 columns
+  StripLayout layout;
+  if (columns != 0) {
+    while ((1u << layout.shift) < columns)
+      ++layout.shift;
+  } else {
+    layout.shift = MIN_WIDTH_SHIFT;
+    while ((grid.nx >> layout.shift) > TARGET_STRIPS)
+      ++layout.shift;
+  }
+  layout.count = ((grid.nx - 1) >> layout.shift) + 1;
+  return layout;
+}
+
+Status growStrip(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
+                 const std::vector<VertexId>& hull_next, MediatrixSearch& search,
+                 std::vector<HalfedgeId>& open_head, std::vector<std::uint8_t>& covered,
+                 StripMesh& mesh)
+{
+  return Growth(grid, layout, strip, hull_next, search, open_head, covered, mesh).run();
+}
+
+} // namespace detail
+} // namespace pcl_vts

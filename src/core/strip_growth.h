@@ -1,0 +1,57 @@
+// Region growing inside one vertical strip of grid columns (internal to the
+// triangulator). A strip grows every Delaunay triangle that has a vertex in its
+// columns, starting from certified seed edges, and keeps the ones it *owns*: those
+// whose leftmost vertex (smallest column) lies in the strip. Every triangle has one
+// owner, so the strips together tile the hull; they share only the read-only grid,
+// so they can run on different threads, and each strip's result depends on nothing
+// but the strip: the output is the same for every thread count.
+#pragma once
+
+#include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/mediatrix_search.h>
+#include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/core/status.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace pcl_vts {
+namespace detail {
+
+/// Columns [first, last) of the grid; strips are numbered left to right and a
+/// triangle belongs to the strip of its smallest vertex column.
+struct StripLayout {
+  std::uint32_t shift = 0; ///< strip of column i = i >> shift
+  std::uint32_t count = 1; ///< number of strips
+  std::uint32_t stripOfColumn(std::uint32_t i) const { return i >> shift; }
+};
+
+/// Strips fixed by the grid alone (never by the thread count): about 32 of them, at
+/// least 32 columns wide, so the triangles grown twice along strip borders stay a few
+/// percent of the work; or `columns` wide when that is not 0 (a power of two).
+StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns = 0);
+
+/// What one strip grew. Halfedge slots of owned triangles hold a strip-local twin
+/// (of an owned triangle), BORDER (the twin belongs to another strip) or INVALID_ID
+/// (hull).
+struct StripMesh {
+  static constexpr HalfedgeId BORDER = 0xfffffffdu;
+  std::vector<VertexId> triangles;   ///< 3 per triangle grown (owned or not)
+  std::vector<HalfedgeId> halfedges; ///< 1 per halfedge, see above (owned only)
+  std::vector<std::uint8_t> owned;   ///< 1 per triangle grown
+  std::size_t owned_count = 0;
+};
+
+/// Grows strip `strip` of `layout`. `open_head` (one slot per grid point, NIL-filled)
+/// and `covered` (one byte per point, zero) are shared by all strips: a strip only
+/// touches the slots of its own vertices. `hull_next[v]` = w when v->w is a hull edge.
+Status growStrip(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
+                 const std::vector<VertexId>& hull_next, MediatrixSearch& search,
+                 std::vector<HalfedgeId>& open_head, std::vector<std::uint8_t>& covered,
+                 StripMesh& mesh);
+
+/// The value open_head slots must hold before growing.
+constexpr HalfedgeId OPEN_LIST_END = 0x7ffffffeu;
+
+} // namespace detail
+} // namespace pcl_vts
