@@ -3,19 +3,22 @@
 // keeping float64 coordinates intact. Shape of PCL's tools (tools/gp3_surface.cpp): one
 // "[done, ...]" line per stage; but every option is validated, each failure class has
 // its own exit code and one stderr line, and the output appears only when complete
-// (mesh_writer.h).
+// (mesh_writer.h). --png draws the final mesh (mesh_picture.h).
 #include <pcl_vts/core/vts_pipeline.h>
+#include <pcl_vts/mesh_picture.h>
 #include <pcl_vts/mesh_writer.h>
 #include <pcl_vts/point_cloud_loader.h>
 #include <pcl_vts/preprocess_cloud.h>
 
 #include <pcl/console/print.h>
 
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdarg>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -32,11 +35,14 @@ namespace {
 constexpr int EXIT_USAGE = 1;    // unknown option, bad value, bad output extension
 constexpr int EXIT_INPUT = 2;    // input file missing, unreadable or not valid
 constexpr int EXIT_DATA = 3;     // input read but unusable: no/too few/collinear points
-constexpr int EXIT_OUTPUT = 4;   // the mesh could not be written
+constexpr int EXIT_OUTPUT = 4;   // the mesh (or the --png picture) could not be written
 constexpr int EXIT_INTERNAL = 5; // a bug or out of memory
 
 constexpr double DEFAULT_CELL_SIZE = 0.0;
 constexpr const char* DEFAULT_DUPLICATES = "lowest";
+constexpr int DEFAULT_PNG_WIDTH = 1000;
+constexpr int MIN_PNG_WIDTH = 64;
+constexpr int MAX_PNG_WIDTH = 8192;
 
 struct CliOptions {
   std::string input;
@@ -48,6 +54,9 @@ struct CliOptions {
   bool no_fill = false;
   bool ascii = false;
   bool force_double = false;
+  std::string png;                   ///< --png: picture of the final mesh, or none
+  int png_width = DEFAULT_PNG_WIDTH; ///< pixels per view
+  bool png_width_given = false;
   bool quiet = false;
   bool help = false;
 };
@@ -127,6 +136,12 @@ void printHelp()
       "  --double            declare double vertex coordinates in PLY/VTK even when\n"
       "                      float32 is exact (default: only when float32 would "
       "round)\n"
+      "  --png FILE          also draw the final mesh into FILE (.png), written after\n"
+      "                      the mesh: top view (north up) and oblique view from the\n"
+      "                      south-west side by side, hill-shaded and coloured by\n"
+      "                      height, boundary edges red, inserted points as dots\n"
+      "                      (default: no picture)\n"
+      "  --png-width N       pixels per view, whole N in %d..%d (default: %d)\n"
       "  --quiet             print nothing but errors (default: print a summary)\n"
       "\n"
       "Exit status:\n"
@@ -138,12 +153,12 @@ void printHelp()
       "  3  input data unusable: no points (or none left after --classes/--returns,\n"
       "     all NODATA), fewer than 3 distinct XY positions, all points collinear,\n"
       "     coordinates out of range\n"
-      "  4  output error: the mesh could not be written (folder missing, not "
-      "writable,\n"
-      "     disk full); no output file is left behind\n"
+      "  4  output error: the mesh or the --png picture could not be written (folder\n"
+      "     missing, not writable, disk full); no partial file is left behind\n"
       "  5  internal error (out of memory, or a bug: please report)\n"
       "Errors print one line on stderr starting with \"pcd_to_mesh: error: \".\n",
-      DEFAULT_CELL_SIZE, DEFAULT_DUPLICATES, pcl_vts::TrimOptions{}.trim_factor);
+      DEFAULT_CELL_SIZE, DEFAULT_DUPLICATES, pcl_vts::TrimOptions{}.trim_factor,
+      MIN_PNG_WIDTH, MAX_PNG_WIDTH, DEFAULT_PNG_WIDTH);
 }
 
 /// Strict: the whole text is one finite number >= 0 (PCL's parse_argument is not).
@@ -208,6 +223,17 @@ bool parseNonNegative(const std::string& name, const char* text, double& value,
   return true;
 }
 
+/// True when path ends in ".png", any case.
+bool hasPngExtension(const std::string& path)
+{
+  if (path.size() < 5 || path[path.size() - 5] == '/')
+    return false;
+  std::string ext = path.substr(path.size() - 4);
+  for (char& c : ext)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".png";
+}
+
 /// Parses argv; on failure error holds the one-line reason.
 bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
 {
@@ -237,7 +263,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
         name == "--cell-size" || name == "--duplicates" || name == "--classes" ||
         name == "--returns" || name == "--trim-factor" || name == "--max-edge" ||
         name == "--max-hole-area" || name == "--threads" || name == "--crop" ||
-        name == "--voxel" || name == "--grid-min" || name == "--outliers";
+        name == "--voxel" || name == "--grid-min" || name == "--outliers" ||
+        name == "--png" || name == "--png-width";
     if (inline_value && !takes_value) {
       error = "option '" + name + "' takes no value";
       return false;
@@ -314,6 +341,24 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
         return false;
       }
       opt.vts.threads = static_cast<unsigned>(threads);
+    } else if (name == "--png") {
+      if (!hasPngExtension(value)) {
+        error = "--png: '" + value + "' must name a .png file";
+        return false;
+      }
+      opt.png = value;
+    } else if (name == "--png-width") {
+      double width = 0.0;
+      if (!parseNonNegative(name, value.c_str(), width, error, nullptr))
+        return false;
+      if (width != std::floor(width) || width < MIN_PNG_WIDTH ||
+          width > MAX_PNG_WIDTH) {
+        error = name + ": '" + value + "' must be a whole number of pixels in " +
+                std::to_string(MIN_PNG_WIDTH) + ".." + std::to_string(MAX_PNG_WIDTH);
+        return false;
+      }
+      opt.png_width = static_cast<int>(width);
+      opt.png_width_given = true;
     } else if (name == "--duplicates") {
       if (!pcl_vts::parseDuplicateRule(value.c_str(), opt.vts.duplicate_rule)) {
         error =
@@ -348,6 +393,10 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
   }
   if (opt.help)
     return true;
+  if (opt.png_width_given && opt.png.empty()) {
+    error = "--png-width needs --png FILE";
+    return false;
+  }
   opt.vts.reconstruction.trim = !opt.no_trim;
   opt.vts.reconstruction.fill = !opt.no_fill;
   if (positional.size() != 2) {
@@ -476,6 +525,50 @@ int checkOutputPath(const std::string& path, Reporter& out)
   return 0;
 }
 
+std::string formatMs(double ms)
+{
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", ms);
+  return text;
+}
+
+/// --png: the final mesh from above and from the south-west, one camera frame for
+/// both, boundary edges (halfedges without twin) red, inserted points as dots.
+pcl_vts::Status drawMesh(const CliOptions& opt, const pcl_vts::TriangleMesh& mesh,
+                         const std::vector<std::uint8_t>& inserted, std::string& size,
+                         std::uint64_t& bytes)
+{
+  pcl_vts::PictureMesh picture_mesh = pcl_vts::pictureMeshOf(mesh);
+  picture_mesh.vertex_marks = inserted;
+  const pcl_vts::PictureFrame frame = pcl_vts::pictureFrameOf(picture_mesh);
+  const std::size_t slash = opt.input.rfind('/');
+  const std::string title =
+      (slash == std::string::npos ? opt.input : opt.input.substr(slash + 1)) + ": " +
+      std::to_string(mesh.vertexCount()) + " vertices, " +
+      std::to_string(mesh.triangleCount()) + " triangles";
+  pcl_vts::PictureOptions top;
+  top.width = opt.png_width;
+  top.caption = title + "\ntop view, north up";
+  pcl_vts::PictureOptions oblique = top;
+  oblique.view = pcl_vts::PictureView::OBLIQUE;
+  char exaggeration[64];
+  std::snprintf(exaggeration, sizeof exaggeration, ", z x %.3g",
+                pcl_vts::pictureZScaleOf(frame, oblique));
+  oblique.caption = title + "\noblique view from the south-west" + exaggeration;
+  const pcl_vts::Picture picture =
+      pcl_vts::besideEachOther({pcl_vts::renderMesh(picture_mesh, frame, top),
+                                pcl_vts::renderMesh(picture_mesh, frame, oblique)},
+                               opt.png_width / 50);
+  size = std::to_string(picture.width) + " x " + std::to_string(picture.height) +
+         " pixels";
+  if (pcl_vts::Status s = pcl_vts::writePng(opt.png, picture); !s.ok())
+    return s;
+  struct stat st {};
+  bytes =
+      ::stat(opt.png.c_str(), &st) == 0 ? static_cast<std::uint64_t>(st.st_size) : 0;
+  return pcl_vts::Status::success();
+}
+
 int run(const CliOptions& opt)
 {
   Reporter out(opt.quiet);
@@ -487,6 +580,9 @@ int run(const CliOptions& opt)
     return out.fail(EXIT_USAGE, s.message);
   if (const int rc = checkOutputPath(opt.output, out); rc != 0)
     return rc;
+  if (!opt.png.empty())
+    if (const int rc = checkOutputPath(opt.png, out); rc != 0)
+      return rc;
 
   out.begin("Reading '%s' ", opt.input.c_str());
   auto start = Clock::now();
@@ -599,6 +695,26 @@ int run(const CliOptions& opt)
                          pcl_vts::meshFileFormatName(written.format) + ", " +
                          precision + ", " + std::to_string(written.bytes) + " bytes");
 
+  double ms_picture = 0.0;
+  if (!opt.png.empty()) {
+    out.begin("Drawing '%s' ", opt.png.c_str());
+    start = Clock::now();
+    std::uint64_t bytes = 0;
+    std::string size;
+    if (pcl_vts::Status s =
+            drawMesh(opt, result.mesh,
+                     write_options.inserted ? *write_options.inserted
+                                            : std::vector<std::uint8_t>{},
+                     size, bytes);
+        !s.ok())
+      return out.fail(s.code == pcl_vts::StatusCode::IO_ERROR ? EXIT_OUTPUT
+                                                              : EXIT_INTERNAL,
+                      s.message);
+    ms_picture = msSince(start);
+    out.done(ms_picture,
+             size + ", top and oblique views, " + std::to_string(bytes) + " bytes");
+  }
+
   out.line("Summary\n");
   out.line("  %-20s %zu\n", "points read", input.points_read);
   out.line("  %-20s %zu\n", "points kept", input.points_kept);
@@ -618,12 +734,16 @@ int run(const CliOptions& opt)
     out.line("  %-20s %zu\n", "points inserted", rd.fill.points_inserted);
   }
   out.line("  %-20s read %.1f, grid %.1f, hull %.1f, triangulate %.1f, trim %.1f, "
-           "fill %.1f, write %.1f, total %.1f\n",
+           "fill %.1f, write %.1f, %s%stotal %.1f\n",
            "time (ms)", ms_read, 1e3 * d.seconds_grid, 1e3 * d.seconds_hull,
            1e3 * d.seconds_triangulate, 1e3 * rd.seconds_trim, 1e3 * rd.seconds_fill,
-           ms_write, msSince(t_total));
+           ms_write, opt.png.empty() ? "" : "picture ",
+           opt.png.empty() ? "" : (formatMs(ms_picture) + ", ").c_str(),
+           msSince(t_total));
   out.line("  %-20s %.1f MiB\n", "peak memory", peakMemoryMiB());
   out.line("  %-20s %s\n", "mesh written to", opt.output.c_str());
+  if (!opt.png.empty())
+    out.line("  %-20s %s\n", "picture written to", opt.png.c_str());
   std::fflush(stdout);
   return 0;
 }

@@ -1,13 +1,14 @@
 // Before/after pictures of the post-passes for docs/reconstruction.md, written only
-// when PCL_VTS_PICTURE_DIR is set (skipped otherwise): the raw Delaunay mesh with the
-// triangles trimming removes in red, and the trimmed + filled mesh with the hole
-// patches in blue and inserted points as dark dots.
+// when PCL_VTS_PICTURE_DIR is set (skipped otherwise) by the library's renderer
+// (mesh_picture.h), top view, one camera for both: the raw Delaunay mesh with the
+// triangles trimming removes in grey, and the trimmed + filled mesh with the hole
+// patches tinted blue, inserted points as dark dots and boundary edges in red.
 #include "support/asc_reader.h"
-#include "support/mesh_picture.h"
 #include "support/pipeline_checks.h"
 #include "support/surface_checks.h"
 
 #include <pcl_vts/core/reconstruct_surface.h>
+#include <pcl_vts/mesh_picture.h>
 
 #include <gtest/gtest.h>
 
@@ -50,23 +51,30 @@ void writeBeforeAfter(const std::string& dir, const std::string& name,
   ASSERT_TRUE(reconstructSurface(filled, options, diagnostics).ok());
 
   const auto kept = triangleSet(trimmed);
-  std::vector<test::TriangleClass> before(raw.triangleCount(),
-                                          test::TriangleClass::KEPT);
+  PictureMesh before = pictureMeshOf(raw);
+  before.triangle_class.assign(
+      raw.triangleCount(), static_cast<std::uint8_t>(PictureTriangleClass::SURFACE));
   for (std::size_t t = 0; t < raw.triangleCount(); ++t) {
     std::array<VertexId, 3> key = {raw.triangles[3 * t], raw.triangles[3 * t + 1],
                                    raw.triangles[3 * t + 2]};
     std::sort(key.begin(), key.end());
     if (!kept.count(key))
-      before[t] = test::TriangleClass::REMOVED;
+      before.triangle_class[t] =
+          static_cast<std::uint8_t>(PictureTriangleClass::REMOVED);
   }
-  std::vector<test::TriangleClass> after(filled.triangleCount(),
-                                         test::TriangleClass::KEPT);
+  PictureMesh after = pictureMeshOf(filled);
+  after.triangle_class.assign(filled.triangleCount(),
+                              static_cast<std::uint8_t>(PictureTriangleClass::SURFACE));
   for (std::size_t t = trimmed.triangleCount(); t < filled.triangleCount(); ++t)
-    after[t] = test::TriangleClass::FILLED;
+    after.triangle_class[t] = static_cast<std::uint8_t>(PictureTriangleClass::FILLED);
+  after.vertex_marks = diagnostics.fill.inserted;
+  const PictureFrame frame = unionOf(pictureFrameOf(before), pictureFrameOf(after));
+  PictureOptions view;
+  view.width = 480;
   EXPECT_TRUE(
-      test::writeMeshPicture(dir + "/" + name + "_before.png", raw, before, {}, 480));
-  EXPECT_TRUE(test::writeMeshPicture(dir + "/" + name + "_after.png", filled, after,
-                                     diagnostics.fill.inserted, 480));
+      writePng(dir + "/" + name + "_before.png", renderMesh(before, frame, view)).ok());
+  EXPECT_TRUE(
+      writePng(dir + "/" + name + "_after.png", renderMesh(after, frame, view)).ok());
 }
 
 const char* pictureDir()

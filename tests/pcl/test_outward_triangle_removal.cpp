@@ -3,11 +3,11 @@
 // default parameters. Checks every invariant of the output PolygonMesh (back through
 // the core arrays) and prints the counts quoted in docs/reconstruction.md. Skipped
 // when ../shared/data is absent. Also the adapters' error paths.
-#include "support/mesh_picture.h"
 #include "support/surface_checks.h"
 
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/hole_filling.h>
+#include <pcl_vts/mesh_picture.h>
 #include <pcl_vts/outward_triangle_removal.h>
 #include <pcl_vts/vts_grid_triangulation.h>
 
@@ -127,23 +127,33 @@ TEST(ReconstructionPictures, IsprsGroundSamp11)
   const pcl_vts::TriangleMesh raw_arrays = asArrays(*raw);
   const pcl_vts::TriangleMesh filled_arrays = asArrays(filled);
   // Trimming keeps the order of the surviving triangles: walk both lists.
-  std::vector<pcl_vts::test::TriangleClass> before(
-      raw->polygons.size(), pcl_vts::test::TriangleClass::REMOVED);
+  using pcl_vts::PictureTriangleClass;
+  pcl_vts::PictureMesh before = pcl_vts::pictureMeshOf(raw_arrays);
+  before.triangle_class.assign(
+      raw->polygons.size(), static_cast<std::uint8_t>(PictureTriangleClass::REMOVED));
   for (std::size_t t = 0, k = 0;
        t < raw->polygons.size() && k < trimmed->polygons.size(); ++t)
     if (raw->polygons[t].vertices == trimmed->polygons[k].vertices) {
-      before[t] = pcl_vts::test::TriangleClass::KEPT;
+      before.triangle_class[t] =
+          static_cast<std::uint8_t>(PictureTriangleClass::SURFACE);
       ++k;
     }
-  std::vector<pcl_vts::test::TriangleClass> after(filled.polygons.size(),
-                                                  pcl_vts::test::TriangleClass::KEPT);
-  for (std::size_t t = trimmed->polygons.size(); t < after.size(); ++t)
-    after[t] = pcl_vts::test::TriangleClass::FILLED;
-  EXPECT_TRUE(pcl_vts::test::writeMeshPicture(std::string(dir) + "/samp11_before.png",
-                                              raw_arrays, before, {}, 480));
-  EXPECT_TRUE(pcl_vts::test::writeMeshPicture(std::string(dir) + "/samp11_after.png",
-                                              filled_arrays, after,
-                                              fill.getInsertedFlags(), 480));
+  pcl_vts::PictureMesh after = pcl_vts::pictureMeshOf(filled_arrays);
+  after.triangle_class.assign(filled.polygons.size(),
+                              static_cast<std::uint8_t>(PictureTriangleClass::SURFACE));
+  for (std::size_t t = trimmed->polygons.size(); t < filled.polygons.size(); ++t)
+    after.triangle_class[t] = static_cast<std::uint8_t>(PictureTriangleClass::FILLED);
+  after.vertex_marks = fill.getInsertedFlags();
+  const pcl_vts::PictureFrame frame =
+      pcl_vts::unionOf(pcl_vts::pictureFrameOf(before), pcl_vts::pictureFrameOf(after));
+  pcl_vts::PictureOptions options;
+  options.width = 480;
+  EXPECT_TRUE(pcl_vts::writePng(std::string(dir) + "/samp11_before.png",
+                                pcl_vts::renderMesh(before, frame, options))
+                  .ok());
+  EXPECT_TRUE(pcl_vts::writePng(std::string(dir) + "/samp11_after.png",
+                                pcl_vts::renderMesh(after, frame, options))
+                  .ok());
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, IsprsGround,

@@ -4,6 +4,8 @@
 // reader written here and checks invariants against the input read independently:
 // 2n - h - 2 triangles (h from an exact hull), CCW, all vertices used, vertices equal
 // to input points bit for bit, Delaunay with --no-trim --no-fill.
+#include "png_decode.h"
+
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/core/predicates.h>
@@ -1553,6 +1555,77 @@ TEST_F(PcdToMesh, PreprocessingOptionsAreValidated)
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("crop"), std::string::npos) << r.err;
   EXPECT_TRUE(workFiles().empty());
+}
+
+// ---- --png: a picture of the final mesh
+// ------------------------------------------------------
+
+TEST_F(PcdToMesh, PngOptionDrawsTheFinalMeshAsADecodablePicture)
+{
+  const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
+  const CliResult r =
+      run({input, "out.ply", "--png", "view.PNG", "--png-width", "300"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(workFiles(), (std::vector<std::string>{"out.ply", "view.PNG"}));
+  Picture picture;
+  std::string error;
+  ASSERT_TRUE(test::decodePng(work("view.PNG").string(), picture, error)) << error;
+  EXPECT_EQ(picture.width, 2 * 300 + 300 / 50); // top and oblique, a gap between
+  std::size_t red = 0, marks = 0;
+  for (std::size_t i = 0; i + 2 < picture.rgb.size(); i += 3) {
+    const PictureColour c{picture.rgb[i], picture.rgb[i + 1], picture.rgb[i + 2]};
+    red += c.r == PICTURE_BOUNDARY.r && c.g == PICTURE_BOUNDARY.g &&
+           c.b == PICTURE_BOUNDARY.b;
+    marks += c.r == PICTURE_MARK.r && c.g == PICTURE_MARK.g && c.b == PICTURE_MARK.b;
+  }
+  EXPECT_GT(red, 100u) << "the outline is drawn in red";
+  EXPECT_GT(marks, 10u) << "inserted points are drawn as dots";
+  EXPECT_NE(r.out.find("Drawing 'view.PNG' [done"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("picture written to"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(", picture "), std::string::npos) << "time of the picture step";
+}
+
+TEST_F(PcdToMesh, PngOptionsAreValidated)
+{
+  const std::string input = TEST_DATA + "/samp11-utm-ground.pcd";
+  expectUsageErrors(input, {{"--png", "view.jpg"},
+                            {"--png", ".png/"},
+                            {"--png-width", "10"},
+                            {"--png-width", "1.5"},
+                            {"--png-width", "9000"},
+                            {"--png-width", "abc"}});
+  const auto before = workFiles();
+  expectFailure(run({input, "out.ply", "--png-width", "500"}), 1, "needs --png",
+                before);
+  expectFailure(run({input, "out.ply", "--png"}), 1, "needs a value", before);
+}
+
+TEST_F(PcdToMesh, UnwritablePngPathIsAnOutputErrorAndLeavesNoFile)
+{
+  writeBytes(work("in.pcd"), binaryPcd64(utmCloud(60, 3)));
+  const auto before = workFiles();
+  // Checked before any work: no mesh either.
+  expectFailure(run({"in.pcd", "out.ply", "--png", "no/such/view.png"}), 4,
+                "does not exist", before);
+  fs::create_directory(work("taken.png"));
+  const auto with_folder = workFiles();
+  expectFailure(run({"in.pcd", "out.ply", "--png", "taken.png"}), 4, "it is a folder",
+                with_folder);
+  fs::remove(work("taken.png"));
+  // The picture fails after the mesh is written (an 8 KiB file size limit: the small
+  // mesh fits, the picture does not): exit 4, the complete mesh stays, no partial PNG.
+  const CliResult r = run({"in.pcd", "out.ply", "--png", "view.png"}, "ulimit -f 8 &&");
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_NE(r.err.find("view.png"), std::string::npos) << r.err;
+  EXPECT_EQ(workFiles(), (std::vector<std::string>{"in.pcd", "out.ply"}));
+}
+
+TEST_F(PcdToMesh, HelpListsThePngOptions)
+{
+  const CliResult r = run({"--help"});
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("--png FILE"), std::string::npos);
+  EXPECT_NE(r.out.find("--png-width N"), std::string::npos);
 }
 
 } // namespace

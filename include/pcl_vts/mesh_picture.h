@@ -1,0 +1,114 @@
+// Pictures of 2.5D triangle meshes for people: a z-buffered software rasteriser
+// (hill shading from the north-west over a hypsometric colour ramp, top or oblique
+// view) and a truecolour PNG writer with its own deflate. PCL-free, no zlib, so
+// tools and test binaries link it cheaply (target pcl_vts_picture).
+#pragma once
+
+#include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/core/status.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl_vts {
+
+enum class PictureView : std::uint8_t {
+  TOP,    ///< orthographic from above, north (+y) up
+  OBLIQUE ///< orthographic from the south-west, ~35 degrees above the horizon
+};
+
+/// Values of PictureMesh::triangle_class.
+enum class PictureTriangleClass : std::uint8_t { SURFACE = 0, REMOVED = 1, FILLED = 2 };
+
+/// A mesh to draw: plain arrays, any triangle soup (need not be manifold).
+struct PictureMesh {
+  /// x, y, z per vertex (world units; may be UTM-sized).
+  std::vector<double> xyz;
+  /// 3 vertex ids per triangle.
+  std::vector<std::uint32_t> triangles;
+  /// Empty, or per triangle: 0 surface, 1 removed, 2 filled (PictureTriangleClass).
+  std::vector<std::uint8_t> triangle_class;
+  /// Empty, or per vertex: non-zero drawn as a dot.
+  std::vector<std::uint8_t> vertex_marks;
+  /// Vertex-id pairs, drawn red.
+  std::vector<std::uint32_t> boundary_edges;
+  /// Vertex-id pairs, drawn magenta.
+  std::vector<std::uint32_t> non_manifold_edges;
+};
+
+/// The triangles of a core mesh (vertices xy + z), with boundary_edges taken from its
+/// halfedges (the edges without a twin); no classes, no marks.
+PictureMesh pictureMeshOf(const TriangleMesh& mesh);
+
+/// World box the camera frames; the same frame for several meshes gives the same
+/// camera.
+struct PictureFrame {
+  double min[3];
+  double max[3];
+};
+
+/// Box of the finite vertices used by triangles (all +inf/-inf when there is none:
+/// isEmpty() then holds).
+PictureFrame pictureFrameOf(const PictureMesh& mesh);
+/// Smallest box holding both (an empty box is the neutral element).
+PictureFrame unionOf(const PictureFrame& a, const PictureFrame& b);
+/// True when the box holds no point or is not finite.
+bool isEmpty(const PictureFrame& frame);
+
+struct PictureOptions {
+  PictureView view = PictureView::TOP;
+  int width = 800;     ///< pixels; height follows from the frame's aspect
+  double z_scale = 0;  ///< vertical exaggeration for OBLIQUE; 0 = automatic
+  std::string caption; ///< drawn at the top-left in a small bitmap font; empty = none
+};
+
+/// 3 bytes/pixel, row-major, top row first.
+struct Picture {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgb;
+};
+
+/// Colours the picture uses, for tests and legends.
+struct PictureColour {
+  std::uint8_t r, g, b;
+};
+constexpr PictureColour PICTURE_BACKGROUND{255, 255, 255};
+constexpr PictureColour PICTURE_BOUNDARY{230, 0, 0};
+constexpr PictureColour PICTURE_NON_MANIFOLD{230, 0, 230};
+constexpr PictureColour PICTURE_MARK{20, 20, 20};
+/// Back faces (seen from below: flipped triangles) are shaded from this orange.
+constexpr PictureColour PICTURE_BACK_FACE{255, 140, 0};
+
+/// Draws mesh as seen through frame. Never fails: degenerate input (no triangle, an
+/// empty frame or one without horizontal extent) gives a white picture whose text
+/// says why; triangles, edges and marks with a non-finite or out-of-range vertex are
+/// skipped. options.width is clamped to 16..8192 and the height to 2 x width (long
+/// strips are scaled to fit). Linear in the number of triangles plus pixels.
+Picture renderMesh(const PictureMesh& mesh, const PictureFrame& frame,
+                   const PictureOptions& options);
+
+/// Where renderMesh(mesh, frame, options) draws the world point (x, y, z): column and
+/// row in pixels, fractional (0, 0 is the top-left corner of the top-left pixel, so
+/// pixel (i, j) covers [i, i+1) x [j, j+1)). False when the frame is empty or flat
+/// (renderMesh then draws only a message).
+bool picturePixelOf(const PictureFrame& frame, const PictureOptions& options, double x,
+                    double y, double z, double& column, double& row);
+
+/// The vertical exaggeration renderMesh applies for this frame and options (OBLIQUE
+/// geometry, and hill shading in both views): options.z_scale when > 0, else relief
+/// about 1/4 of the horizontal extent, between 1 and 20. 1 for an empty frame.
+double pictureZScaleOf(const PictureFrame& frame, const PictureOptions& options);
+
+/// Tiles pictures left to right with white gaps; the result is as tall as the
+/// tallest (shorter ones are padded white at the bottom).
+Picture besideEachOther(const std::vector<Picture>& pictures, int gap_pixels);
+
+/// Writes a truecolour 8-bit RGB PNG. Atomic: ".<name>.tmp.<pid>" in the target
+/// folder, then rename; on failure the temp file is removed.
+/// \return INVALID_PARAMETER for an inconsistent picture (size or rgb length),
+///         IO_ERROR naming the path and the system's reason when writing fails.
+Status writePng(const std::string& path, const Picture& picture);
+
+} // namespace pcl_vts

@@ -1,0 +1,171 @@
+// writePng: truecolour PNG (IHDR, IDAT, IEND) with per-row adaptive filters, deflated
+// by png_deflate.h, written atomically like mesh_writer.h (temp file, fsync, rename).
+#include "png_deflate.h"
+
+#include <pcl_vts/mesh_picture.h>
+
+#include <array>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
+#include <string>
+#include <unistd.h>
+
+namespace pcl_vts {
+
+namespace {
+
+std::uint32_t crc32(const std::uint8_t* data, std::size_t size, std::uint32_t crc)
+{
+  static const std::array<std::uint32_t, 256> table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t n = 0; n < 256; ++n) {
+      std::uint32_t c = n;
+      for (int k = 0; k < 8; ++k)
+        c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[n] = c;
+    }
+    return t;
+  }();
+  crc = ~crc;
+  for (std::size_t i = 0; i < size; ++i)
+    crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
+  return ~crc;
+}
+
+void putBigEndian(std::vector<std::uint8_t>& out, std::uint32_t value)
+{
+  for (int k = 3; k >= 0; --k)
+    out.push_back(static_cast<std::uint8_t>(value >> (8 * k)));
+}
+
+void putChunk(std::vector<std::uint8_t>& out, const char* type,
+              const std::vector<std::uint8_t>& data)
+{
+  putBigEndian(out, static_cast<std::uint32_t>(data.size()));
+  const std::size_t start = out.size();
+  out.insert(out.end(), type, type + 4);
+  out.insert(out.end(), data.begin(), data.end());
+  putBigEndian(out, crc32(out.data() + start, out.size() - start, 0));
+}
+
+std::uint8_t paeth(int a, int b, int c)
+{
+  const int p = a + b - c;
+  const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
+  return static_cast<std::uint8_t>(pa <= pb && pa <= pc ? a : pb <= pc ? b : c);
+}
+
+/// Scanlines, each prefixed by the filter (None, Sub, Up, Average, Paeth) whose
+/// output has the smallest sum of |signed bytes|: libpng's heuristic, which turns
+/// smooth shading into runs of small values that deflate well.
+std::vector<std::uint8_t> filteredScanlines(const Picture& picture)
+{
+  const std::size_t row_bytes = 3 * static_cast<std::size_t>(picture.width);
+  std::vector<std::uint8_t> out;
+  out.reserve((row_bytes + 1) * static_cast<std::size_t>(picture.height));
+  const std::vector<std::uint8_t> zero_row(row_bytes, 0);
+  std::array<std::vector<std::uint8_t>, 5> candidate;
+  for (auto& c : candidate)
+    c.resize(row_bytes);
+  for (int y = 0; y < picture.height; ++y) {
+    const std::uint8_t* row = picture.rgb.data() + y * row_bytes;
+    const std::uint8_t* up = y > 0 ? row - row_bytes : zero_row.data();
+    std::size_t best = 0;
+    long best_cost = -1;
+    for (std::size_t f = 0; f < 5; ++f) {
+      long cost = 0;
+      for (std::size_t i = 0; i < row_bytes; ++i) {
+        const int a = i >= 3 ? row[i - 3] : 0, b = up[i], c = i >= 3 ? up[i - 3] : 0;
+        const int predictor = f == 0   ? 0
+                              : f == 1 ? a
+                              : f == 2 ? b
+                              : f == 3 ? (a + b) / 2
+                                       : paeth(a, b, c);
+        const auto v = static_cast<std::uint8_t>(row[i] - predictor);
+        candidate[f][i] = v;
+        cost += v < 128 ? v : 256 - v;
+      }
+      if (best_cost < 0 || cost < best_cost) {
+        best_cost = cost;
+        best = f;
+      }
+    }
+    out.push_back(static_cast<std::uint8_t>(best));
+    out.insert(out.end(), candidate[best].begin(), candidate[best].end());
+  }
+  return out;
+}
+
+Status ioError(const std::string& what, const std::string& path, int err)
+{
+  return Status::error(StatusCode::IO_ERROR,
+                       what + " '" + path + "': " + std::strerror(err));
+}
+
+/// bytes under path, or nothing: a temp file in the same folder, synced, renamed.
+Status writeFileAtomically(const std::string& path,
+                           const std::vector<std::uint8_t>& bytes)
+{
+  const std::size_t slash = path.rfind('/');
+  const std::string folder =
+      slash == std::string::npos ? "" : path.substr(0, slash + 1);
+  const std::string temp =
+      folder + "." + path.substr(folder.size()) + ".tmp." + std::to_string(::getpid());
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0)
+    return ioError("cannot write", path, errno);
+  int err = 0;
+  const std::uint8_t* p = bytes.data();
+  std::size_t left = bytes.size();
+  while (left > 0 && err == 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno != EINTR)
+      err = errno;
+    else if (n == 0)
+      err = EIO;
+    else if (n > 0) {
+      p += n;
+      left -= static_cast<std::size_t>(n);
+    }
+  }
+  if (err == 0 && ::fsync(fd) != 0)
+    err = errno;
+  if (::close(fd) != 0 && err == 0)
+    err = errno;
+  if (err == 0 && ::rename(temp.c_str(), path.c_str()) != 0)
+    err = errno;
+  if (err != 0) {
+    ::unlink(temp.c_str());
+    return ioError("cannot write", path, err);
+  }
+  return Status::success();
+}
+
+} // namespace
+
+Status writePng(const std::string& path, const Picture& picture)
+{
+  if (picture.width < 1 || picture.height < 1 ||
+      picture.rgb.size() != 3 * static_cast<std::size_t>(picture.width) *
+                                static_cast<std::size_t>(picture.height))
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "cannot write '" + path + "': picture of " +
+                             std::to_string(picture.width) + " x " +
+                             std::to_string(picture.height) + " pixels with " +
+                             std::to_string(picture.rgb.size()) + " rgb bytes");
+  std::vector<std::uint8_t> png = {137, 80, 78, 71, 13, 10, 26, 10};
+  std::vector<std::uint8_t> header;
+  putBigEndian(header, static_cast<std::uint32_t>(picture.width));
+  putBigEndian(header, static_cast<std::uint32_t>(picture.height));
+  header.insert(header.end(),
+                {8, 2, 0, 0, 0}); // 8-bit RGB, deflate, filters, no interlace
+  putChunk(png, "IHDR", header);
+  const std::vector<std::uint8_t> raw = filteredScanlines(picture);
+  putChunk(png, "IDAT", png_detail::zlibCompress(raw.data(), raw.size()));
+  putChunk(png, "IEND", {});
+  return writeFileAtomically(path, png);
+}
+
+} // namespace pcl_vts
