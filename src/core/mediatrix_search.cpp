@@ -20,11 +20,9 @@ constexpr double MAX_LENGTH = 1e90;
 constexpr std::size_t MAX_LOCAL_CELLS = 64;
 // A best circle covering at most this many cells is scanned directly, no widening.
 constexpr std::size_t MAX_DISK_CELLS = 256;
-// The guess scans the cells within this distance (in edge lengths, at least half a
-// cell) of the circumcentre of the equilateral apex, m + n / (2 sqrt 3), when they are
-// at most GUESS_CELLS.
+// The guess scans the cells within half a cell of the circumcentre of the equilateral
+// apex, m + n / (2 sqrt 3): at most 2 x 2 cells.
 constexpr double GUESS_CENTRE = 0.2887;
-constexpr double GUESS_RADIUS = 0.62;
 constexpr std::size_t GUESS_CELLS = 9;
 // The guess's circle is settled directly when it covers at most this many cells.
 constexpr std::size_t QUICK_CELLS = 16;
@@ -50,8 +48,11 @@ SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& p)
   const double ux = b.x - a.x, uy = b.y - a.y;
   const double vx = p.x - a.x, vy = p.y - a.y;
   const double u2 = ux * ux + uy * uy, v2 = vx * vx + vy * vy;
-  const double ulen = std::sqrt(u2), vlen = std::sqrt(v2);
-  if (!(ulen >= MIN_LENGTH && ulen <= MAX_LENGTH && vlen >= MIN_LENGTH &&
+  // Upper bounds of |u| and |v| (within a factor sqrt 2), no square root: they only
+  // loosen the error bound and the conditioning test.
+  const double ulen = std::fabs(ux) + std::fabs(uy),
+               vlen = std::fabs(vx) + std::fabs(vy);
+  if (!(ulen >= 2.0 * MIN_LENGTH && ulen <= MAX_LENGTH && vlen >= 2.0 * MIN_LENGTH &&
         vlen <= MAX_LENGTH))
     return disk;
   const double uv = ulen * vlen;
@@ -89,8 +90,7 @@ VertexId MediatrixSearch::guessThirdPoint(const Query& q) const
   const double nx = q.pa.y - q.pb.y, ny = q.pb.x - q.pa.x;
   const double quarter = 0.25 * (nx * nx + ny * ny);
   const double gx = mx + GUESS_CENTRE * nx, gy = my + GUESS_CENTRE * ny;
-  const double reach =
-      std::max(GUESS_RADIUS * std::sqrt(4.0 * quarter), 0.5 * grid_.cell_size);
+  const double reach = 0.5 * grid_.cell_size;
   const Window w{grid_.column(gx - reach), grid_.column(gx + reach),
                  grid_.row(gy - reach), grid_.row(gy + reach)};
   if (cellCount(w) > GUESS_CELLS || windowHasCrowdedCell(w))

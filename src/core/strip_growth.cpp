@@ -63,6 +63,36 @@ class ForeignHeads {
   std::size_t size_ = 0;
 };
 
+/// The open edges, lowest grid row first: the strip is grown bottom-up like a sweep,
+/// so the frontier spans a few rows of the strip and its points stay in cache.
+class RowQueue {
+ public:
+  explicit RowQueue(std::uint32_t rows)
+      : rows_(rows)
+  {}
+  bool empty() const { return size_ == 0; }
+  void push(HalfedgeId e, std::uint32_t row)
+  {
+    rows_[row].push_back(e);
+    lowest_ = std::min(lowest_, row);
+    ++size_;
+  }
+  HalfedgeId pop()
+  {
+    while (rows_[lowest_].empty())
+      ++lowest_;
+    const HalfedgeId e = rows_[lowest_].back();
+    rows_[lowest_].pop_back();
+    --size_;
+    return e;
+  }
+
+ private:
+  std::vector<std::vector<HalfedgeId>> rows_;
+  std::uint32_t lowest_ = 0;
+  std::size_t size_ = 0;
+};
+
 class Growth {
  public:
   Growth(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
@@ -214,14 +244,13 @@ class Growth {
   {
     for (HalfedgeId g = first; g < end; ++g)
       if (linkOrOpen(g) && expandable(g))
-        pool_.push_back(g);
+        pool_.push(g, grid_.row(grid_.points[origin(g)].y));
   }
 
   Status grow()
   {
     while (!pool_.empty()) {
-      const HalfedgeId e = pool_.back();
-      pool_.pop_back();
+      const HalfedgeId e = pool_.pop();
       if (!isOpen(e))
         continue;
       const VertexId x = origin(e), y = target(e);
@@ -355,7 +384,7 @@ class Growth {
   const double low_; ///< column coordinates in [low_, high_) are in the strip
   const double high_;
   ForeignHeads foreign_;
-  std::vector<HalfedgeId> pool_;
+  RowQueue pool_{grid_.ny};
   std::vector<std::pair<double, VertexId>> candidates_;
 };
 
