@@ -88,26 +88,22 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
                          std::to_string(n) + " points need " +
                              std::to_string(expected) +
                              " triangles, beyond the 32-bit halfedge range");
-  // hull_next[v] = w when v->w is a hull edge (interior on its left).
-  std::vector<VertexId> hull_next(n, INVALID_ID);
-  for (std::size_t k = 0; k < h; ++k)
-    hull_next[hull[k]] = hull[(k + 1) % h];
+  const detail::HullEdges hull_edges(n, hull);
 
   // Strips are grown independently (any thread, any order) and merged in strip
   // order: the arrays are the same for every thread count.
   const detail::StripLayout layout = detail::stripLayoutFor(grid, strip_columns);
   std::vector<StripMesh> strips(layout.count);
   std::vector<Status> results(layout.count);
-  std::vector<HalfedgeId> open_head(n, detail::OPEN_LIST_END);
-  std::vector<std::uint8_t> covered(n, 0);
+  std::vector<HalfedgeId> open_head(n, detail::UNREACHED);
   const unsigned workers = std::max(1u, std::min<unsigned>(threads, layout.count));
   std::vector<SearchStats> worker_stats(workers);
   std::atomic<std::uint32_t> next_strip{0};
   const auto work = [&](unsigned w) {
     MediatrixSearch search(grid, pyramid, subdivision);
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++)
-      results[s] = detail::growStrip(grid, layout, s, hull_next, search, open_head,
-                                     covered, strips[s]);
+      results[s] =
+          detail::growStrip(grid, layout, s, hull_edges, search, open_head, strips[s]);
     worker_stats[w] = search.stats();
   };
   {
@@ -129,7 +125,6 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
     if (!s.ok())
       return s;
   std::vector<HalfedgeId>().swap(open_head);
-  std::vector<std::uint8_t>().swap(covered);
 
   std::size_t owned = 0;
   for (const StripMesh& s : strips)

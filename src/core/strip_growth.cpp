@@ -96,14 +96,12 @@ class RowQueue {
 class Growth {
  public:
   Growth(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
-         const std::vector<VertexId>& hull_next, MediatrixSearch& search,
-         std::vector<HalfedgeId>& open_head, std::vector<std::uint8_t>& covered,
-         StripMesh& mesh)
+         const HullEdges& hull, MediatrixSearch& search,
+         std::vector<HalfedgeId>& open_head, StripMesh& mesh)
       : grid_(grid)
-      , hull_next_(hull_next)
+      , hull_(hull)
       , search_(search)
       , open_head_(open_head)
-      , covered_(covered)
       , mesh_(mesh)
       , first_column_(strip << layout.shift)
       , end_column_(std::min(grid.nx, (strip + 1) << layout.shift))
@@ -123,7 +121,7 @@ class Growth {
       const CellId row = grid_.cellId(0, j);
       for (VertexId v = grid_.cell_start[row + first_column_];
            v < grid_.cell_start[row + end_column_]; ++v) {
-        if (covered_[v])
+        if (open_head_[v] != UNREACHED)
           continue;
         if (Status s = seedAt(v); !s.ok())
           return s;
@@ -171,7 +169,7 @@ class Growth {
       vertices +=
           grid_.cell_start[row + end_column_] - grid_.cell_start[row + first_column_];
     }
-    const std::size_t expected = 2 * vertices + vertices / 16 + 64;
+    const std::size_t expected = 2 * vertices + vertices / 32 + 64;
     mesh_.triangles.reserve(3 * expected);
     mesh_.halfedges.reserve(3 * expected);
     mesh_.owned.reserve(expected);
@@ -185,13 +183,13 @@ class Growth {
     for (const auto& [v, t] : {std::pair{a, ta}, std::pair{b, tb}, std::pair{c, tc}}) {
       mesh_.triangles.push_back(v);
       mesh_.halfedges.push_back(CLOSED);
-      if (t >= low_ && t < high_)
-        covered_[v] = 1;
+      if (t >= low_ && t < high_ && open_head_[v] == UNREACHED)
+        open_head_[v] = NIL; // reached: its star will be grown
     }
     // Owned: the leftmost vertex column is in the strip (one vertex is, so none is
     // right of it).
     const bool owned = ta >= low_ && tb >= low_ && tc >= low_;
-    mesh_.owned.push_back(owned ? 1 : 0);
+    mesh_.owned.push_back(owned);
     mesh_.owned_count += owned ? 1 : 0;
     return e;
   }
@@ -254,7 +252,7 @@ class Growth {
       if (!isOpen(e))
         continue;
       const VertexId x = origin(e), y = target(e);
-      if (hull_next_[x] == y) {
+      if (hull_.contains(x, y)) {
         close(e); // the right side of a hull edge is outside
         continue;
       }
@@ -333,7 +331,7 @@ class Growth {
         delaunay = incirclePerturbed(grid_.points[v], grid_.points[w], grid_.points[p],
                                      grid_.points[q]) == Sign::NEGATIVE;
       else if (p != INVALID_ID || q != INVALID_ID)
-        delaunay = hull_next_[v] == w || hull_next_[w] == v;
+        delaunay = hull_.contains(v, w) || hull_.contains(w, v);
       if (!delaunay)
         continue;
       HalfedgeId e = CLOSED, f = CLOSED;
@@ -366,7 +364,7 @@ class Growth {
           mesh_.halfedges[e] = mesh_.owned[h / 3] ? h : StripMesh::BORDER;
         else if (h != CLOSED)
           mesh_.halfedges[e] =
-              hull_next_[origin(e)] == target(e) ? INVALID_ID : StripMesh::BORDER;
+              hull_.contains(origin(e), target(e)) ? INVALID_ID : StripMesh::BORDER;
         else
           mesh_.halfedges[e] = INVALID_ID;
       }
@@ -374,10 +372,9 @@ class Growth {
   }
 
   const CellGrid& grid_;
-  const std::vector<VertexId>& hull_next_;
+  const HullEdges& hull_;
   MediatrixSearch& search_;
   std::vector<HalfedgeId>& open_head_;
-  std::vector<std::uint8_t>& covered_;
   StripMesh& mesh_;
   const std::uint32_t first_column_;
   const std::uint32_t end_column_;
@@ -389,6 +386,18 @@ class Growth {
 };
 
 } // namespace
+
+HullEdges::HullEdges(std::size_t points, const std::vector<VertexId>& hull)
+    : on_hull_((points + 63) / 64, 0)
+{
+  links_.reserve(hull.size());
+  for (std::size_t k = 0; k < hull.size(); ++k) {
+    const VertexId v = hull[k];
+    on_hull_[v >> 6] |= std::uint64_t{1} << (v & 63);
+    links_.emplace_back(v, hull[(k + 1) % hull.size()]);
+  }
+  std::sort(links_.begin(), links_.end());
+}
 
 StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)
 {
@@ -408,11 +417,10 @@ StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)
 }
 
 Status growStrip(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
-                 const std::vector<VertexId>& hull_next, MediatrixSearch& search,
-                 std::vector<HalfedgeId>& open_head, std::vector<std::uint8_t>& covered,
-                 StripMesh& mesh)
+                 const HullEdges& hull, MediatrixSearch& search,
+                 std::vector<HalfedgeId>& open_head, StripMesh& mesh)
 {
-  return Growth(grid, layout, strip, hull_next, search, open_head, covered, mesh).run();
+  return Growth(grid, layout, strip, hull, search, open_head, mesh).run();
 }
 
 } // namespace detail

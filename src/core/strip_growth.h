@@ -12,7 +12,9 @@
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace pcl_vts {
@@ -31,6 +33,25 @@ struct StripLayout {
 /// percent of the work; or `columns` wide when that is not 0 (a power of two).
 StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns = 0);
 
+/// The hull's directed edges v->w (interior on the left), for membership tests: a bit
+/// per point plus the sorted hull links, so it costs n/8 bytes, not 4n.
+class HullEdges {
+ public:
+  HullEdges(std::size_t points, const std::vector<VertexId>& hull);
+  bool contains(VertexId v, VertexId w) const
+  {
+    if (((on_hull_[v >> 6] >> (v & 63)) & 1u) == 0)
+      return false;
+    const auto it = std::lower_bound(links_.begin(), links_.end(),
+                                     std::pair<VertexId, VertexId>{v, 0});
+    return it != links_.end() && it->first == v && it->second == w;
+  }
+
+ private:
+  std::vector<std::uint64_t> on_hull_;
+  std::vector<std::pair<VertexId, VertexId>> links_; ///< (v, next hull vertex), by v
+};
+
 /// What one strip grew. Halfedge slots of owned triangles hold a strip-local twin
 /// (of an owned triangle), BORDER (the twin belongs to another strip) or INVALID_ID
 /// (hull).
@@ -38,20 +59,21 @@ struct StripMesh {
   static constexpr HalfedgeId BORDER = 0xfffffffdu;
   std::vector<VertexId> triangles;   ///< 3 per triangle grown (owned or not)
   std::vector<HalfedgeId> halfedges; ///< 1 per halfedge, see above (owned only)
-  std::vector<std::uint8_t> owned;   ///< 1 per triangle grown
+  std::vector<bool> owned;           ///< 1 per triangle grown
   std::size_t owned_count = 0;
 };
 
-/// Grows strip `strip` of `layout`. `open_head` (one slot per grid point, NIL-filled)
-/// and `covered` (one byte per point, zero) are shared by all strips: a strip only
-/// touches the slots of its own vertices. `hull_next[v]` = w when v->w is a hull edge.
+/// Grows strip `strip` of `layout`. `open_head` (one slot per grid point, filled with
+/// UNREACHED) is shared by all strips: a strip only touches the slots of its own
+/// vertices, where it keeps the head of each vertex's list of open halfedges.
 Status growStrip(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
-                 const std::vector<VertexId>& hull_next, MediatrixSearch& search,
-                 std::vector<HalfedgeId>& open_head, std::vector<std::uint8_t>& covered,
-                 StripMesh& mesh);
+                 const HullEdges& hull, MediatrixSearch& search,
+                 std::vector<HalfedgeId>& open_head, StripMesh& mesh);
 
-/// The value open_head slots must hold before growing.
+/// End of an open-halfedge list; halfedge ids stay below it.
 constexpr HalfedgeId OPEN_LIST_END = 0x7ffffffeu;
+/// The open_head value of a vertex no triangle of its strip touches yet.
+constexpr HalfedgeId UNREACHED = 0xffffffffu;
 
 } // namespace detail
 } // namespace pcl_vts
