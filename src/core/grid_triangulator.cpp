@@ -36,39 +36,42 @@ void releaseFreedMemory()
 #endif
 }
 
-/// Copies the owned triangles of one strip to the output from triangle `first` on,
-/// translating strip-local twins to global ids and collecting the border halfedges.
-/// Returns the next free triangle.
-TriangleId appendStrip(StripMesh& strip, TriangleId first,
-                       std::vector<VertexId>& triangles,
-                       std::vector<HalfedgeId>& halfedges,
-                       std::vector<BorderRecord>& border)
+/// Appends the owned triangles of one strip to the output, translating strip-local
+/// twins to global ids and collecting the border halfedges.
+void appendStrip(StripMesh& strip, std::vector<VertexId>& triangles,
+                 std::vector<HalfedgeId>& halfedges, std::vector<BorderRecord>& border)
 {
-  std::vector<TriangleId> global(strip.owned.size());
-  TriangleId next = first;
-  for (std::size_t t = 0; t < strip.owned.size(); ++t)
+  const std::size_t grown = strip.owned.size();
+  const std::size_t first = triangles.size() / 3;
+  // Global triangle of each owned local one (the output grows page by page, in
+  // order, while the strips before it have been released).
+  std::vector<TriangleId> global(grown);
+  auto next = static_cast<TriangleId>(first);
+  for (std::size_t t = 0; t < grown; ++t)
     global[t] = strip.owned[t] ? next++ : INVALID_ID;
-  for (std::size_t t = 0; t < strip.owned.size(); ++t) {
+  triangles.resize(3 * static_cast<std::size_t>(next));
+  halfedges.resize(3 * static_cast<std::size_t>(next));
+  const VertexId* local_v = strip.triangles.data();
+  const HalfedgeId* local_h = strip.halfedges.data();
+  for (std::size_t t = 0; t < grown; ++t) {
     if (global[t] == INVALID_ID)
       continue;
-    // Written in order: the output grows page by page while strips are released.
-    const std::size_t local = 3 * t;
+    const std::size_t out = 3 * static_cast<std::size_t>(global[t]);
     for (std::size_t k = 0; k < 3; ++k) {
-      const HalfedgeId h = strip.halfedges[local + k];
-      const auto e = static_cast<HalfedgeId>(triangles.size());
-      triangles.push_back(strip.triangles[local + k]);
+      const VertexId a = local_v[3 * t + k];
+      const HalfedgeId h = local_h[3 * t + k];
+      triangles[out + k] = a;
       if (h == StripMesh::BORDER) {
-        const VertexId a = strip.triangles[local + k];
-        const VertexId b = strip.triangles[local + (k + 1) % 3];
-        border.push_back({std::min(a, b), std::max(a, b), e});
-        halfedges.push_back(INVALID_ID);
+        const VertexId b = local_v[3 * t + (k == 2 ? 0 : k + 1)];
+        border.push_back(
+            {std::min(a, b), std::max(a, b), static_cast<HalfedgeId>(out + k)});
+        halfedges[out + k] = INVALID_ID;
       } else {
-        halfedges.push_back(h == INVALID_ID ? INVALID_ID : 3 * global[h / 3] + h % 3);
+        halfedges[out + k] = h == INVALID_ID ? INVALID_ID : 3 * global[h / 3] + h % 3;
       }
     }
   }
   strip = StripMesh();
-  return next;
 }
 
 } // namespace
@@ -139,9 +142,8 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   triangles.reserve(3 * expected);
   halfedges.reserve(3 * expected);
   std::vector<BorderRecord> border;
-  TriangleId next = 0;
   for (StripMesh& s : strips) {
-    next = appendStrip(s, next, triangles, halfedges, border);
+    appendStrip(s, triangles, halfedges, border);
     releaseFreedMemory();
   }
   // Each border edge is seen once from each side.

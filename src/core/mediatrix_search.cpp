@@ -119,8 +119,9 @@ void MediatrixSearch::testRange(std::uint32_t begin, std::uint32_t end, Query& q
 {
   ++stats_.cells_visited;
   stats_.points_tested += end - begin;
+  const Point2* points = grid_.points.data();
   for (std::uint32_t k = begin; k < end; ++k) {
-    const Point2& p = grid_.points[k];
+    const Point2& p = points[k];
     // Outside the safe disk means strictly outside the exact circle: not a candidate.
     const double dx = p.x - q.reject_cx, dy = p.y - q.reject_cy;
     if (dx * dx + dy * dy > q.reject_r2)
@@ -284,9 +285,12 @@ VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
     if (q.disk.valid) {
       const Window r = diskCells(q.disk);
       if (cellCount(r) <= QUICK_CELLS && !windowHasCrowdedCell(r)) {
-        for (std::uint32_t j = r.j0; j <= r.j1; ++j)
-          for (std::uint32_t i = r.i0; i <= r.i1; ++i)
-            testCell(grid_.cellId(i, j), q);
+        // The cells of a window row are contiguous in the grid: one range per row.
+        for (std::uint32_t j = r.j0; j <= r.j1; ++j) {
+          const CellId row = grid_.cellId(0, j);
+          testRange(grid_.cell_start[row + r.i0], grid_.cell_start[row + r.i1 + 1], q);
+          stats_.cells_visited += r.i1 - r.i0;
+        }
         ++stats_.local;
         return q.best;
       }

@@ -147,19 +147,16 @@ class Growth {
     const double t = columnCoordinate(v);
     return t >= low_ && t < high_;
   }
-  /// Growth crosses an edge only next to a strip vertex: it stays in the stars of the
-  /// strip's vertices, which hold every owned triangle.
-  bool expandable(HalfedgeId e) const
-  {
-    return inStrip(origin(e)) || inStrip(target(e));
-  }
   bool isOpen(HalfedgeId e) const
   {
     const HalfedgeId h = mesh_.halfedges[e];
     return h >= OPEN && h != CLOSED;
   }
   HalfedgeId nextOpen(HalfedgeId e) const { return mesh_.halfedges[e] & ~OPEN; }
-  HalfedgeId& head(VertexId v) { return inStrip(v) ? open_head_[v] : foreign_[v]; }
+  HalfedgeId& head(VertexId v, bool in_strip)
+  {
+    return in_strip ? open_head_[v] : foreign_[v];
+  }
 
   void reserve()
   {
@@ -180,9 +177,11 @@ class Growth {
     const auto e = static_cast<HalfedgeId>(mesh_.triangles.size());
     const double ta = columnCoordinate(a), tb = columnCoordinate(b),
                  tc = columnCoordinate(c);
+    int k = 0;
     for (const auto& [v, t] : {std::pair{a, ta}, std::pair{b, tb}, std::pair{c, tc}}) {
       mesh_.triangles.push_back(v);
       mesh_.halfedges.push_back(CLOSED);
+      corner_in_strip_[k++] = t >= low_ && t < high_;
       if (t >= low_ && t < high_ && open_head_[v] == UNREACHED)
         open_head_[v] = NIL; // reached: its star will be grown
     }
@@ -202,10 +201,10 @@ class Growth {
 
   /// Links e with its open twin if that exists; otherwise e becomes open.
   /// Returns true when e is new open work.
-  bool linkOrOpen(HalfedgeId e)
+  bool linkOrOpen(HalfedgeId e, bool from_in_strip, bool to_in_strip)
   {
     const VertexId from = origin(e), to = target(e);
-    HalfedgeId& first = head(to);
+    HalfedgeId& first = head(to, to_in_strip);
     HalfedgeId prev = NIL;
     for (HalfedgeId h = first; h != NIL; prev = h, h = nextOpen(h))
       if (target(h) == from) {
@@ -216,16 +215,16 @@ class Growth {
         link(e, h);
         return false;
       }
-    HalfedgeId& own = head(from);
+    HalfedgeId& own = head(from, from_in_strip);
     mesh_.halfedges[e] = OPEN | own;
     own = e;
     return true;
   }
 
   /// Removes open e from its origin's list; it ends CLOSED.
-  void close(HalfedgeId e)
+  void close(HalfedgeId e, bool origin_in_strip)
   {
-    HalfedgeId& first = head(origin(e));
+    HalfedgeId& first = head(origin(e), origin_in_strip);
     HalfedgeId prev = NIL;
     for (HalfedgeId h = first; h != NIL; prev = h, h = nextOpen(h))
       if (h == e) {
@@ -238,11 +237,18 @@ class Growth {
       }
   }
 
-  void openEdges(HalfedgeId first, HalfedgeId end)
+  /// Links or opens the halfedges k0..2 of the triangle just added (whose corners'
+  /// strip membership addTriangle noted). Growth crosses an edge only next to a strip
+  /// vertex: it stays in the stars of the strip's vertices, which hold every owned
+  /// triangle.
+  void openEdges(HalfedgeId t0, int k0)
   {
-    for (HalfedgeId g = first; g < end; ++g)
-      if (linkOrOpen(g) && expandable(g))
+    for (int k = k0; k < 3; ++k) {
+      const bool from_in = corner_in_strip_[k], to_in = corner_in_strip_[(k + 1) % 3];
+      const HalfedgeId g = t0 + static_cast<HalfedgeId>(k);
+      if (linkOrOpen(g, from_in, to_in) && (from_in || to_in))
         pool_.push(g, grid_.row(grid_.points[origin(g)].y));
+    }
   }
 
   Status grow()
@@ -253,7 +259,7 @@ class Growth {
         continue;
       const VertexId x = origin(e), y = target(e);
       if (hull_.contains(x, y)) {
-        close(e); // the right side of a hull edge is outside
+        close(e, inStrip(x)); // the right side of a hull edge is outside
         continue;
       }
       const VertexId p = search_.findThirdPoint(y, x);
@@ -264,10 +270,10 @@ class Growth {
       if (mesh_.owned.size() >= MAX_TRIANGLES)
         return Status::error(StatusCode::INVALID_PARAMETER,
                              "too many triangles for 32-bit halfedge ids");
-      close(e);
       const HalfedgeId f = addTriangle(y, x, p);
+      close(e, corner_in_strip_[1]);
       link(f, e);
-      openEdges(f + 1, f + 3);
+      openEdges(f, 1);
     }
     return Status::success();
   }
@@ -335,16 +341,16 @@ class Growth {
       if (!delaunay)
         continue;
       HalfedgeId e = CLOSED, f = CLOSED;
-      if (p != INVALID_ID)
+      if (p != INVALID_ID) {
         e = addTriangle(v, w, p);
-      if (q != INVALID_ID)
+        openEdges(e, 1);
+      }
+      if (q != INVALID_ID) {
         f = addTriangle(w, v, q);
+        openEdges(f, 1);
+      }
       if (e != CLOSED && f != CLOSED)
         link(e, f);
-      if (e != CLOSED)
-        openEdges(e + 1, e + 3);
-      if (f != CLOSED)
-        openEdges(f + 1, f + 3);
       return Status::success();
     }
     return Status::error(StatusCode::INTERNAL_ERROR,
@@ -381,6 +387,7 @@ class Growth {
   const double low_; ///< column coordinates in [low_, high_) are in the strip
   const double high_;
   ForeignHeads foreign_;
+  bool corner_in_strip_[3] = {false, false, false}; ///< of the last triangle added
   RowQueue pool_{grid_.ny};
   std::vector<std::pair<double, VertexId>> candidates_;
 };
