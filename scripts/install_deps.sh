@@ -11,6 +11,7 @@ PACKAGES=(
   clang-format
   clang libclang-rt-14-dev   # libFuzzer + ASan/UBSan runtimes: the reader fuzzers in ctest
   time                  # peak-memory figures in make bench
+  gnuplot-nox           # make bench: docs/img/bench_ns_per_point.png
   libgdal-dev           # optional: GeoTIFF input of pcd_to_mesh
 )
 

@@ -1,11 +1,19 @@
 // One measurement per process, so that peak RSS belongs to one method and one input:
 //   bench_triangulation METHOD DIST N [SEED [THREADS]]
+//   bench_triangulation METHOD file PATH [--classes LIST] [--name NAME] [THREADS]
 //   METHOD: vts | cgal      DIST: jittered | uniform | clustered | grid
 //   bench_triangulation write-pcd DIST N FILE [SEED]: the same input as a binary PCD
 //   with float64 x y z, shifted to UTM-like coordinates (+5e5 east, +5e6 north).
-// Prints one JSON line. The input is generated before the clock starts; "baseline"
-// is the resident set after generation, so bytes_per_point counts the method alone.
+// Prints one JSON line. The input is generated or read (pcl_vts::loadPointCloud, any
+// file pcd_to_mesh reads) before the clock starts. "input_rss_mib" is the resident
+// set once the input is in memory (after malloc_trim); the high-water mark is reset
+// there (/proc/self/clear_refs), so "peak_rss_mib" is the peak while the method ran
+// (input included) and bytes_per_point_above_input counts the method alone.
+// Both methods get the same points: VTS merges identical XY positions itself (its
+// duplicate rule, timed), CGAL's insertion keeps the first vertex at an XY position
+// (timed too); "distinct" lets the two vertex counts be compared.
 #include <pcl_vts/core/vts_pipeline.h>
+#include <pcl_vts/point_cloud_loader.h>
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -17,9 +25,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <malloc.h>
 #include <random>
 #include <string>
-#include <sys/resource.h>
 #include <vector>
 
 namespace {
@@ -27,23 +35,6 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Traits = CGAL::Projection_traits_xy_3<Kernel>;
 using Delaunay = CGAL::Delaunay_triangulation_2<Traits>;
-
-double currentRssMiB()
-{
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind("VmRSS:", 0) == 0)
-      return std::atof(line.c_str() + 6) / 1024.0;
-  return 0.0;
-}
-
-double peakRssMiB()
-{
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;
-}
 
 /// Terrain-like heights so the inputs are 2.5D surfaces.
 double terrain(double x, double y)
@@ -94,6 +85,35 @@ std::vector<double> generate(const std::string& dist, std::size_t n, unsigned se
   return xyz;
 }
 
+struct Measure {
+  std::string method, dist, input;
+  std::size_t n = 0;
+  unsigned threads = 1;
+  double load_seconds = -1.0;
+  double load_peak_mib = 0.0;
+};
+
+double statusMiB(const char* key)
+{
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  const std::size_t length = std::strlen(key);
+  while (std::getline(status, line))
+    if (line.compare(0, length, key) == 0)
+      return std::atof(line.c_str() + length) / 1024.0;
+  return 0.0;
+}
+
+/// Sets the high-water mark of the resident set to the current resident set (Linux
+/// >= 4.0). False where that is not allowed: the peak is then the process's.
+bool resetPeakRss()
+{
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+  clear.close();
+  return !clear.fail();
+}
+
 int writePcd(const std::vector<double>& xyz, const char* path)
 {
   const std::size_t n = xyz.size() / 3;
@@ -117,6 +137,76 @@ int writePcd(const std::vector<double>& xyz, const char* path)
   return (std::fclose(f) == 0 && ok) ? 0 : 1;
 }
 
+std::string baseName(const std::string& path)
+{
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+/// JSON string contents: the few characters a file name may hold that need escaping.
+std::string jsonText(const std::string& text)
+{
+  std::string out;
+  for (const char c : text) {
+    if (c == '"' || c == '\\')
+      out += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20)
+      out += c;
+  }
+  return out;
+}
+
+int usage(const char* self)
+{
+  std::fprintf(stderr,
+               "usage: %s vts|cgal jittered|uniform|clustered|grid N [SEED [THREADS]]\n"
+               "       %s vts|cgal file PATH [--classes LIST] [--name NAME] [THREADS]\n"
+               "       %s write-pcd jittered|uniform|clustered|grid N FILE [SEED]\n",
+               self, self, self);
+  return 1;
+}
+
+/// Reads the file mode's arguments (after "METHOD file") and the file itself.
+int loadFile(int argc, char** argv, Measure& m, std::vector<double>& xyz)
+{
+  if (argc < 4)
+    return usage(argv[0]);
+  const std::string path = argv[3];
+  pcl_vts::CloudLoadOptions options;
+  m.input = baseName(path);
+  for (int k = 4; k < argc; ++k) {
+    const std::string arg = argv[k];
+    if ((arg == "--classes" || arg == "--name") && k + 1 < argc) {
+      const std::string value = argv[++k];
+      if (arg == "--name") {
+        m.input = value;
+      } else if (pcl_vts::Status s = pcl_vts::parseClassList(value, options.classes);
+                 !s.ok()) {
+        std::fprintf(stderr, "bench_triangulation: %s\n", s.toString().c_str());
+        return 1;
+      }
+    } else if (!arg.empty() && arg[0] != '-') {
+      m.threads = static_cast<unsigned>(std::atoi(arg.c_str()));
+    } else {
+      std::fprintf(stderr, "bench_triangulation: unknown argument '%s'\n", arg.c_str());
+      return usage(argv[0]);
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  pcl_vts::CloudDescription description;
+  const pcl_vts::Status status =
+      pcl_vts::loadPointCloud(path, options, xyz, description);
+  if (!status.ok()) {
+    std::fprintf(stderr, "bench_triangulation: cannot read '%s': %s\n", path.c_str(),
+                 status.toString().c_str());
+    return 2;
+  }
+  m.load_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  m.n = xyz.size() / 3;
+  return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -126,33 +216,48 @@ int main(int argc, char** argv)
     const unsigned s = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 1u;
     return writePcd(generate(argv[2], count, s), argv[4]);
   }
-  if (argc < 4) {
-    std::fprintf(stderr,
-                 "usage: %s vts|cgal jittered|uniform|clustered|grid N [SEED]\n"
-                 "       %s write-pcd jittered|uniform|clustered|grid N FILE [SEED]\n",
-                 argv[0], argv[0]);
-    return 1;
+  if (argc < 4)
+    return usage(argv[0]);
+  Measure m;
+  m.method = argv[1];
+  m.dist = argv[2];
+  if (m.method != "vts" && m.method != "cgal") {
+    std::fprintf(stderr, "unknown method '%s'\n", m.method.c_str());
+    return usage(argv[0]);
   }
-  const std::string method = argv[1], dist = argv[2];
-  const auto n = static_cast<std::size_t>(std::atof(argv[3]));
-  const unsigned seed = argc > 4 ? static_cast<unsigned>(std::atoi(argv[4])) : 1u;
-  const unsigned threads = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 1u;
-  std::vector<double> xyz = generate(dist, n, seed);
+  std::vector<double> xyz;
+  if (m.dist == "file") {
+    if (int code = loadFile(argc, argv, m, xyz); code != 0)
+      return code;
+  } else {
+    m.input = m.dist;
+    m.n = static_cast<std::size_t>(std::atof(argv[3]));
+    const unsigned seed = argc > 4 ? static_cast<unsigned>(std::atoi(argv[4])) : 1u;
+    m.threads = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 1u;
+    xyz = generate(m.dist, m.n, seed);
+  }
+  const std::size_t n = m.n;
   std::vector<Traits::Point_2> cgal_points;
-  if (method == "cgal") {
+  if (m.method == "cgal") {
+    // Non-finite points (VTS drops and counts them) would break CGAL: left out.
     cgal_points.reserve(n);
     for (std::size_t k = 0; k < n; ++k)
-      cgal_points.emplace_back(xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
+      if (std::isfinite(xyz[3 * k]) && std::isfinite(xyz[3 * k + 1]) &&
+          std::isfinite(xyz[3 * k + 2]))
+        cgal_points.emplace_back(xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
     std::vector<double>().swap(xyz);
   }
-  const double baseline = currentRssMiB();
+  m.load_peak_mib = statusMiB("VmHWM:");
+  ::malloc_trim(0);
+  const double baseline = statusMiB("VmRSS:");
+  const bool peak_reset = resetPeakRss();
   const auto start = std::chrono::steady_clock::now();
-  std::size_t triangles = 0;
+  std::size_t triangles = 0, distinct = 0;
   std::string stages;
-  if (method == "vts") {
+  if (m.method == "vts") {
     pcl_vts::VtsOptions options;
     options.check_output = false;
-    options.threads = threads;
+    options.threads = m.threads;
     pcl_vts::VtsResult result;
     const pcl_vts::Status status =
         pcl_vts::runVtsPipeline(xyz.data(), n, options, result);
@@ -162,6 +267,7 @@ int main(int argc, char** argv)
     }
     triangles = result.mesh.triangleCount();
     const pcl_vts::Diagnostics& d = result.diagnostics;
+    distinct = d.distinct_points;
     const double searches = static_cast<double>(d.local_searches + d.widened_searches);
     char buffer[256];
     std::snprintf(buffer, sizeof buffer,
@@ -173,23 +279,28 @@ int main(int argc, char** argv)
                   static_cast<double>(d.points_tested) / searches,
                   static_cast<double>(d.widened_searches) / searches);
     stages = buffer;
-  } else if (method == "cgal") {
+  } else {
     // Range insertion: CGAL spatially sorts first, its fastest use.
     Delaunay dt(cgal_points.begin(), cgal_points.end());
     triangles = dt.number_of_faces();
-  } else {
-    std::fprintf(stderr, "unknown method '%s'\n", method.c_str());
-    return 1;
+    distinct = dt.number_of_vertices();
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double peak = peakRssMiB();
-  std::printf("{\"method\":\"%s\",\"dist\":\"%s\",\"n\":%zu,\"threads\":%u,"
-              "\"seconds\":%.4f,"
+  const double peak = statusMiB("VmHWM:");
+  char load[96] = "";
+  if (m.load_seconds >= 0.0)
+    std::snprintf(load, sizeof load, ",\"load_s\":%.4f", m.load_seconds);
+  std::printf("{\"method\":\"%s\",\"dist\":\"%s\",\"input\":\"%s\",\"n\":%zu,"
+              "\"distinct\":%zu,\"threads\":%u,\"seconds\":%.4f,"
               "\"ns_per_point\":%.1f,\"triangles\":%zu,\"peak_rss_mib\":%.1f,"
-              "\"input_rss_mib\":%.1f,\"bytes_per_point_above_input\":%.1f%s}\n",
-              method.c_str(), dist.c_str(), n, method == "vts" ? threads : 1u, seconds,
+              "\"input_rss_mib\":%.1f,\"load_peak_mib\":%.1f,\"peak_reset\":%s,"
+              "\"bytes_per_point_above_input\":%.1f%s%s}\n",
+              m.method.c_str(), m.dist.c_str(), jsonText(m.input).c_str(), n, distinct,
+              m.method == "vts" ? m.threads : 1u, seconds,
               1e9 * seconds / static_cast<double>(n), triangles, peak, baseline,
-              (peak - baseline) * 1024.0 * 1024.0 / static_cast<double>(n), stages.c_str());
+              m.load_peak_mib, peak_reset ? "true" : "false",
+              (peak - baseline) * 1024.0 * 1024.0 / static_cast<double>(n), load,
+              stages.c_str());
   return 0;
 }
