@@ -105,8 +105,8 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   const auto work = [&](unsigned w) {
     MediatrixSearch search(grid, pyramid, subdivision);
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++)
-      results[s] =
-          detail::growStrip(grid, layout, s, hull_edges, search, open_head, strips[s]);
+      results[s] = detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
+                                     open_head, strips[s]);
     worker_stats[w] = search.stats();
   };
   {

@@ -93,12 +93,19 @@ class RowQueue {
   std::size_t size_ = 0;
 };
 
+/// A block of the occupancy pyramid and its squared distance to a query point.
+struct NearBlock {
+  double key;
+  std::uint32_t level, i, j;
+};
+
 class Growth {
  public:
-  Growth(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
-         const HullEdges& hull, MediatrixSearch& search,
+  Growth(const CellGrid& grid, const CellPyramid& pyramid, const StripLayout& layout,
+         std::uint32_t strip, const HullEdges& hull, MediatrixSearch& search,
          std::vector<HalfedgeId>& open_head, StripMesh& mesh)
       : grid_(grid)
+      , pyramid_(pyramid)
       , hull_(hull)
       , search_(search)
       , open_head_(open_head)
@@ -279,45 +286,57 @@ class Growth {
   }
 
   /// Points near v sorted by floating-point distance; the exact nearest neighbour is
-  /// among them (rings of cells are scanned until no farther ring can beat the best).
+  /// among them. Blocks of the occupancy pyramid are visited nearest first, so empty
+  /// space costs a few large blocks, until the next block is farther than the best
+  /// point found (with a margin for rounding).
   void seedCandidates(VertexId v)
   {
     candidates_.clear();
     const Point2 pv = grid_.points[v];
-    const auto i = static_cast<std::int64_t>(grid_.column(pv.x));
-    const auto j = static_cast<std::int64_t>(grid_.row(pv.y));
     double best = std::numeric_limits<double>::infinity();
-    const auto scan = [&](std::int64_t ci, std::int64_t cj) {
-      if (ci < 0 || cj < 0 || ci >= grid_.nx || cj >= grid_.ny)
-        return;
-      const CellId c =
-          grid_.cellId(static_cast<std::uint32_t>(ci), static_cast<std::uint32_t>(cj));
-      for (VertexId w = grid_.cell_start[c]; w < grid_.cell_start[c + 1]; ++w) {
-        if (w == v)
-          continue;
-        const double dx = grid_.points[w].x - pv.x, dy = grid_.points[w].y - pv.y;
-        const double d2 = dx * dx + dy * dy;
-        candidates_.emplace_back(d2, w);
-        best = std::min(best, d2);
-      }
+    const auto farther = [](const NearBlock& l, const NearBlock& r) {
+      return l.key > r.key;
     };
-    for (std::int64_t r = 0;; ++r) {
-      if (r == 0)
-        scan(i, j);
-      for (std::int64_t k = -r; k <= r && r > 0; ++k) {
-        scan(i + k, j - r);
-        scan(i + k, j + r);
-        if (k != -r && k != r) {
-          scan(i - r, j + k);
-          scan(i + r, j + k);
-        }
-      }
-      // Points of rings beyond r are at least r cells (less the slack) away.
-      const double reach = static_cast<double>(r) * grid_.cell_size - 2.0 * grid_.slack;
-      const bool all =
-          i - r <= 0 && j - r <= 0 && i + r >= grid_.nx - 1 && j + r >= grid_.ny - 1;
-      if (all || (reach > 0.0 && best * (1.0 + 1e-6) < reach * reach))
+    blocks_.clear();
+    blocks_.push_back(
+        {0.0, static_cast<std::uint32_t>(pyramid_.levels.size() - 1), 0, 0});
+    while (!blocks_.empty()) {
+      std::pop_heap(blocks_.begin(), blocks_.end(), farther);
+      const NearBlock block = blocks_.back();
+      blocks_.pop_back();
+      if (block.key > best * (1.0 + 1e-6))
         break;
+      if (block.level == 0) {
+        const CellId c = grid_.cellId(block.i, block.j);
+        for (VertexId w = grid_.cell_start[c]; w < grid_.cell_start[c + 1]; ++w) {
+          const double dx = grid_.points[w].x - pv.x, dy = grid_.points[w].y - pv.y;
+          const double d2 = dx * dx + dy * dy;
+          if (w != v) {
+            candidates_.emplace_back(d2, w);
+            best = std::min(best, d2);
+          }
+        }
+        continue;
+      }
+      const std::uint32_t level = block.level - 1;
+      const CellPyramid::Level& fine = pyramid_.levels[level];
+      const double span = grid_.cell_size * static_cast<double>(1u << level);
+      for (std::uint32_t cj = 2 * block.j; cj < std::min(2 * block.j + 2, fine.ny);
+           ++cj)
+        for (std::uint32_t ci = 2 * block.i; ci < std::min(2 * block.i + 2, fine.nx);
+             ++ci) {
+          if (!pyramid_.occupied(level, ci, cj))
+            continue;
+          // The block's points lie within its rectangle widened by the grid slack.
+          const double x0 = grid_.origin_x + span * ci - grid_.slack;
+          const double x1 = grid_.origin_x + span * (ci + 1) + grid_.slack;
+          const double y0 = grid_.origin_y + span * cj - grid_.slack;
+          const double y1 = grid_.origin_y + span * (cj + 1) + grid_.slack;
+          const double dx = std::max({x0 - pv.x, 0.0, pv.x - x1});
+          const double dy = std::max({y0 - pv.y, 0.0, pv.y - y1});
+          blocks_.push_back({dx * dx + dy * dy, level, ci, cj});
+          std::push_heap(blocks_.begin(), blocks_.end(), farther);
+        }
     }
     std::sort(candidates_.begin(), candidates_.end());
   }
@@ -378,6 +397,7 @@ class Growth {
   }
 
   const CellGrid& grid_;
+  const CellPyramid& pyramid_;
   const HullEdges& hull_;
   MediatrixSearch& search_;
   std::vector<HalfedgeId>& open_head_;
@@ -390,6 +410,7 @@ class Growth {
   bool corner_in_strip_[3] = {false, false, false}; ///< of the last triangle added
   RowQueue pool_{grid_.ny};
   std::vector<std::pair<double, VertexId>> candidates_;
+  std::vector<NearBlock> blocks_;
 };
 
 } // namespace
@@ -423,11 +444,12 @@ StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)
   return layout;
 }
 
-Status growStrip(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
-                 const HullEdges& hull, MediatrixSearch& search,
-                 std::vector<HalfedgeId>& open_head, StripMesh& mesh)
+Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
+                 const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
+                 MediatrixSearch& search, std::vector<HalfedgeId>& open_head,
+                 StripMesh& mesh)
 {
-  return Growth(grid, layout, strip, hull, search, open_head, mesh).run();
+  return Growth(grid, pyramid, layout, strip, hull, search, open_head, mesh).run();
 }
 
 } // namespace detail

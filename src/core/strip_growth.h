@@ -8,6 +8,7 @@
 #pragma once
 
 #include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/cell_pyramid.h>
 #include <pcl_vts/core/mediatrix_search.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
@@ -66,9 +67,10 @@ struct StripMesh {
 /// Grows strip `strip` of `layout`. `open_head` (one slot per grid point, filled with
 /// UNREACHED) is shared by all strips: a strip only touches the slots of its own
 /// vertices, where it keeps the head of each vertex's list of open halfedges.
-Status growStrip(const CellGrid& grid, const StripLayout& layout, std::uint32_t strip,
-                 const HullEdges& hull, MediatrixSearch& search,
-                 std::vector<HalfedgeId>& open_head, StripMesh& mesh);
+Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
+                 const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
+                 MediatrixSearch& search, std::vector<HalfedgeId>& open_head,
+                 StripMesh& mesh);
 
 /// End of an open-halfedge list; halfedge ids stay below it.
 constexpr HalfedgeId OPEN_LIST_END = 0x7ffffffeu;
