@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
+#include <utility>
 
 namespace pcl_vts {
 namespace {
@@ -119,19 +121,44 @@ Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
     for (std::size_t k = 0; k < n; ++k)
       order[fill[cell_of[k]]++] = static_cast<std::uint32_t>(k);
   }
-  // Lexicographic inside each cell (cells hold a handful of points).
-  const auto lex = [&points](std::uint32_t a, std::uint32_t b) {
-    return lexLess(points[a], points[b]) || (points[a] == points[b] && a < b);
-  };
-  for (std::size_t c = 0; c < grid.cellCount(); ++c) {
-    const auto first = order.begin() + grid.cell_start[c];
-    const auto last = order.begin() + grid.cell_start[c + 1];
-    if (last - first > 1)
-      std::sort(first, last, lex);
-  }
   grid.points.resize(n);
   for (std::size_t k = 0; k < n; ++k)
     grid.points[k] = points[order[k]];
+  // Lexicographic inside each cell, on the gathered copy (no random reads), carrying
+  // `order` along: insertion sort for the usual handful of points, std::sort for
+  // crowded cells.
+  constexpr std::size_t INSERTION_SORT_MAX = 16;
+  std::vector<std::pair<Point2, std::uint32_t>> crowded;
+  const auto before = [](const std::pair<Point2, std::uint32_t>& a,
+                         const std::pair<Point2, std::uint32_t>& b) {
+    return lexLess(a.first, b.first) || (a.first == b.first && a.second < b.second);
+  };
+  for (std::size_t c = 0; c < grid.cellCount(); ++c) {
+    const std::size_t first = grid.cell_start[c], last = grid.cell_start[c + 1];
+    if (last - first > INSERTION_SORT_MAX) {
+      crowded.clear();
+      for (std::size_t k = first; k < last; ++k)
+        crowded.emplace_back(grid.points[k], order[k]);
+      std::sort(crowded.begin(), crowded.end(), before);
+      for (std::size_t k = first; k < last; ++k)
+        std::tie(grid.points[k], order[k]) = crowded[k - first];
+      continue;
+    }
+    for (std::size_t k = first + 1; k < last; ++k) {
+      const Point2 p = grid.points[k];
+      const std::uint32_t o = order[k];
+      std::size_t m = k;
+      for (; m > first; --m) {
+        const Point2& q = grid.points[m - 1];
+        if (!(lexLess(p, q) || (p == q && o < order[m - 1])))
+          break;
+        grid.points[m] = q;
+        order[m] = order[m - 1];
+      }
+      grid.points[m] = p;
+      order[m] = o;
+    }
+  }
   return Status::success();
 }
 
