@@ -1,3 +1,5 @@
+#include "parallel_for.h"
+
 #include <pcl_vts/core/cell_grid.h>
 
 #include <algorithm>
@@ -48,6 +50,40 @@ double refineForOccupancy(const std::vector<Point2>& points, double xmin, double
   return std::max(refined, floor);
 }
 
+/// Sorts slots [first, last) of a grid lexicographically (ties by input index),
+/// carrying `order` along.
+void sortCell(std::vector<Point2>& points, std::vector<std::uint32_t>& order,
+              std::size_t first, std::size_t last)
+{
+  constexpr std::size_t INSERTION_SORT_MAX = 16;
+  if (last - first > INSERTION_SORT_MAX) {
+    std::vector<std::pair<Point2, std::uint32_t>> cell;
+    cell.reserve(last - first);
+    for (std::size_t k = first; k < last; ++k)
+      cell.emplace_back(points[k], order[k]);
+    std::sort(cell.begin(), cell.end(), [](const auto& a, const auto& b) {
+      return lexLess(a.first, b.first) || (a.first == b.first && a.second < b.second);
+    });
+    for (std::size_t k = first; k < last; ++k)
+      std::tie(points[k], order[k]) = cell[k - first];
+    return;
+  }
+  for (std::size_t k = first + 1; k < last; ++k) {
+    const Point2 p = points[k];
+    const std::uint32_t o = order[k];
+    std::size_t m = k;
+    for (; m > first; --m) {
+      const Point2& q = points[m - 1];
+      if (!(lexLess(p, q) || (p == q && o < order[m - 1])))
+        break;
+      points[m] = q;
+      order[m] = order[m - 1];
+    }
+    points[m] = p;
+    order[m] = o;
+  }
+}
+
 } // namespace
 
 double defaultCellSize(double width, double height, std::size_t n)
@@ -61,7 +97,8 @@ double defaultCellSize(double width, double height, std::size_t n)
 }
 
 Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
-                     CellGrid& grid, std::vector<std::uint32_t>& order)
+                     CellGrid& grid, std::vector<std::uint32_t>& order,
+                     unsigned threads)
 {
   const std::size_t n = points.size();
   double xmin = std::numeric_limits<double>::infinity(), ymin = xmin;
@@ -122,43 +159,14 @@ Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
       order[fill[cell_of[k]]++] = static_cast<std::uint32_t>(k);
   }
   grid.points.resize(n);
-  for (std::size_t k = 0; k < n; ++k)
-    grid.points[k] = points[order[k]];
+  detail::parallelFor(threads, n,
+                      [&](std::size_t k) { grid.points[k] = points[order[k]]; });
   // Lexicographic inside each cell, on the gathered copy (no random reads), carrying
   // `order` along: insertion sort for the usual handful of points, std::sort for
   // crowded cells.
-  constexpr std::size_t INSERTION_SORT_MAX = 16;
-  std::vector<std::pair<Point2, std::uint32_t>> crowded;
-  const auto before = [](const std::pair<Point2, std::uint32_t>& a,
-                         const std::pair<Point2, std::uint32_t>& b) {
-    return lexLess(a.first, b.first) || (a.first == b.first && a.second < b.second);
-  };
-  for (std::size_t c = 0; c < grid.cellCount(); ++c) {
-    const std::size_t first = grid.cell_start[c], last = grid.cell_start[c + 1];
-    if (last - first > INSERTION_SORT_MAX) {
-      crowded.clear();
-      for (std::size_t k = first; k < last; ++k)
-        crowded.emplace_back(grid.points[k], order[k]);
-      std::sort(crowded.begin(), crowded.end(), before);
-      for (std::size_t k = first; k < last; ++k)
-        std::tie(grid.points[k], order[k]) = crowded[k - first];
-      continue;
-    }
-    for (std::size_t k = first + 1; k < last; ++k) {
-      const Point2 p = grid.points[k];
-      const std::uint32_t o = order[k];
-      std::size_t m = k;
-      for (; m > first; --m) {
-        const Point2& q = grid.points[m - 1];
-        if (!(lexLess(p, q) || (p == q && o < order[m - 1])))
-          break;
-        grid.points[m] = q;
-        order[m] = order[m - 1];
-      }
-      grid.points[m] = p;
-      order[m] = o;
-    }
-  }
+  detail::parallelFor(threads, grid.cellCount(), [&](std::size_t c) {
+    sortCell(grid.points, order, grid.cell_start[c], grid.cell_start[c + 1]);
+  });
   return Status::success();
 }
 

@@ -1,3 +1,5 @@
+#include "parallel_for.h"
+
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
 #include <pcl_vts/core/cell_subdivision.h>
@@ -154,14 +156,17 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     return s;
   CellGrid grid;
   std::vector<std::uint32_t> order;
-  if (Status s = buildCellGrid(xy, options.cell_size, grid, order); !s.ok())
+  const unsigned threads = options.threads > 0
+                               ? options.threads
+                               : std::max(1u, std::thread::hardware_concurrency());
+  if (Status s = buildCellGrid(xy, options.cell_size, grid, order, threads); !s.ok())
     return s;
   std::vector<double> vz(order.size());
   std::vector<std::uint32_t> vsource(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
+  detail::parallelFor(threads, order.size(), [&](std::size_t k) {
     vz[k] = z[order[k]];
     vsource[k] = source[order[k]];
-  }
+  });
   std::vector<VertexId> slot_to_vertex;
   diag.duplicates_merged =
       mergeDuplicates(grid, options.duplicate_rule, vz, vsource, slot_to_vertex);
@@ -188,8 +193,10 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   diag.cells = grid.cellCount();
   diag.cell_size = grid.cell_size;
   result.input_to_vertex.assign(n, INVALID_ID);
-  for (std::size_t k = 0; k < order.size(); ++k)
+  // Each input point is one slot: distinct writes.
+  detail::parallelFor(threads, order.size(), [&](std::size_t k) {
     result.input_to_vertex[source[order[k]]] = slot_to_vertex[k];
+  });
   { // release what is no longer needed before the triangulation allocates
     std::vector<Point2>().swap(xy);
     std::vector<double>().swap(z);
@@ -213,9 +220,6 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   start = Clock::now();
   TriangleMesh& mesh = result.mesh;
   SearchStats stats;
-  const unsigned threads = options.threads > 0
-                               ? options.threads
-                               : std::max(1u, std::thread::hardware_concurrency());
   Status grown =
       triangulateGrid(grid, pyramid, subdivision, result.hull, mesh.triangles,
                       mesh.halfedges, stats, threads, options.strip_columns);

@@ -65,8 +65,11 @@ double defaultCellSize(double width, double height, std::size_t n);
 /// \param[in] points XY of n points (finite).
 /// \param[out] grid the grid; grid.points holds the points in cell order.
 /// \param[out] order per grid slot k: the index in `points` it came from.
+/// \param[in] threads threads for the gather and the per-cell sort (same result for
+///            any number)
 /// \return INVALID_PARAMETER when the cell size would give an absurd number of cells.
 Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
-                     CellGrid& grid, std::vector<std::uint32_t>& order);
+                     CellGrid& grid, std::vector<std::uint32_t>& order,
+                     unsigned threads = 1);
 
 } // namespace pcl_vts
