@@ -48,6 +48,25 @@ TEST(GridTriangulator, OutputIsIdenticalForEveryThreadCount)
   }
 }
 
+TEST(GridTriangulator, LargeInputIsIdenticalForEveryThreadCount)
+{
+  // Above 2^17 points the grid phase (gather, per-cell sort, index maps) runs on the
+  // threads too; random input order makes every gather a scatter.
+  const std::vector<double> xyz =
+      test::generatePoints(test::Distribution::UNIFORM, 300000, 23);
+  const VtsResult one = triangulate(xyz, 1);
+  for (const unsigned threads : {2u, 3u}) {
+    SCOPED_TRACE(threads);
+    const VtsResult many = triangulate(xyz, threads);
+    EXPECT_EQ(many.mesh.triangles, one.mesh.triangles);
+    EXPECT_EQ(many.mesh.halfedges, one.mesh.halfedges);
+    EXPECT_EQ(many.mesh.xy, one.mesh.xy);
+    EXPECT_EQ(many.mesh.z, one.mesh.z);
+    EXPECT_EQ(many.source_index, one.source_index);
+    EXPECT_EQ(many.input_to_vertex, one.input_to_vertex);
+  }
+}
+
 /// Triangles as vertex triples rotated to start at their smallest id, sorted: the
 /// triangulation without its order.
 std::vector<std::array<VertexId, 3>> triangleSet(const TriangleMesh& mesh)
