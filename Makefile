@@ -7,7 +7,7 @@ DEMO_INPUT ?= test_data/samp11-utm-ground.pcd
 DEMO_OUTPUT ?= $(BUILD_DIR)/demo/samp11-utm-ground.ply
 BENCH_MAX_N ?= 1000000
 
-.PHONY: all deps configure build test demo bench format clean
+.PHONY: all deps configure build test demo bench compare format clean
 
 all: build
 
@@ -37,6 +37,14 @@ bench: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target compare_methods || \
 	  echo "bench: compare_methods could not be built: no GP3/Poisson rows"
 	@bash tools/bench/run_bench.sh $(BUILD_DIR) $(BENCH_MAX_N)
+
+# docs/comparison.md and docs/img/compare/: VTS against GP3, Poisson and Ball-Pivoting
+# (tools/compare/run_compare.sh, about 15 minutes on 2 cores). Builds only what it runs.
+compare: deps
+	@bash scripts/install_compare_deps.sh
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DPCL_VTS_BUILD_COMPARE=ON $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target compare_methods
+	@bash tools/compare/run_compare.sh $(BUILD_DIR)
 
 format:
 	@clang-format -i $$(git ls-files '*.cpp' '*.hpp' '*.h')
