@@ -88,6 +88,46 @@ std::vector<EdgeUse> sortedEdgeUses(const TriangleMesh& mesh)
   return uses;
 }
 
+/// Checks a key-sorted run of edge uses: at most two per edge, in opposite directions.
+bool edgeUsesManifold(const std::vector<EdgeUse>& uses, std::string* why)
+{
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i + 1;
+    while (j < uses.size() && uses[j].key == uses[i].key)
+      ++j;
+    const auto lo = static_cast<VertexId>(uses[i].key >> 32);
+    const auto hi = static_cast<VertexId>(uses[i].key & 0xffffffffu);
+    if (j - i > 2) {
+      std::ostringstream out;
+      out << "edge " << lo << "-" << hi << " is used by " << (j - i) << " triangles ("
+          << triangleOf(uses[i].e) << ", " << triangleOf(uses[i + 1].e) << ", "
+          << triangleOf(uses[i + 2].e) << ")";
+      setWhy(why, out.str());
+      return false;
+    }
+    if (j - i == 2 && uses[i].from == uses[i + 1].from) {
+      std::ostringstream out;
+      out << "edge " << uses[i].from << " -> " << (uses[i].from == lo ? hi : lo)
+          << " is used in the same direction by "
+          << "triangles " << triangleOf(uses[i].e) << " and "
+          << triangleOf(uses[i + 1].e);
+      setWhy(why, out.str());
+      return false;
+    }
+    i = j;
+  }
+  return true;
+}
+
+/// One more than the largest vertex id used by a triangle (0 for none).
+std::size_t vertexBound(const TriangleMesh& mesh)
+{
+  VertexId top = 0;
+  for (const VertexId v : mesh.triangles)
+    top = std::max(top, v);
+  return mesh.triangles.empty() ? 0 : static_cast<std::size_t>(top) + 1;
+}
+
 } // namespace
 
 bool allTrianglesCcw(const TriangleMesh& mesh, std::string* why)
@@ -161,31 +201,42 @@ bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
       return false;
     }
   }
-  const std::vector<EdgeUse> uses = sortedEdgeUses(mesh);
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i + 1;
-    while (j < uses.size() && uses[j].key == uses[i].key)
-      ++j;
-    const auto lo = static_cast<VertexId>(uses[i].key >> 32);
-    const auto hi = static_cast<VertexId>(uses[i].key & 0xffffffffu);
-    if (j - i > 2) {
-      std::ostringstream out;
-      out << "edge " << lo << "-" << hi << " is used by " << (j - i) << " triangles ("
-          << triangleOf(uses[i].e) << ", " << triangleOf(uses[i + 1].e) << ", "
-          << triangleOf(uses[i + 2].e) << ")";
-      setWhy(why, out.str());
-      return false;
+  // Halfedges bucketed by the lower vertex of their edge (counting sort), then each
+  // small bucket sorted by (upper vertex, origin, id): linear, and the same order as
+  // one global sort, so the first failure reported is the same.
+  const std::size_t n = vertexBound(mesh);
+  std::vector<std::uint32_t> start(n + 1, 0);
+  const auto lower = [&](HalfedgeId e) {
+    return std::min(mesh.triangles[e], mesh.triangles[nextHalfedge(e)]);
+  };
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    ++start[lower(static_cast<HalfedgeId>(i)) + 1];
+  for (std::size_t v = 0; v < n; ++v)
+    start[v + 1] += start[v];
+  std::vector<HalfedgeId> bucket(mesh.triangles.size());
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      const auto e = static_cast<HalfedgeId>(i);
+      bucket[fill[lower(e)]++] = e;
     }
-    if (j - i == 2 && uses[i].from == uses[i + 1].from) {
-      std::ostringstream out;
-      out << "edge " << uses[i].from << " -> " << (uses[i].from == lo ? hi : lo)
-          << " is used in the same direction by "
-          << "triangles " << triangleOf(uses[i].e) << " and "
-          << triangleOf(uses[i + 1].e);
-      setWhy(why, out.str());
-      return false;
+  }
+  std::vector<EdgeUse> uses;
+  for (std::size_t v = 0; v < n; ++v) {
+    uses.clear();
+    for (std::uint32_t k = start[v]; k < start[v + 1]; ++k) {
+      const HalfedgeId e = bucket[k];
+      const VertexId from = mesh.triangles[e];
+      const VertexId to = mesh.triangles[nextHalfedge(e)];
+      const std::uint64_t lo = std::min(from, to);
+      const std::uint64_t hi = std::max(from, to);
+      uses.push_back({(lo << 32) | hi, from, e});
     }
-    i = j;
+    std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
+      return std::tie(a.key, a.from, a.e) < std::tie(b.key, b.from, b.e);
+    });
+    if (!edgeUsesManifold(uses, why))
+      return false;
   }
   return true;
 }

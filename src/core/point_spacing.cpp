@@ -7,13 +7,33 @@
 
 namespace pcl_vts {
 
-double medianOf(std::vector<double> values)
+namespace {
+
+/// Upper median of values, reordering them (0 when empty).
+double medianInPlace(std::vector<double>& values)
 {
   if (values.empty())
     return 0.0;
+  if (values.size() <= 16) { // a vertex ring: insertion sort beats selection
+    for (std::size_t k = 1; k < values.size(); ++k) {
+      const double v = values[k];
+      std::size_t m = k;
+      for (; m > 0 && values[m - 1] > v; --m)
+        values[m] = values[m - 1];
+      values[m] = v;
+    }
+    return values[values.size() / 2];
+  }
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
+}
+
+} // namespace
+
+double medianOf(std::vector<double> values)
+{
+  return medianInPlace(values);
 }
 
 PointSpacing measurePointSpacing(const TriangleMesh& mesh)
@@ -55,10 +75,10 @@ PointSpacing measurePointSpacing(const TriangleMesh& mesh)
       const double dx = p.x - q.x, dy = p.y - q.y;
       values.push_back(std::sqrt(dx * dx + dy * dy)); // hypot is 5x slower
     }
-    own[v] = medianOf(values);
+    own[v] = medianInPlace(values); // reused buffer: no copy per vertex
     used.push_back(own[v]);
   }
-  spacing.global_median = medianOf(used);
+  spacing.global_median = medianInPlace(used);
   spacing.local.assign(n, 0.0);
   for (VertexId v = 0; v < n; ++v) {
     if (start[v] == start[v + 1])
@@ -66,7 +86,7 @@ PointSpacing measurePointSpacing(const TriangleMesh& mesh)
     values.assign(1, own[v]);
     for (std::size_t k = start[v]; k < start[v + 1]; ++k)
       values.push_back(own[ring[k]]);
-    spacing.local[v] = medianOf(values);
+    spacing.local[v] = medianInPlace(values);
   }
   return spacing;
 }
