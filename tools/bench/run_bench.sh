@@ -388,7 +388,7 @@ else target "split between I/O and triangulation, 1e7 end to end" "$(not_run)" "
   echo "method) / input points, i.e. the method's own memory."
   echo
   echo "- Date: $(date -u '+%Y-%m-%d %H:%M UTC'); run time $(( (t_end - t_start) / 60 )) min $(( (t_end - t_start) % 60 )) s"
-  echo "- Commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD 2>/dev/null || echo ' (plus uncommitted changes)')"
+  echo "- Commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet HEAD -- . ':!docs/benchmarks.md' ':!docs/img/bench_ns_per_point.png' 2>/dev/null || echo ' (plus uncommitted changes)')"
   echo "- Machine: $(lscpu 2>/dev/null | sed -nE 's/^Model name: +//p' | head -1), $(nproc) cores ($(lscpu 2>/dev/null | sed -nE 's/^Thread\(s\) per core: +/threads per core: /p' | head -1)), $(awk '/MemTotal/{printf "%.1f GiB", $2 / 1048576}' /proc/meminfo) RAM, $(uname -sr)"
   echo "- Compiler and build: $(c++ --version 2>/dev/null | head -1), CMake build type $(sed -nE 's/^CMAKE_BUILD_TYPE:[A-Z]+=//p' "$build/CMakeCache.txt" 2>/dev/null || echo '?')"
   echo "- Load average (1, 5, 15 min) at start: $load_start; at end: $load_end (other work on the machine is not visible in the numbers otherwise)"
