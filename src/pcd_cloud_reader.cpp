@@ -16,6 +16,7 @@
 #include <fcntl.h>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -577,7 +578,11 @@ Status readPcdCloudImpl(const std::string& path, std::vector<double>& xyz,
   Eigen::Quaternionf orientation;
   int pcd_version = 0, data_type = 0;
   unsigned int data_idx = 0;
-  if (pcl::PCDReader().readHeader(path, cloud, origin, orientation, pcd_version,
+  // PCL parses only the header bytes we scanned: it allocates the body its header
+  // claims, and on some damaged files it read a claim from past the DATA line.
+  std::istringstream header_only(
+      head.substr(0, static_cast<std::size_t>(scan.data_idx)));
+  if (pcl::PCDReader().readHeader(header_only, cloud, origin, orientation, pcd_version,
                                   data_type, data_idx) != 0)
     return ioError(path, "bad PCD header: PCL's reader rejects it");
   if (static_cast<std::uint64_t>(cloud.width) * cloud.height != scan.points ||
