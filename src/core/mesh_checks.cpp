@@ -70,21 +70,29 @@ struct EdgeUse {
   HalfedgeId e;
 };
 
+EdgeUse edgeUseOf(const TriangleMesh& mesh, HalfedgeId e)
+{
+  const VertexId from = mesh.triangles[e];
+  const VertexId to = mesh.triangles[nextHalfedge(e)];
+  const std::uint64_t lo = std::min(from, to);
+  const std::uint64_t hi = std::max(from, to);
+  return {(lo << 32) | hi, from, e};
+}
+
+void sortEdgeUses(std::vector<EdgeUse>& uses)
+{
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
+    return std::tie(a.key, a.from, a.e) < std::tie(b.key, b.from, b.e);
+  });
+}
+
 std::vector<EdgeUse> sortedEdgeUses(const TriangleMesh& mesh)
 {
   std::vector<EdgeUse> uses;
   uses.reserve(mesh.triangles.size());
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const auto e = static_cast<HalfedgeId>(i);
-    const VertexId from = mesh.triangles[e];
-    const VertexId to = mesh.triangles[nextHalfedge(e)];
-    const std::uint64_t lo = std::min(from, to);
-    const std::uint64_t hi = std::max(from, to);
-    uses.push_back({(lo << 32) | hi, from, e});
-  }
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
-    return std::tie(a.key, a.from, a.e) < std::tie(b.key, b.from, b.e);
-  });
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    uses.push_back(edgeUseOf(mesh, static_cast<HalfedgeId>(i)));
+  sortEdgeUses(uses);
   return uses;
 }
 
@@ -224,17 +232,9 @@ bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
   std::vector<EdgeUse> uses;
   for (std::size_t v = 0; v < n; ++v) {
     uses.clear();
-    for (std::uint32_t k = start[v]; k < start[v + 1]; ++k) {
-      const HalfedgeId e = bucket[k];
-      const VertexId from = mesh.triangles[e];
-      const VertexId to = mesh.triangles[nextHalfedge(e)];
-      const std::uint64_t lo = std::min(from, to);
-      const std::uint64_t hi = std::max(from, to);
-      uses.push_back({(lo << 32) | hi, from, e});
-    }
-    std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
-      return std::tie(a.key, a.from, a.e) < std::tie(b.key, b.from, b.e);
-    });
+    for (std::uint32_t k = start[v]; k < start[v + 1]; ++k)
+      uses.push_back(edgeUseOf(mesh, bucket[k]));
+    sortEdgeUses(uses);
     if (!edgeUsesManifold(uses, why))
       return false;
   }
