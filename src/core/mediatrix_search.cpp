@@ -27,14 +27,6 @@ constexpr std::size_t GUESS_CELLS = 9;
 // The guess's circle is settled directly when it covers at most this many cells.
 constexpr std::size_t QUICK_CELLS = 16;
 
-double squaredDistanceToRect(double px, double py, double x0, double y0, double x1,
-                             double y1)
-{
-  const double dx = std::max({x0 - px, 0.0, px - x1});
-  const double dy = std::max({y0 - py, 0.0, py - y1});
-  return dx * dx + dy * dy;
-}
-
 bool heapGreater(double a, double b)
 {
   return a > b;
@@ -171,22 +163,14 @@ bool MediatrixSearch::windowHasCrowdedCell(const Window& w) const
   return false;
 }
 
-void MediatrixSearch::blockBounds(const Block& b, double& x0, double& y0, double& x1,
-                                  double& y1) const
+BlockRect MediatrixSearch::blockBounds(const Block& b) const
 {
   if (b.node != INVALID_ID) {
     const SubCell& n = sub_.nodes[b.node];
-    x0 = n.x0 - grid_.slack;
-    y0 = n.y0 - grid_.slack;
-    x1 = n.x1 + grid_.slack;
-    y1 = n.y1 + grid_.slack;
-    return;
+    return {n.x0 - grid_.slack, n.y0 - grid_.slack, n.x1 + grid_.slack,
+            n.y1 + grid_.slack};
   }
-  const double span = grid_.cell_size * static_cast<double>(1u << b.level);
-  x0 = grid_.origin_x + span * b.i - grid_.slack;
-  y0 = grid_.origin_y + span * b.j - grid_.slack;
-  x1 = grid_.origin_x + span * (b.i + 1) + grid_.slack;
-  y1 = grid_.origin_y + span * (b.j + 1) + grid_.slack;
+  return blockRect(grid_, b.level, b.i, b.j);
 }
 
 void MediatrixSearch::widen(Query& q, const Window& done)
@@ -205,8 +189,8 @@ void MediatrixSearch::widen(Query& q, const Window& done)
     const Block blk = heap_.back();
     heap_.pop_back();
 
-    double x0, y0, x1, y1;
-    blockBounds(blk, x0, y0, x1, y1);
+    const BlockRect rect = blockBounds(blk);
+    const double x0 = rect.x0, y0 = rect.y0, x1 = rect.x1, y1 = rect.y1;
     q.refreshDisk(grid_);
     if (q.best != INVALID_ID && q.disk.valid) {
       // Blocks come out nearest the edge midpoint first: once one lies beyond every
@@ -215,7 +199,7 @@ void MediatrixSearch::widen(Query& q, const Window& done)
       if (blk.key > reach * reach * (1.0 + CMP_SLACK))
         break;
       const double r2 = q.disk.radius * q.disk.radius * (1.0 + CMP_SLACK);
-      if (squaredDistanceToRect(q.disk.cx, q.disk.cy, x0, y0, x1, y1) > r2)
+      if (rect.squaredDistance(q.disk.cx, q.disk.cy) > r2)
         continue;
     }
     // Skip blocks lying in the closed right half-plane of a->b (certified bound).
@@ -231,9 +215,7 @@ void MediatrixSearch::widen(Query& q, const Window& done)
       continue;
 
     const auto push = [&](Block child) {
-      double bx0, by0, bx1, by1;
-      blockBounds(child, bx0, by0, bx1, by1);
-      child.key = squaredDistanceToRect(mx, my, bx0, by0, bx1, by1);
+      child.key = blockBounds(child).squaredDistance(mx, my);
       heap_.push_back(child);
       std::push_heap(heap_.begin(), heap_.end(), cmp);
     };
@@ -255,14 +237,10 @@ void MediatrixSearch::widen(Query& q, const Window& done)
         testCell(cell, q);
       continue;
     }
-    const std::uint32_t child_level = blk.level - 1;
-    const CellPyramid::Level& fine = pyramid_.levels[child_level];
-    for (std::uint32_t cj = 2 * blk.j; cj < std::min(2 * blk.j + 2, fine.ny); ++cj)
-      for (std::uint32_t ci = 2 * blk.i; ci < std::min(2 * blk.i + 2, fine.nx); ++ci) {
-        if (!pyramid_.occupied(child_level, ci, cj))
-          continue;
-        push({0.0, child_level, ci, cj, INVALID_ID});
-      }
+    forEachOccupiedChild(pyramid_, blk.level, blk.i, blk.j,
+                         [&](std::uint32_t ci, std::uint32_t cj) {
+                           push({0.0, blk.level - 1, ci, cj, INVALID_ID});
+                         });
   }
 }
 

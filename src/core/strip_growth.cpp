@@ -318,25 +318,15 @@ class Growth {
         }
         continue;
       }
-      const std::uint32_t level = block.level - 1;
-      const CellPyramid::Level& fine = pyramid_.levels[level];
-      const double span = grid_.cell_size * static_cast<double>(1u << level);
-      for (std::uint32_t cj = 2 * block.j; cj < std::min(2 * block.j + 2, fine.ny);
-           ++cj)
-        for (std::uint32_t ci = 2 * block.i; ci < std::min(2 * block.i + 2, fine.nx);
-             ++ci) {
-          if (!pyramid_.occupied(level, ci, cj))
-            continue;
-          // The block's points lie within its rectangle widened by the grid slack.
-          const double x0 = grid_.origin_x + span * ci - grid_.slack;
-          const double x1 = grid_.origin_x + span * (ci + 1) + grid_.slack;
-          const double y0 = grid_.origin_y + span * cj - grid_.slack;
-          const double y1 = grid_.origin_y + span * (cj + 1) + grid_.slack;
-          const double dx = std::max({x0 - pv.x, 0.0, pv.x - x1});
-          const double dy = std::max({y0 - pv.y, 0.0, pv.y - y1});
-          blocks_.push_back({dx * dx + dy * dy, level, ci, cj});
-          std::push_heap(blocks_.begin(), blocks_.end(), farther);
-        }
+      // The block's points lie within its rectangle widened by the grid slack.
+      forEachOccupiedChild(
+          pyramid_, block.level, block.i, block.j,
+          [&](std::uint32_t ci, std::uint32_t cj) {
+            const double key =
+                blockRect(grid_, block.level - 1, ci, cj).squaredDistance(pv.x, pv.y);
+            blocks_.push_back({key, block.level - 1, ci, cj});
+            std::push_heap(blocks_.begin(), blocks_.end(), farther);
+          });
     }
     std::sort(candidates_.begin(), candidates_.end());
   }

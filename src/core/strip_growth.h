@@ -21,12 +21,11 @@
 namespace pcl_vts {
 namespace detail {
 
-/// Columns [first, last) of the grid; strips are numbered left to right and a
-/// triangle belongs to the strip of its smallest vertex column.
+/// Strips of 2^shift grid columns, numbered left to right (strip of column i is
+/// i >> shift); a triangle belongs to the strip of its smallest vertex column.
 struct StripLayout {
-  std::uint32_t shift = 0; ///< strip of column i = i >> shift
+  std::uint32_t shift = 0; ///< log2 of the strip width in columns
   std::uint32_t count = 1; ///< number of strips
-  std::uint32_t stripOfColumn(std::uint32_t i) const { return i >> shift; }
 };
 
 /// Strips fixed by the grid alone (never by the thread count): about 32 of them, at

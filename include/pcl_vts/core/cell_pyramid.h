@@ -5,6 +5,7 @@
 
 #include <pcl_vts/core/cell_grid.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -27,5 +28,41 @@ struct CellPyramid {
 
 /// Builds the pyramid of a grid. Linear in the number of cells.
 void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid);
+
+/// An axis-aligned world rectangle.
+struct BlockRect {
+  double x0, y0, x1, y1;
+  /// Squared distance from (px, py) to the rectangle (0 inside).
+  double squaredDistance(double px, double py) const
+  {
+    const double dx = std::max({x0 - px, 0.0, px - x1});
+    const double dy = std::max({y0 - py, 0.0, py - y1});
+    return dx * dx + dy * dy;
+  }
+};
+
+/// World rectangle of pyramid block (i, j) of `level`, widened by the grid slack:
+/// every point bucketed into the block lies inside it.
+inline BlockRect blockRect(const CellGrid& grid, std::uint32_t level, std::uint32_t i,
+                           std::uint32_t j)
+{
+  const double span = grid.cell_size * static_cast<double>(1u << level);
+  return {grid.origin_x + span * i - grid.slack, grid.origin_y + span * j - grid.slack,
+          grid.origin_x + span * (i + 1) + grid.slack,
+          grid.origin_y + span * (j + 1) + grid.slack};
+}
+
+/// Calls visit(ci, cj) for each occupied child, at level - 1, of block (i, j) of
+/// `level` (> 0).
+template <typename Visit>
+void forEachOccupiedChild(const CellPyramid& pyramid, std::uint32_t level,
+                          std::uint32_t i, std::uint32_t j, const Visit& visit)
+{
+  const CellPyramid::Level& fine = pyramid.levels[level - 1];
+  for (std::uint32_t cj = 2 * j; cj < std::min(2 * j + 2, fine.ny); ++cj)
+    for (std::uint32_t ci = 2 * i; ci < std::min(2 * i + 2, fine.nx); ++ci)
+      if (pyramid.occupied(level - 1, ci, cj))
+        visit(ci, cj);
+}
 
 } // namespace pcl_vts

@@ -95,9 +95,8 @@ class MediatrixSearch {
   bool windowHasCrowdedCell(const Window& w) const;
   Window diskCells(const SafeDisk& disk) const;
   void widen(Query& q, const Window& done);
-  /// World rectangle of a block, widened by the grid slack.
-  void blockBounds(const Block& b, double& x0, double& y0, double& x1,
-                   double& y1) const;
+  /// World rectangle of a block (pyramid block or sub-cell), widened by the slack.
+  BlockRect blockBounds(const Block& b) const;
 
   const CellGrid& grid_;
   const CellPyramid& pyramid_;
