@@ -1399,7 +1399,16 @@ TEST_F(PcdToMesh, EverySharedLasAscAndPcdFileMeshesDirectly)
       {"dem/pysheds/dem.derived.asc", {367 * 359, 131753}},
       {"dem/topotoolbox/srtm_bigtujunga30m_utm11.derived.asc", {1197 * 643, 769671}}};
   std::size_t files = 0;
-  for (const auto& entry : fs::recursive_directory_iterator(SHARED_DATA)) {
+  // laz/ holds the LAZ files' uncompressed twins (some with 0 or 1 point): the LAZ
+  // reader's tests compare them; this test covers the meshable collections.
+  std::vector<fs::path> paths;
+  for (const char* folder : {"las", "dem", "pcd"})
+    for (const auto& entry :
+         fs::recursive_directory_iterator(SHARED_DATA + "/" + folder))
+      paths.push_back(entry.path());
+  std::sort(paths.begin(), paths.end());
+  for (const fs::path& path : paths) {
+    const fs::directory_entry entry(path);
     const std::string ext = entry.path().extension().string();
     if (ext != ".las" && ext != ".asc" && ext != ".pcd")
       continue;
