@@ -5,9 +5,9 @@
 // its own exit code and one stderr line, and the output appears only when complete
 // (mesh_writer.h). --png draws the final mesh (mesh_picture.h).
 #include <pcl_vts/core/vts_pipeline.h>
-#include <pcl_vts/mesh_picture.h>
-#include <pcl_vts/mesh_writer.h>
-#include <pcl_vts/point_cloud_loader.h>
+#include <pcl_vts/io/mesh_writer.h>
+#include <pcl_vts/io/point_cloud_loader.h>
+#include <pcl_vts/picture/mesh_picture.h>
 #include <pcl_vts/preprocess_cloud.h>
 
 #include <pcl/console/print.h>

@@ -5,7 +5,7 @@
 #include "reader_guard.h"
 #include "text_scan.h"
 
-#include <pcl_vts/asc_grid_reader.h>
+#include <pcl_vts/io/asc_grid_reader.h>
 
 #include <cmath>
 #include <cstring>

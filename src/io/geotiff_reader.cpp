@@ -1,4 +1,4 @@
-#include <pcl_vts/geotiff_reader.h>
+#include <pcl_vts/io/geotiff_reader.h>
 
 #include <cmath>
 

@@ -4,7 +4,7 @@
 // is anything sized by the header allocated. ASPRS LAS 1.4 R15, tables 3-4 and 7-17.
 #include "reader_guard.h"
 
-#include <pcl_vts/las_reader.h>
+#include <pcl_vts/io/las_reader.h>
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // mmap of a whole regular file; failures name the file and the system's reason.
-#include <pcl_vts/mapped_file.h>
+#include "mapped_file.h"
 
 #include <cerrno>
 #include <cstring>

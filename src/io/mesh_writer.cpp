@@ -2,7 +2,7 @@
 // round-trip form (at most 17 significant digits, max_digits10), so a reader parsing
 // doubles gets every input bit back. Every write is checked; the first failure wins
 // and the temp file is removed, so a failed run leaves nothing behind.
-#include <pcl_vts/mesh_writer.h>
+#include <pcl_vts/io/mesh_writer.h>
 
 #include <cerrno>
 #include <charconv>

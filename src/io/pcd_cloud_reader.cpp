@@ -2,7 +2,7 @@
 // table, claimed size against the file size), then pcl::PCDReader::readHeader (which
 // allocates the claimed body size, hence the scan), then the body, then x/y/z pulled
 // from the PCLPointCloud2 bytes by their own type. Every failure is one line.
-#include <pcl_vts/pcd_cloud_reader.h>
+#include <pcl_vts/io/pcd_cloud_reader.h>
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/PCLPointField.h>

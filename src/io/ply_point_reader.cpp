@@ -6,7 +6,7 @@
 #include "reader_guard.h"
 #include "text_scan.h"
 
-#include <pcl_vts/ply_point_reader.h>
+#include <pcl_vts/io/ply_point_reader.h>
 
 #include <algorithm>
 #include <cmath>

@@ -1,11 +1,11 @@
 // Extension first (users name their files), content second (for odd names); each
 // reader's info is folded into one CloudDescription so the CLI prints one shape.
-#include <pcl_vts/asc_grid_reader.h>
-#include <pcl_vts/geotiff_reader.h>
-#include <pcl_vts/pcd_cloud_reader.h>
-#include <pcl_vts/ply_point_reader.h>
-#include <pcl_vts/point_cloud_loader.h>
-#include <pcl_vts/xyz_text_reader.h>
+#include <pcl_vts/io/asc_grid_reader.h>
+#include <pcl_vts/io/geotiff_reader.h>
+#include <pcl_vts/io/pcd_cloud_reader.h>
+#include <pcl_vts/io/ply_point_reader.h>
+#include <pcl_vts/io/point_cloud_loader.h>
+#include <pcl_vts/io/xyz_text_reader.h>
 
 #include <algorithm>
 #include <cerrno>

@@ -4,8 +4,9 @@
 // bytes to the reader's in-memory parser (the one the fuzzers drive).
 #pragma once
 
+#include "mapped_file.h"
+
 #include <pcl_vts/core/status.h>
-#include <pcl_vts/mapped_file.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -5,7 +5,7 @@
 #include "reader_guard.h"
 #include "text_scan.h"
 
-#include <pcl_vts/xyz_text_reader.h>
+#include <pcl_vts/io/xyz_text_reader.h>
 
 #include <algorithm>
 #include <cstring>

@@ -5,7 +5,7 @@
 #include "picture_colours.h"
 #include "picture_raster.h"
 
-#include <pcl_vts/mesh_picture.h>
+#include <pcl_vts/picture/mesh_picture.h>
 
 #include <algorithm>
 #include <array>

@@ -8,7 +8,7 @@
 #include "support/surface_checks.h"
 
 #include <pcl_vts/core/reconstruct_surface.h>
-#include <pcl_vts/mesh_picture.h>
+#include <pcl_vts/picture/mesh_picture.h>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // libFuzzer harness for the ESRI ASCII grid reader (asc_grid_reader.h): any bytes must
 // give a status, never a crash, leak, hang or giant allocation; a success must be
 // consistent. Built and run by tests/fuzz/run_fuzzers.sh.
-#include <pcl_vts/asc_grid_reader.h>
+#include <pcl_vts/io/asc_grid_reader.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -1,7 +1,7 @@
 // libFuzzer harness for the LAS reader (las_reader.h): any bytes must give a status,
 // never a crash, leak, overflow or giant allocation; a success must be consistent.
 // Built and run by tests/fuzz/run_fuzzers.sh.
-#include <pcl_vts/las_reader.h>
+#include <pcl_vts/io/las_reader.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -2,7 +2,7 @@
 // file (memfd) read by path, as pcd_to_mesh does, through PCL's PCDReader for the
 // body. Any bytes must give a status, never a crash or giant allocation. Built and
 // run by tests/fuzz/run_fuzzers.sh when PCL's headers and libraries are found.
-#include <pcl_vts/pcd_cloud_reader.h>
+#include <pcl_vts/io/pcd_cloud_reader.h>
 
 #include <pcl/console/print.h>
 

@@ -1,7 +1,7 @@
 // libFuzzer harness for the XYZ text reader (xyz_text_reader.h): any bytes must give a
 // status, never a crash, leak or hang; a success must be consistent. Built and run by
 // tests/fuzz/run_fuzzers.sh.
-#include <pcl_vts/xyz_text_reader.h>
+#include <pcl_vts/io/xyz_text_reader.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -6,13 +6,16 @@
 # every kept crasher (tests/fuzz/regressions/<reader>/). Fails on any crash, leak, UB,
 # timeout or out-of-memory. Exit 77 (ctest: skipped) when clang's fuzzer runtime is
 # missing (scripts/install_deps.sh installs clang and libclang-rt-14-dev).
-#   usage: run_fuzzers.sh SOURCE_DIR WORK_DIR [SECONDS_PER_READER]   (default 20;
-#          PCL_VTS_FUZZ_SECONDS overrides)
+#   usage: run_fuzzers.sh SOURCE_DIR WORK_DIR [SECONDS_PER_READER [GENERATED_INCLUDE]]
+#          SECONDS_PER_READER: default 20, PCL_VTS_FUZZ_SECONDS overrides;
+#          GENERATED_INCLUDE: the build's include/ with the export headers
+#          (<pcl_vts/core/export.h>, <pcl_vts/io/export.h>; default WORK_DIR/../../include)
 set -euo pipefail
 
 SRC=${1:?source dir}
 WORK=${2:?work dir}
 SECONDS_PER_READER=${PCL_VTS_FUZZ_SECONDS:-${3:-20}}
+GENERATED_INCLUDE=${4:-$WORK/../../include}
 CXX=${PCL_VTS_FUZZ_CXX:-clang++}
 
 if ! command -v "$CXX" >/dev/null 2>&1; then
@@ -39,14 +42,15 @@ else
   echo "run_fuzzers: PCL headers not found: the PCD reader is not fuzzed"
 fi
 FLAGS=(-std=c++17 -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined
-       -fno-sanitize-recover=undefined -I"$SRC/include")
+       -fno-sanitize-recover=undefined -I"$SRC/include" -I"$GENERATED_INCLUDE")
 
 status=0
 for reader in "${READERS[@]}"; do
   bin="$WORK/fuzz_$reader"
-  srcs=("$SRC/tests/fuzz/fuzz_$reader.cpp" "$SRC/src/$reader.cpp" "$SRC/src/mapped_file.cpp"
-        "$SRC/src/core/status.cpp")
-  newest=$(ls -t "${srcs[@]}" "$SRC/include/pcl_vts/$reader.h" "$SRC/src/text_scan.h" "$SRC/src/reader_guard.h" | head -1)
+  srcs=("$SRC/tests/fuzz/fuzz_$reader.cpp" "$SRC/src/io/$reader.cpp"
+        "$SRC/src/io/mapped_file.cpp" "$SRC/src/core/status.cpp")
+  newest=$(ls -t "${srcs[@]}" "$SRC/include/pcl_vts/io/$reader.h" "$SRC/src/io/text_scan.h" \
+           "$SRC/src/io/reader_guard.h" "$SRC/src/io/mapped_file.h" | head -1)
   extra=()
   if [ "$reader" = pcd_cloud_reader ]; then
     # shellcheck disable=SC2206

@@ -1,8 +1,8 @@
 // GeoTIFF input through GDAL: the two shared GeoTIFF DEMs give exactly the points of
 // their lossless ASCII-grid copies (gdal_translate -of AAIGrid, see the data README).
-#include <pcl_vts/asc_grid_reader.h>
-#include <pcl_vts/geotiff_reader.h>
-#include <pcl_vts/point_cloud_loader.h>
+#include <pcl_vts/io/asc_grid_reader.h>
+#include <pcl_vts/io/geotiff_reader.h>
+#include <pcl_vts/io/point_cloud_loader.h>
 
 #include <gtest/gtest.h>
 

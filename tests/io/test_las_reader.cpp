@@ -3,9 +3,9 @@
 // integers the test wrote; every lying or cut header is an IO_ERROR naming the file,
 // never a crash or a giant allocation; the real files of ../shared/data/las give the
 // point and class counts listed in its README.
-#include "temp_folder_test.h"
+#include "support/temp_folder_test.h"
 
-#include <pcl_vts/las_reader.h>
+#include <pcl_vts/io/las_reader.h>
 
 #include <gtest/gtest.h>
 

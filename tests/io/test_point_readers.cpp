@@ -4,12 +4,12 @@
 // naming the file (never a silent 0 or a crash); the real DEMs of ../shared/data
 // checked against the independent test-side grid reader (tests/support/asc_reader.h).
 #include "support/asc_reader.h"
-#include "temp_folder_test.h"
+#include "support/temp_folder_test.h"
 
-#include <pcl_vts/asc_grid_reader.h>
-#include <pcl_vts/ply_point_reader.h>
-#include <pcl_vts/point_cloud_loader.h>
-#include <pcl_vts/xyz_text_reader.h>
+#include <pcl_vts/io/asc_grid_reader.h>
+#include <pcl_vts/io/ply_point_reader.h>
+#include <pcl_vts/io/point_cloud_loader.h>
+#include <pcl_vts/io/xyz_text_reader.h>
 
 #include <gtest/gtest.h>
 

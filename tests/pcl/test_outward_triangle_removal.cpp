@@ -7,8 +7,8 @@
 
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/hole_filling.h>
-#include <pcl_vts/mesh_picture.h>
 #include <pcl_vts/outward_triangle_removal.h>
+#include <pcl_vts/picture/mesh_picture.h>
 #include <pcl_vts/vts_grid_triangulation.h>
 
 #include <pcl/PolygonMesh.h>

@@ -2,10 +2,10 @@
 // pixel for pixel, and renderMesh checked on invariants, never golden pixels: a mesh
 // filling its frame leaves no background inside it, one frame is one camera, edges,
 // marks and flips get their colours, bad input gives a picture instead of a crash.
-#include "png_decode.h"
-#include "temp_folder_test.h"
+#include "support/png_decode.h"
+#include "support/temp_folder_test.h"
 
-#include <pcl_vts/mesh_picture.h>
+#include <pcl_vts/picture/mesh_picture.h>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // signature, every chunk CRC, 8-bit truecolour, then undoes the row filters.
 #pragma once
 
-#include <pcl_vts/mesh_picture.h>
+#include <pcl_vts/picture/mesh_picture.h>
 
 #include <cstdint>
 #include <cstdlib>

@@ -4,7 +4,7 @@
 // reader written here and checks invariants against the input read independently:
 // 2n - h - 2 triangles (h from an exact hull), CCW, all vertices used, vertices equal
 // to input points bit for bit, Delaunay with --no-trim --no-fill.
-#include "png_decode.h"
+#include "support/png_decode.h"
 
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/mesh_checks.h>

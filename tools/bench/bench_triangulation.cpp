@@ -13,7 +13,7 @@
 // duplicate rule, timed), CGAL's insertion keeps the first vertex at an XY position
 // (timed too); "distinct" lets the two vertex counts be compared.
 #include <pcl_vts/core/vts_pipeline.h>
-#include <pcl_vts/point_cloud_loader.h>
+#include <pcl_vts/io/point_cloud_loader.h>
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

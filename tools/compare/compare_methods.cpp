@@ -15,7 +15,7 @@
 #include "poisson_footprint.h"
 #include "synthetic_terrain.h"
 
-#include <pcl_vts/point_cloud_loader.h>
+#include <pcl_vts/io/point_cloud_loader.h>
 
 #include <pcl/console/print.h>
 

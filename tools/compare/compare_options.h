@@ -5,7 +5,7 @@
 
 #include "methods.h"
 
-#include <pcl_vts/point_cloud_loader.h>
+#include <pcl_vts/io/point_cloud_loader.h>
 
 #include <cstddef>
 #include <string>

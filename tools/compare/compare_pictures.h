@@ -1,4 +1,4 @@
-// Pictures of the compared meshes (include/pcl_vts/mesh_picture.h): one strip per view
+// Pictures of the compared meshes (pcl_vts/picture/mesh_picture.h): one strip per view
 // with the methods side by side, every method through the same frame (the input's
 // box), so the camera is the same. Boundary edges red, non-manifold edges magenta,
 // hole-filling triangles in the renderer's "filled" colour, input points left out
@@ -10,7 +10,7 @@
 #include "mesh_topology.h"
 
 #include <pcl_vts/core/status.h>
-#include <pcl_vts/mesh_picture.h>
+#include <pcl_vts/picture/mesh_picture.h>
 
 #include <string>
 #include <vector>

@@ -5,7 +5,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
-#include <pcl_vts/las_reader.h>
+#include <pcl_vts/io/las_reader.h>
 
 #include <cstddef>
 #include <cstdint>
