@@ -1,7 +1,7 @@
 // A 5x7 pixel font (printable ASCII) for picture captions: no font files, no FreeType.
 #pragma once
 
-#include <pcl_vts/picture/mesh_picture.h>
+#include <pcl_vts/picture/image.h>
 
 #include <string>
 

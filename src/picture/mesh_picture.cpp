@@ -127,15 +127,6 @@ PictureMesh pictureMeshOf(const TriangleMesh& mesh)
   return out;
 }
 
-bool isEmpty(const PictureFrame& frame)
-{
-  for (int k = 0; k < 3; ++k)
-    if (!(frame.min[k] <= frame.max[k]) || !std::isfinite(frame.min[k]) ||
-        !std::isfinite(frame.max[k]))
-      return true;
-  return false;
-}
-
 PictureFrame pictureFrameOf(const PictureMesh& mesh)
 {
   constexpr double INF = std::numeric_limits<double>::infinity();
@@ -154,20 +145,6 @@ PictureFrame pictureFrameOf(const PictureMesh& mesh)
     }
   }
   return frame;
-}
-
-PictureFrame unionOf(const PictureFrame& a, const PictureFrame& b)
-{
-  if (isEmpty(a))
-    return b;
-  if (isEmpty(b))
-    return a;
-  PictureFrame u = a;
-  for (int d = 0; d < 3; ++d) {
-    u.min[d] = std::min(a.min[d], b.min[d]);
-    u.max[d] = std::max(a.max[d], b.max[d]);
-  }
-  return u;
 }
 
 bool picturePixelOf(const PictureFrame& frame, const PictureOptions& options, double x,

@@ -4,7 +4,7 @@
 // millimetres before any scaling.
 #pragma once
 
-#include <pcl_vts/picture/mesh_picture.h>
+#include <pcl_vts/picture/view.h>
 
 namespace pcl_vts {
 namespace picture_detail {

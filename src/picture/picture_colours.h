@@ -3,7 +3,7 @@
 // points, so that those stay recognisable (the tests look for them exactly).
 #pragma once
 
-#include <pcl_vts/picture/mesh_picture.h>
+#include <pcl_vts/picture/image.h>
 
 #include <algorithm>
 #include <array>

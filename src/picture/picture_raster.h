@@ -4,7 +4,7 @@
 
 #include "picture_camera.h"
 
-#include <pcl_vts/picture/mesh_picture.h>
+#include <pcl_vts/picture/image.h>
 
 #include <cstdint>
 #include <vector>

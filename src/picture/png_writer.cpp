@@ -2,7 +2,7 @@
 // by png_deflate.h, written atomically like mesh_writer.h (temp file, fsync, rename).
 #include "png_deflate.h"
 
-#include <pcl_vts/picture/mesh_picture.h>
+#include <pcl_vts/picture/image.h>
 
 #include <array>
 #include <cerrno>

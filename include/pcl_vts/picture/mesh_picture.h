@@ -1,22 +1,19 @@
 // Pictures of 2.5D triangle meshes for people: a z-buffered software rasteriser
 // (hill shading from the north-west over a hypsometric colour ramp, top or oblique
 // view) and a truecolour PNG writer with its own deflate. PCL-free, no zlib, so
-// tools and test binaries link it cheaply (target pcl_vts_picture).
+// tools and test binaries link it cheaply (target pcl_vts::picture). The top of the
+// module: picture types and writePng in image.h, view and frame in view.h.
 #pragma once
 
 #include <pcl_vts/core/mesh_arrays.h>
-#include <pcl_vts/core/status.h>
+#include <pcl_vts/picture/image.h>
+#include <pcl_vts/picture/view.h>
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace pcl_vts {
-
-enum class PictureView : std::uint8_t {
-  TOP,    ///< orthographic from above, north (+y) up
-  OBLIQUE ///< orthographic from the south-west, ~35 degrees above the horizon
-};
 
 /// Values of PictureMesh::triangle_class.
 enum class PictureTriangleClass : std::uint8_t { SURFACE = 0, REMOVED = 1, FILLED = 2 };
@@ -41,45 +38,9 @@ struct PictureMesh {
 /// halfedges (the edges without a twin); no classes, no marks.
 PictureMesh pictureMeshOf(const TriangleMesh& mesh);
 
-/// World box the camera frames; the same frame for several meshes gives the same
-/// camera.
-struct PictureFrame {
-  double min[3];
-  double max[3];
-};
-
 /// Box of the finite vertices used by triangles (all +inf/-inf when there is none:
 /// isEmpty() then holds).
 PictureFrame pictureFrameOf(const PictureMesh& mesh);
-/// Smallest box holding both (an empty box is the neutral element).
-PictureFrame unionOf(const PictureFrame& a, const PictureFrame& b);
-/// True when the box holds no point or is not finite.
-bool isEmpty(const PictureFrame& frame);
-
-struct PictureOptions {
-  PictureView view = PictureView::TOP;
-  int width = 800;     ///< pixels; height follows from the frame's aspect
-  double z_scale = 0;  ///< vertical exaggeration for OBLIQUE; 0 = automatic
-  std::string caption; ///< drawn at the top-left in a small bitmap font; empty = none
-};
-
-/// 3 bytes/pixel, row-major, top row first.
-struct Picture {
-  int width = 0;
-  int height = 0;
-  std::vector<std::uint8_t> rgb;
-};
-
-/// Colours the picture uses, for tests and legends.
-struct PictureColour {
-  std::uint8_t r, g, b;
-};
-constexpr PictureColour PICTURE_BACKGROUND{255, 255, 255};
-constexpr PictureColour PICTURE_BOUNDARY{230, 0, 0};
-constexpr PictureColour PICTURE_NON_MANIFOLD{230, 0, 230};
-constexpr PictureColour PICTURE_MARK{20, 20, 20};
-/// Back faces (seen from below: flipped triangles) are shaded from this orange.
-constexpr PictureColour PICTURE_BACK_FACE{255, 140, 0};
 
 /// Draws mesh as seen through frame. Never fails: degenerate input (no triangle, an
 /// empty frame or one without horizontal extent) gives a white picture whose text
@@ -104,11 +65,5 @@ double pictureZScaleOf(const PictureFrame& frame, const PictureOptions& options)
 /// Tiles pictures left to right with white gaps; the result is as tall as the
 /// tallest (shorter ones are padded white at the bottom).
 Picture besideEachOther(const std::vector<Picture>& pictures, int gap_pixels);
-
-/// Writes a truecolour 8-bit RGB PNG. Atomic: ".<name>.tmp.<pid>" in the target
-/// folder, then rename; on failure the temp file is removed.
-/// \return INVALID_PARAMETER for an inconsistent picture (size or rgb length),
-///         IO_ERROR naming the path and the system's reason when writing fails.
-Status writePng(const std::string& path, const Picture& picture);
 
 } // namespace pcl_vts
