@@ -4,6 +4,7 @@
 #pragma once
 
 #include <pcl_vts/core/fill_holes.h>
+#include <pcl_vts/export.h>
 #include <pcl_vts/vts_mesh_processing.h>
 
 #include <cstdint>
@@ -25,7 +26,7 @@ namespace pcl {
  * vertex and holes around another piece of the mesh stay open (counted).
  * \ingroup surface
  */
-class HoleFilling : public VTSMeshProcessing {
+class PCL_VTS_EXPORT HoleFilling : public VTSMeshProcessing {
  public:
   /** \brief Largest hole area filled, XY units squared; 0 (default) = 1000 times
    * the squared median point spacing. Finite, >= 0. */

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <pcl_vts/core/trim_outward_triangles.h>
+#include <pcl_vts/export.h>
 #include <pcl_vts/vts_mesh_processing.h>
 
 #include <string>
@@ -26,7 +27,7 @@ namespace pcl {
  * pcl::VTSGridTriangulation's output.
  * \ingroup surface
  */
-class OutwardTriangleRemoval : public VTSMeshProcessing {
+class PCL_VTS_EXPORT OutwardTriangleRemoval : public VTSMeshProcessing {
  public:
   /** \brief Set the oversize factor against the local point spacing (default 4,
    * must be finite and > 1; checked when process() runs). */

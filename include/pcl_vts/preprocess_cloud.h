@@ -7,6 +7,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/export.h>
 
 #include <cstddef>
 #include <string>
@@ -34,12 +35,13 @@ struct PreprocessStep {
 };
 
 /// Checks the options; the message names the value.
-Status validatePreprocessOptions(const PreprocessOptions& options);
+PCL_VTS_EXPORT Status validatePreprocessOptions(const PreprocessOptions& options);
 
 /// Applies the enabled steps to xyz (3 doubles per point) in place. Points with a
 /// non-finite coordinate are dropped first (reported as a "non-finite" step) when any
 /// step is enabled. EMPTY_INPUT when nothing survives.
-Status preprocessCloud(std::vector<double>& xyz, const PreprocessOptions& options,
-                       std::vector<PreprocessStep>& steps);
+PCL_VTS_EXPORT Status preprocessCloud(std::vector<double>& xyz,
+                                      const PreprocessOptions& options,
+                                      std::vector<PreprocessStep>& steps);
 
 } // namespace pcl_vts

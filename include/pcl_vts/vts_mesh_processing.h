@@ -7,6 +7,7 @@
 
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/export.h>
 
 #include <pcl/PolygonMesh.h>
 
@@ -22,7 +23,7 @@ namespace pcl {
  * and calls performProcessing(). On bad input the output polygons stay empty, a
  * PCL_ERROR names the cause and getLastStatus() returns a code a caller can test.
  */
-class VTSMeshProcessing {
+class PCL_VTS_EXPORT VTSMeshProcessing {
  public:
   using PolygonMeshConstPtr = pcl::PolygonMesh::ConstPtr;
 
@@ -63,22 +64,22 @@ namespace vts_detail {
  * \return INVALID_PARAMETER for a polygon that is not a triangle, an id out of range,
  *   a triangle with zero XY area (not a 2.5D surface) or a non-manifold edge;
  *   EMPTY_INPUT for a cloud without x, y, z fields. */
-pcl_vts::Status polygonMeshToArrays(const pcl::PolygonMesh& input,
-                                    pcl_vts::TriangleMesh& mesh,
-                                    std::size_t* reoriented = nullptr);
+PCL_VTS_EXPORT pcl_vts::Status polygonMeshToArrays(const pcl::PolygonMesh& input,
+                                                   pcl_vts::TriangleMesh& mesh,
+                                                   std::size_t* reoriented = nullptr);
 
 /** \brief Writes the triangles of mesh as polygons. */
-void arraysToPolygons(const pcl_vts::TriangleMesh& mesh,
-                      std::vector<pcl::Vertices>& polygons);
+PCL_VTS_EXPORT void arraysToPolygons(const pcl_vts::TriangleMesh& mesh,
+                                     std::vector<pcl::Vertices>& polygons);
 
 /** \brief Appends mesh vertices first.. to cloud: each new point is a zeroed record
  * with x, y, z set (float or double as the fields are); width grows, height = 1. */
-void appendVertices(const pcl_vts::TriangleMesh& mesh, std::size_t first,
-                    pcl::PCLPointCloud2& cloud);
+PCL_VTS_EXPORT void appendVertices(const pcl_vts::TriangleMesh& mesh, std::size_t first,
+                                   pcl::PCLPointCloud2& cloud);
 
 /** \brief True when the cloud stores x or y as float32 (inserted points must then
  * be rounded to float before they are triangulated). */
-bool xyIsFloat(const pcl::PCLPointCloud2& cloud);
+PCL_VTS_EXPORT bool xyIsFloat(const pcl::PCLPointCloud2& cloud);
 
 } // namespace vts_detail
 } // namespace pcl

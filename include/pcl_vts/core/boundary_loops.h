@@ -6,6 +6,7 @@
 // Thesis section 4.3.2 "Determining holes"; docs/reconstruction.md.
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 
@@ -31,7 +32,7 @@ struct BoundaryLoop {
   bool has_repeated_vertex = false;
 };
 
-struct BoundaryLoops {
+struct PCL_VTS_CORE_EXPORT BoundaryLoops {
   std::vector<BoundaryLoop> loops;
   /// Per triangle: its connected piece (triangles sharing an edge are connected).
   std::vector<std::uint32_t> triangle_component;
@@ -47,12 +48,14 @@ struct BoundaryLoops {
 /// \param[out] loops every loop; each twin-less halfedge belongs to exactly one
 /// \return INVALID_PARAMETER when halfedges does not match triangles in size or a
 ///   walk does not close (inconsistent twins); OK otherwise (also for no triangle).
-Status findBoundaryLoops(const TriangleMesh& mesh, BoundaryLoops& loops);
+PCL_VTS_CORE_EXPORT Status findBoundaryLoops(const TriangleMesh& mesh,
+                                             BoundaryLoops& loops);
 
 /// Next twin-less halfedge after boundary halfedge e along its loop: rotates around
 /// the end vertex of e inside e's fan. Precondition: halfedges[e] == INVALID_ID.
 /// Returns INVALID_ID if the rotation does not reach a boundary halfedge within the
 /// mesh's halfedge count (inconsistent twins).
-HalfedgeId nextBoundaryHalfedge(const TriangleMesh& mesh, HalfedgeId e);
+PCL_VTS_CORE_EXPORT HalfedgeId nextBoundaryHalfedge(const TriangleMesh& mesh,
+                                                    HalfedgeId e);
 
 } // namespace pcl_vts

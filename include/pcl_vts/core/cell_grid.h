@@ -5,6 +5,7 @@
 // that, not on exact cell bounds (docs/algorithm.md, "Why the stop rule is exact").
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 
@@ -57,7 +58,7 @@ constexpr double DEFAULT_POINTS_PER_CELL = 2.0;
 
 /// Cell size from the point density: sqrt(area * k / n) over the XY bounding box,
 /// but never so small that one row or column gets more than n / k cells (thin strips).
-double defaultCellSize(double width, double height, std::size_t n);
+PCL_VTS_CORE_EXPORT double defaultCellSize(double width, double height, std::size_t n);
 
 /// Buckets points into a grid. `cell_size` 0 means automatic: defaultCellSize(), then
 /// shrunk (up to 4 cells per point) when the occupied cells hold over twice the
@@ -68,8 +69,9 @@ double defaultCellSize(double width, double height, std::size_t n);
 /// \param[in] threads threads for the gather and the per-cell sort (same result for
 ///            any number)
 /// \return INVALID_PARAMETER when the cell size would give an absurd number of cells.
-Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
-                     CellGrid& grid, std::vector<std::uint32_t>& order,
-                     unsigned threads = 1);
+PCL_VTS_CORE_EXPORT Status buildCellGrid(const std::vector<Point2>& points,
+                                         double cell_size, CellGrid& grid,
+                                         std::vector<std::uint32_t>& order,
+                                         unsigned threads = 1);
 
 } // namespace pcl_vts

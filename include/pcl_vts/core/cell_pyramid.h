@@ -4,6 +4,7 @@
 #pragma once
 
 #include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/export.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -27,7 +28,7 @@ struct CellPyramid {
 };
 
 /// Builds the pyramid of a grid. Linear in the number of cells.
-void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid);
+PCL_VTS_CORE_EXPORT void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid);
 
 /// An axis-aligned world rectangle.
 struct BlockRect {

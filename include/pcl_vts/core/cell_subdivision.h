@@ -6,6 +6,7 @@
 #pragma once
 
 #include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/export.h>
 
 #include <cstdint>
 #include <vector>
@@ -36,7 +37,7 @@ struct CellSubdivision {
 /// \param[out] sub the quadtrees
 /// \param[out] old_slot per grid slot after the call: the slot it held before (the
 ///             identity when nothing was crowded; then left empty)
-void subdivideCrowdedCells(CellGrid& grid, CellSubdivision& sub,
-                           std::vector<std::uint32_t>& old_slot);
+PCL_VTS_CORE_EXPORT void subdivideCrowdedCells(CellGrid& grid, CellSubdivision& sub,
+                                               std::vector<std::uint32_t>& old_slot);
 
 } // namespace pcl_vts

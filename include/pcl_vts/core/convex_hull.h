@@ -5,6 +5,7 @@
 #pragma once
 
 #include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 
@@ -20,11 +21,12 @@ namespace pcl_vts {
 /// \param[in] candidates when given, a superset of the points that can lie on the
 ///            hull boundary (gridHullCandidates); default: every point
 /// \return TOO_FEW_POINTS for < 3 points, ALL_COLLINEAR when the hull has no area
-Status convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull,
-                  const std::vector<VertexId>* candidates = nullptr);
+PCL_VTS_CORE_EXPORT Status
+convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull,
+           const std::vector<VertexId>* candidates = nullptr);
 
 /// Points of the grid that may lie on the hull boundary: those in cells not enclosed
 /// by filled cells two steps away in all four axis directions. Linear in the cells.
-std::vector<VertexId> gridHullCandidates(const CellGrid& grid);
+PCL_VTS_CORE_EXPORT std::vector<VertexId> gridHullCandidates(const CellGrid& grid);
 
 } // namespace pcl_vts

@@ -5,6 +5,7 @@
 // constrained Delaunay patch meeting the rim edges exactly. docs/reconstruction.md.
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 
@@ -47,7 +48,7 @@ struct FillOptions {
 };
 
 /// Checks every option; the message names the offending value.
-Status validateFillOptions(const FillOptions& options);
+PCL_VTS_CORE_EXPORT Status validateFillOptions(const FillOptions& options);
 
 struct FillResult {
   std::size_t holes_found = 0;     ///< inner boundary loops
@@ -69,6 +70,7 @@ struct FillResult {
 ///   after the input ones; halfedges rebuilt.
 /// Post-conditions: every filled loop is gone; edge-manifold, CCW, consistent twins.
 /// Deterministic.
-Status fillHoles(TriangleMesh& mesh, const FillOptions& options, FillResult& result);
+PCL_VTS_CORE_EXPORT Status fillHoles(TriangleMesh& mesh, const FillOptions& options,
+                                     FillResult& result);
 
 } // namespace pcl_vts

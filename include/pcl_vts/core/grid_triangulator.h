@@ -8,6 +8,7 @@
 
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/mediatrix_search.h>
 #include <pcl_vts/core/status.h>
 
@@ -27,11 +28,10 @@ namespace pcl_vts {
 ///            for every value
 /// \param[in] strip_columns strip width in columns, a power of two; 0 = automatic
 /// \return INTERNAL_ERROR if the region growing failed to tile the hull (a bug)
-Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
-                       const CellSubdivision& subdivision,
-                       const std::vector<VertexId>& hull,
-                       std::vector<VertexId>& triangles,
-                       std::vector<HalfedgeId>& halfedges, SearchStats& stats,
-                       unsigned threads = 1, std::uint32_t strip_columns = 0);
+PCL_VTS_CORE_EXPORT Status triangulateGrid(
+    const CellGrid& grid, const CellPyramid& pyramid,
+    const CellSubdivision& subdivision, const std::vector<VertexId>& hull,
+    std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges,
+    SearchStats& stats, unsigned threads = 1, std::uint32_t strip_columns = 0);
 
 } // namespace pcl_vts

@@ -9,6 +9,7 @@
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
 #include <pcl_vts/core/cell_subdivision.h>
+#include <pcl_vts/core/export.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -34,10 +35,11 @@ struct SafeDisk {
 
 /// Circumcircle of (a, b, p), counter-clockwise, inflated by a rigorous bound on the
 /// floating-point error of its centre and radius.
-SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& p);
+PCL_VTS_CORE_EXPORT SafeDisk safeCircumdisk(const Point2& a, const Point2& b,
+                                            const Point2& p);
 
 /// Reusable search state (one per thread): the block heap.
-class MediatrixSearch {
+class PCL_VTS_CORE_EXPORT MediatrixSearch {
  public:
   MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid,
                   const CellSubdivision& subdivision);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/export.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -20,8 +21,8 @@ enum class DuplicateRule {
 };
 
 /// Parses "lowest" | "highest" | "mean" | "first"; false on anything else.
-bool parseDuplicateRule(const char* text, DuplicateRule& rule);
-const char* duplicateRuleName(DuplicateRule rule);
+PCL_VTS_CORE_EXPORT bool parseDuplicateRule(const char* text, DuplicateRule& rule);
+PCL_VTS_CORE_EXPORT const char* duplicateRuleName(DuplicateRule rule);
 
 /// Folds each run of equal XY in grid.points into one point.
 /// \param[in,out] grid points and cell_start are compacted in place
@@ -31,8 +32,9 @@ const char* duplicateRuleName(DuplicateRule rule);
 ///                exit (the representative's index)
 /// \param[out] slot_to_vertex per grid slot on entry: its distinct point
 /// \return the number of points folded into another
-std::size_t mergeDuplicates(CellGrid& grid, DuplicateRule rule, std::vector<double>& z,
-                            std::vector<std::uint32_t>& source,
-                            std::vector<VertexId>& slot_to_vertex);
+PCL_VTS_CORE_EXPORT std::size_t mergeDuplicates(CellGrid& grid, DuplicateRule rule,
+                                                std::vector<double>& z,
+                                                std::vector<std::uint32_t>& source,
+                                                std::vector<VertexId>& slot_to_vertex);
 
 } // namespace pcl_vts

@@ -4,6 +4,7 @@
 // INVALID_ID on the boundary. Triangles are counter-clockwise seen from +z.
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/point2.h>
 
 #include <cstdint>
@@ -42,7 +43,7 @@ inline TriangleId triangleOf(HalfedgeId e)
 }
 
 /// A triangle mesh over a set of 2.5D vertices.
-struct TriangleMesh {
+struct PCL_VTS_CORE_EXPORT TriangleMesh {
   std::vector<Point2> xy;            ///< 1 per vertex, input units
   std::vector<double> z;             ///< 1 per vertex
   std::vector<VertexId> triangles;   ///< 3 per triangle, CCW in XY

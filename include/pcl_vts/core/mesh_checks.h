@@ -3,6 +3,7 @@
 // broken mesh. All geometric decisions use the exact predicates.
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/mesh_arrays.h>
 
 #include <cstddef>
@@ -13,30 +14,35 @@ namespace pcl_vts {
 
 /// Every triangle has positive exact orientation (CCW seen from +z).
 /// On failure, *why names the first bad triangle.
-bool allTrianglesCcw(const TriangleMesh& mesh, std::string* why = nullptr);
+PCL_VTS_CORE_EXPORT bool allTrianglesCcw(const TriangleMesh& mesh,
+                                         std::string* why = nullptr);
 
 /// halfedges is twin-symmetric: h[h[e]] == e, twins join the same two vertices in
 /// opposite directions, ids are in range.
-bool halfedgesConsistent(const TriangleMesh& mesh, std::string* why = nullptr);
+PCL_VTS_CORE_EXPORT bool halfedgesConsistent(const TriangleMesh& mesh,
+                                             std::string* why = nullptr);
 
 /// No undirected edge is used by more than two triangles, and no directed edge twice.
-bool isEdgeManifold(const TriangleMesh& mesh, std::string* why = nullptr);
+PCL_VTS_CORE_EXPORT bool isEdgeManifold(const TriangleMesh& mesh,
+                                        std::string* why = nullptr);
 
 /// Every interior edge is locally Delaunay: the vertex opposite across the edge is
 /// not strictly inside the circumcircle (exact incircle). Together with a valid
 /// triangulation of the hull this means the whole triangulation is Delaunay.
-bool isDelaunay(const TriangleMesh& mesh, std::string* why = nullptr);
+PCL_VTS_CORE_EXPORT bool isDelaunay(const TriangleMesh& mesh,
+                                    std::string* why = nullptr);
 
 /// Every vertex is used by at least one triangle.
-bool allVerticesUsed(const TriangleMesh& mesh, std::string* why = nullptr);
+PCL_VTS_CORE_EXPORT bool allVerticesUsed(const TriangleMesh& mesh,
+                                         std::string* why = nullptr);
 
 /// V - E + F over the triangles (isolated vertices not counted).
-long long eulerCharacteristic(const TriangleMesh& mesh);
+PCL_VTS_CORE_EXPORT long long eulerCharacteristic(const TriangleMesh& mesh);
 
 /// Number of boundary halfedges (halfedges without twin).
-std::size_t boundaryEdgeCount(const TriangleMesh& mesh);
+PCL_VTS_CORE_EXPORT std::size_t boundaryEdgeCount(const TriangleMesh& mesh);
 
 /// Twice the signed area of all triangles, summed (exact inputs, double sum).
-double twiceArea(const TriangleMesh& mesh);
+PCL_VTS_CORE_EXPORT double twiceArea(const TriangleMesh& mesh);
 
 } // namespace pcl_vts

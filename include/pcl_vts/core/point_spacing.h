@@ -5,6 +5,7 @@
 // neighbourhood. docs/reconstruction.md, "Spacing".
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/mesh_arrays.h>
 
 #include <vector>
@@ -21,9 +22,9 @@ struct PointSpacing {
 };
 
 /// Measures the spacing of the vertices of mesh (triangles and halfedges read).
-PointSpacing measurePointSpacing(const TriangleMesh& mesh);
+PCL_VTS_CORE_EXPORT PointSpacing measurePointSpacing(const TriangleMesh& mesh);
 
 /// Median of values (copied; 0 when empty). Upper median for an even count.
-double medianOf(std::vector<double> values);
+PCL_VTS_CORE_EXPORT double medianOf(std::vector<double> values);
 
 } // namespace pcl_vts

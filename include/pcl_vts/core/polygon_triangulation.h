@@ -5,6 +5,7 @@
 // the exact predicates only. docs/reconstruction.md, "Triangulating a hole".
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/point2.h>
 #include <pcl_vts/core/status.h>
 
@@ -29,7 +30,8 @@ struct PolygonTriangulation {
 ///   counter-clockwise (no ear can be cut); OK otherwise. Deterministic.
 /// Post-condition: triangles tile the polygon; each polygon edge is a triangle edge;
 /// every edge not on the polygon is locally Delaunay (exact in-circle).
-Status triangulatePolygon(const std::vector<Point2>& points, std::size_t polygon_size,
-                          PolygonTriangulation& output);
+PCL_VTS_CORE_EXPORT Status triangulatePolygon(const std::vector<Point2>& points,
+                                              std::size_t polygon_size,
+                                              PolygonTriangulation& output);
 
 } // namespace pcl_vts

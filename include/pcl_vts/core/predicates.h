@@ -5,6 +5,7 @@
 // Ties on cocircular points are broken by symbolic perturbation (docs/algorithm.md).
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/point2.h>
 
 namespace pcl_vts {
@@ -14,8 +15,10 @@ enum class Sign : int { NEGATIVE = -1, ZERO = 0, POSITIVE = 1 };
 
 namespace detail {
 /// The exact slow paths (they bypass the filter); exposed for tests.
-Sign orient2dExact(const Point2& a, const Point2& b, const Point2& c);
-Sign incircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+PCL_VTS_CORE_EXPORT Sign orient2dExact(const Point2& a, const Point2& b,
+                                       const Point2& c);
+PCL_VTS_CORE_EXPORT Sign incircleExact(const Point2& a, const Point2& b,
+                                       const Point2& c, const Point2& d);
 
 constexpr double UNIT_ROUNDOFF = 0x1p-53;
 constexpr double CCW_ERR_BOUND_A = (3.0 + 16.0 * UNIT_ROUNDOFF) * UNIT_ROUNDOFF;
@@ -84,8 +87,8 @@ inline Sign incircle(const Point2& a, const Point2& b, const Point2& c, const Po
 /// (smaller point, larger perturbation). Equals incircle() whenever that is not
 /// ZERO; returns ZERO only when all four points are collinear. Every Delaunay
 /// triangulation decided with it is the unique triangulation of the perturbed set.
-Sign incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c,
-                          const Point2& d);
+PCL_VTS_CORE_EXPORT Sign incirclePerturbedTie(const Point2& a, const Point2& b,
+                                              const Point2& c, const Point2& d);
 
 inline Sign incirclePerturbed(const Point2& a, const Point2& b, const Point2& c,
                               const Point2& d)

@@ -3,6 +3,7 @@
 // and the CLI; each pass can be turned off. docs/reconstruction.md.
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/fill_holes.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
@@ -25,7 +26,8 @@ struct ReconstructionOptions {
 };
 
 /// Checks the options of the enabled passes.
-Status validateReconstructionOptions(const ReconstructionOptions& options);
+PCL_VTS_CORE_EXPORT Status
+validateReconstructionOptions(const ReconstructionOptions& options);
 
 struct ReconstructionDiagnostics {
   std::size_t triangles_in = 0;
@@ -40,7 +42,8 @@ struct ReconstructionDiagnostics {
 /// removed; ones left without triangles are counted in trim.vertices_lost);
 /// inserted points are appended and flagged in fill.inserted (one per output
 /// vertex). On error the mesh may be partly processed and the status says why.
-Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& options,
-                          ReconstructionDiagnostics& diagnostics);
+PCL_VTS_CORE_EXPORT Status reconstructSurface(TriangleMesh& mesh,
+                                              const ReconstructionOptions& options,
+                                              ReconstructionDiagnostics& diagnostics);
 
 } // namespace pcl_vts

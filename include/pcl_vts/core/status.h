@@ -3,6 +3,8 @@
 // oddities (dropped, merged) that are not errors. No exception crosses the core API.
 #pragma once
 
+#include <pcl_vts/core/export.h>
+
 #include <cstddef>
 #include <string>
 
@@ -21,7 +23,7 @@ enum class StatusCode {
 };
 
 /// Short upper-case name of a code, e.g. "ALL_COLLINEAR".
-const char* statusCodeName(StatusCode code);
+PCL_VTS_CORE_EXPORT const char* statusCodeName(StatusCode code);
 
 struct [[nodiscard]] Status {
   StatusCode code = StatusCode::OK;
@@ -31,11 +33,11 @@ struct [[nodiscard]] Status {
   static Status success() { return {}; }
   static Status error(StatusCode c, std::string msg) { return {c, std::move(msg)}; }
   /// "ALL_COLLINEAR: all 12 distinct points lie on one line"
-  std::string toString() const;
+  PCL_VTS_CORE_EXPORT std::string toString() const;
 };
 
 /// A number for a message: shortest form that reads back to the same double.
-std::string formatValue(double value);
+PCL_VTS_CORE_EXPORT std::string formatValue(double value);
 
 /// What happened to the input on its way to the mesh.
 struct Diagnostics {

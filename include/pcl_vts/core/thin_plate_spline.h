@@ -4,6 +4,7 @@
 // z that continues the surrounding slope and curvature. docs/reconstruction.md.
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/point2.h>
 
 #include <cstddef>
@@ -11,7 +12,7 @@
 
 namespace pcl_vts {
 
-class ThinPlateSpline {
+class PCL_VTS_CORE_EXPORT ThinPlateSpline {
  public:
   /// Fits the spline through (xy[i], z[i]). Coordinates are centred and scaled
   /// internally. Falls back to a least-squares plane when the samples are too few

@@ -7,6 +7,7 @@
 // are then restored. docs/reconstruction.md, "Trimming".
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 
@@ -30,7 +31,7 @@ struct TrimOptions {
 };
 
 /// Checks every option; the message names the offending value.
-Status validateTrimOptions(const TrimOptions& options);
+PCL_VTS_CORE_EXPORT Status validateTrimOptions(const TrimOptions& options);
 
 struct TrimResult {
   std::size_t triangles_removed = 0;
@@ -48,7 +49,8 @@ struct TrimResult {
 ///   vertex ids stay valid; triangles keep their relative order; halfedges rebuilt.
 /// Post-conditions: edge-manifold, no new pinch vertex, twins consistent.
 /// Deterministic (no dependence on anything but the arrays).
-Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
-                            TrimResult& result);
+PCL_VTS_CORE_EXPORT Status trimOutwardTriangles(TriangleMesh& mesh,
+                                                const TrimOptions& options,
+                                                TrimResult& result);
 
 } // namespace pcl_vts

@@ -3,6 +3,7 @@
 // CLI) call runVtsPipeline and map vertex ids back to their own inputs.
 #pragma once
 
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/merge_duplicates.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/reconstruct_surface.h>
@@ -46,7 +47,7 @@ struct VtsOptions {
 };
 
 /// Checks every option; the message names the offending value.
-Status validateOptions(const VtsOptions& options);
+PCL_VTS_CORE_EXPORT Status validateOptions(const VtsOptions& options);
 
 struct VtsResult {
   /// Vertices are the distinct XY positions (merged z applied); triangles are CCW,
@@ -68,7 +69,7 @@ struct VtsResult {
 
 /// Triangulates n points given as xyz triples (3n doubles). Never throws.
 /// On error, result.mesh is empty and the status says why.
-Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
-                      VtsResult& result);
+PCL_VTS_CORE_EXPORT Status runVtsPipeline(const double* xyz, std::size_t n,
+                                          const VtsOptions& options, VtsResult& result);
 
 } // namespace pcl_vts

@@ -5,6 +5,7 @@
 
 #include <pcl_vts/core/status.h>
 #include <pcl_vts/core/vts_pipeline.h>
+#include <pcl_vts/export.h>
 #include <pcl_vts/vts_grid_triangulation.h>
 
 #include <pcl/PCLPointField.h>
@@ -168,5 +169,7 @@ void pcl::VTSGridTriangulation<PointInT>::fail(pcl_vts::Status status,
             last_status_.toString().c_str());
 }
 
+// Exported explicitly: with -fvisibility=hidden, an instantiation over PCL's point
+// types (hidden here like every PCL type) would otherwise stay inside the library.
 #define PCL_INSTANTIATE_VTSGridTriangulation(T) \
-  template class pcl::VTSGridTriangulation<T>;
+  template class PCL_VTS_EXPORT pcl::VTSGridTriangulation<T>;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/io/export.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -33,11 +34,12 @@ struct AscGridInfo {
 ///         or incomplete header (ncols, nrows, xll*, yll*, cellsize required), a
 ///         value that is not a number, fewer or more values than ncols x nrows;
 ///         EMPTY_INPUT when every cell is NODATA.
-Status readAscGrid(const std::string& path, std::vector<double>& xyz,
-                   AscGridInfo& info);
+PCL_VTS_IO_EXPORT Status readAscGrid(const std::string& path, std::vector<double>& xyz,
+                                     AscGridInfo& info);
 
 /// Same, on bytes in memory; name is used in messages only.
-Status parseAscGrid(const std::uint8_t* data, std::size_t size, const std::string& name,
-                    std::vector<double>& xyz, AscGridInfo& info);
+PCL_VTS_IO_EXPORT Status parseAscGrid(const std::uint8_t* data, std::size_t size,
+                                      const std::string& name, std::vector<double>& xyz,
+                                      AscGridInfo& info);
 
 } // namespace pcl_vts

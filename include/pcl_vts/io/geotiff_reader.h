@@ -4,6 +4,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/io/export.h>
 
 #include <cstddef>
 #include <string>
@@ -22,13 +23,13 @@ struct GeoTiffInfo {
 };
 
 /// True when this build reads rasters through GDAL.
-bool geoTiffSupported();
+PCL_VTS_IO_EXPORT bool geoTiffSupported();
 
 /// Reads band 1 of a raster: one point per valid cell centre, x and y from the
 /// geotransform (rotation terms included), z the cell value, in double.
 /// \return IO_ERROR (cannot open, no GDAL in this build), EMPTY_INPUT (every cell
 ///         NODATA)
-Status readGeoTiff(const std::string& path, std::vector<double>& xyz,
-                   GeoTiffInfo& info);
+PCL_VTS_IO_EXPORT Status readGeoTiff(const std::string& path, std::vector<double>& xyz,
+                                     GeoTiffInfo& info);
 
 } // namespace pcl_vts

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/io/export.h>
 
 #include <array>
 #include <cstddef>
@@ -23,8 +24,9 @@ enum class LasReturnFilter {
 };
 
 /// Parses "all" | "first" | "last"; false on anything else.
-bool parseLasReturnFilter(const std::string& text, LasReturnFilter& filter);
-const char* lasReturnFilterName(LasReturnFilter filter);
+PCL_VTS_IO_EXPORT bool parseLasReturnFilter(const std::string& text,
+                                            LasReturnFilter& filter);
+PCL_VTS_IO_EXPORT const char* lasReturnFilterName(LasReturnFilter filter);
 
 struct LasReadOptions {
   /// Classification codes to keep, e.g. {2} for ground; empty = every class.
@@ -34,7 +36,7 @@ struct LasReadOptions {
 };
 
 /// What the reader found, for the caller's summary.
-struct LasInfo {
+struct PCL_VTS_IO_EXPORT LasInfo {
   int version_major = 0;
   int version_minor = 0;
   int point_format = 0;             ///< 0-10
@@ -69,12 +71,14 @@ struct LasInfo {
 ///         version or point format, has an inconsistent header or is truncated;
 ///         EMPTY_INPUT when it holds 0 points or no point passes the filters (the
 ///         message lists the classes present).
-Status readLasCloud(const std::string& path, const LasReadOptions& options,
-                    std::vector<double>& xyz, LasInfo& info);
+PCL_VTS_IO_EXPORT Status readLasCloud(const std::string& path,
+                                      const LasReadOptions& options,
+                                      std::vector<double>& xyz, LasInfo& info);
 
 /// Same, on bytes in memory; name is used in messages only.
-Status parseLasCloud(const std::uint8_t* data, std::size_t size,
-                     const std::string& name, const LasReadOptions& options,
-                     std::vector<double>& xyz, LasInfo& info);
+PCL_VTS_IO_EXPORT Status parseLasCloud(const std::uint8_t* data, std::size_t size,
+                                       const std::string& name,
+                                       const LasReadOptions& options,
+                                       std::vector<double>& xyz, LasInfo& info);
 
 } // namespace pcl_vts

@@ -7,6 +7,7 @@
 
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/io/export.h>
 
 #include <cstdint>
 #include <string>
@@ -17,11 +18,12 @@ namespace pcl_vts {
 enum class MeshFileFormat { PLY, OBJ, VTK };
 
 /// "PLY", "OBJ", "VTK".
-const char* meshFileFormatName(MeshFileFormat format);
+PCL_VTS_IO_EXPORT const char* meshFileFormatName(MeshFileFormat format);
 
 /// Format from the path's extension, case-insensitive: .ply, .obj, .vtk.
 /// \return INVALID_PARAMETER naming the path for any other extension (or none).
-Status meshFileFormatFromPath(const std::string& path, MeshFileFormat& format);
+PCL_VTS_IO_EXPORT Status meshFileFormatFromPath(const std::string& path,
+                                                MeshFileFormat& format);
 
 struct MeshWriteOptions {
   /// PLY only: ASCII instead of binary little-endian (.obj and .vtk are always text).
@@ -45,7 +47,7 @@ struct MeshWriteInfo {
 };
 
 /// True when every x, y and z of the mesh converts to float and back unchanged.
-bool verticesExactInFloat(const TriangleMesh& mesh);
+PCL_VTS_IO_EXPORT bool verticesExactInFloat(const TriangleMesh& mesh);
 
 /// Writes mesh.xy/z as vertices and mesh.triangles (CCW, 3 per triangle) as faces.
 /// The file appears complete or not at all: the data goes to ".<name>.tmp.<pid>" in
@@ -54,7 +56,8 @@ bool verticesExactInFloat(const TriangleMesh& mesh);
 /// \return INVALID_PARAMETER for an unknown extension or an inconsistent mesh
 ///         (index out of range, xy/z sizes differ, > 2^31-1 vertices);
 ///         IO_ERROR naming the path and the system's reason when writing fails.
-Status writeMesh(const std::string& path, const TriangleMesh& mesh,
-                 const MeshWriteOptions& options, MeshWriteInfo* info = nullptr);
+PCL_VTS_IO_EXPORT Status writeMesh(const std::string& path, const TriangleMesh& mesh,
+                                   const MeshWriteOptions& options,
+                                   MeshWriteInfo* info = nullptr);
 
 } // namespace pcl_vts

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/io/export.h>
 
 #include <array>
 #include <cstddef>
@@ -30,10 +31,10 @@ enum class PcdValueType : std::uint8_t {
 };
 
 /// "float32", "float64", "int8", ..., "uint64".
-const char* pcdValueTypeName(PcdValueType type);
+PCL_VTS_IO_EXPORT const char* pcdValueTypeName(PcdValueType type);
 
 /// What the reader found in the file, for the caller's summary and output choices.
-struct PcdCloudInfo {
+struct PCL_VTS_IO_EXPORT PcdCloudInfo {
   std::size_t points = 0;   ///< WIDTH * HEIGHT = POINTS
   std::uint32_t width = 0;  ///< PCD WIDTH
   std::uint32_t height = 0; ///< PCD HEIGHT
@@ -62,7 +63,7 @@ struct PcdCloudInfo {
 /// \return IO_ERROR (one-line message naming the file) when the file is missing,
 ///         unreadable, empty, not a PCD file, has no x/y/z, is truncated or its header
 ///         claims more data than the file holds; EMPTY_INPUT when it holds 0 points.
-Status readPcdCloud(const std::string& path, std::vector<double>& xyz,
-                    PcdCloudInfo& info);
+PCL_VTS_IO_EXPORT Status readPcdCloud(const std::string& path, std::vector<double>& xyz,
+                                      PcdCloudInfo& info);
 
 } // namespace pcl_vts

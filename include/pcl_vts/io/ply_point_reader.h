@@ -5,6 +5,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/io/export.h>
 
 #include <array>
 #include <cstddef>
@@ -27,12 +28,12 @@ struct PlyPointInfo {
 ///         a bad header (no vertex element, no x/y/z, unknown type), a value that is
 ///         not a number, or a body shorter than its header claims; EMPTY_INPUT when
 ///         it has 0 vertices.
-Status readPlyPoints(const std::string& path, std::vector<double>& xyz,
-                     PlyPointInfo& info);
+PCL_VTS_IO_EXPORT Status readPlyPoints(const std::string& path,
+                                       std::vector<double>& xyz, PlyPointInfo& info);
 
 /// Same, on bytes in memory; name is used in messages only.
-Status parsePlyPoints(const std::uint8_t* data, std::size_t size,
-                      const std::string& name, std::vector<double>& xyz,
-                      PlyPointInfo& info);
+PCL_VTS_IO_EXPORT Status parsePlyPoints(const std::uint8_t* data, std::size_t size,
+                                        const std::string& name,
+                                        std::vector<double>& xyz, PlyPointInfo& info);
 
 } // namespace pcl_vts

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/io/export.h>
 #include <pcl_vts/io/las_reader.h>
 
 #include <cstddef>
@@ -17,18 +18,20 @@ namespace pcl_vts {
 enum class CloudFileFormat { PCD, LAS, ASC, XYZ, PLY, GEOTIFF };
 
 /// "PCD", "LAS", "ASCII grid", "XYZ text", "PLY", "GeoTIFF".
-const char* cloudFileFormatName(CloudFileFormat format);
+PCL_VTS_IO_EXPORT const char* cloudFileFormatName(CloudFileFormat format);
 
 /// Reader by extension: .pcd, .las/.laz, .asc, .xyz/.txt/.csv, .ply, .tif/.tiff
 /// (any case).
 /// False for any other extension (or none).
-bool cloudFileFormatFromExtension(const std::string& path, CloudFileFormat& format);
+PCL_VTS_IO_EXPORT bool cloudFileFormatFromExtension(const std::string& path,
+                                                    CloudFileFormat& format);
 
 /// Reader by content: "LASF", "ply", a PCD header keyword, an ASCII grid "ncols",
 /// a TIFF byte-order mark.
 /// False when none matches.
-bool cloudFileFormatFromContent(const std::uint8_t* data, std::size_t size,
-                                CloudFileFormat& format);
+PCL_VTS_IO_EXPORT bool cloudFileFormatFromContent(const std::uint8_t* data,
+                                                  std::size_t size,
+                                                  CloudFileFormat& format);
 
 struct CloudLoadOptions {
   /// LAS only: classification codes to keep (empty = all); a non-empty list on any
@@ -51,13 +54,16 @@ struct CloudDescription {
 
 /// Parses a classification list "2" or "2,9" (each 0-255) for CloudLoadOptions.
 /// \return INVALID_PARAMETER naming the bad item.
-Status parseClassList(const std::string& text, std::vector<std::uint8_t>& classes);
+PCL_VTS_IO_EXPORT Status parseClassList(const std::string& text,
+                                        std::vector<std::uint8_t>& classes);
 
 /// Reads path into 3 doubles per kept point.
 /// \return the reader's status (IO_ERROR, EMPTY_INPUT); IO_ERROR for an unknown
 ///         extension whose content is not recognised either; INVALID_PARAMETER for a
 ///         LAS-only option on another format.
-Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
-                      std::vector<double>& xyz, CloudDescription& description);
+PCL_VTS_IO_EXPORT Status loadPointCloud(const std::string& path,
+                                        const CloudLoadOptions& options,
+                                        std::vector<double>& xyz,
+                                        CloudDescription& description);
 
 } // namespace pcl_vts

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/io/export.h>
 
 #include <array>
 #include <cstddef>
@@ -26,11 +27,12 @@ struct XyzTextInfo {
 /// \return IO_ERROR (one line naming the file and line) when it is missing, empty,
 ///         binary, a line has fewer columns than needed or a value that is not a
 ///         number; EMPTY_INPUT when it holds no data line (header or comments only).
-Status readXyzText(const std::string& path, std::vector<double>& xyz,
-                   XyzTextInfo& info);
+PCL_VTS_IO_EXPORT Status readXyzText(const std::string& path, std::vector<double>& xyz,
+                                     XyzTextInfo& info);
 
 /// Same, on bytes in memory; name is used in messages only.
-Status parseXyzText(const std::uint8_t* data, std::size_t size, const std::string& name,
-                    std::vector<double>& xyz, XyzTextInfo& info);
+PCL_VTS_IO_EXPORT Status parseXyzText(const std::uint8_t* data, std::size_t size,
+                                      const std::string& name, std::vector<double>& xyz,
+                                      XyzTextInfo& info);
 
 } // namespace pcl_vts

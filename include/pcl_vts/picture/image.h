@@ -4,6 +4,7 @@
 #pragma once
 
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/picture/export.h>
 
 #include <cstdint>
 #include <string>
@@ -33,6 +34,6 @@ constexpr PictureColour PICTURE_BACK_FACE{255, 140, 0};
 /// folder, then rename; on failure the temp file is removed.
 /// \return INVALID_PARAMETER for an inconsistent picture (size or rgb length),
 ///         IO_ERROR naming the path and the system's reason when writing fails.
-Status writePng(const std::string& path, const Picture& picture);
+PCL_VTS_PICTURE_EXPORT Status writePng(const std::string& path, const Picture& picture);
 
 } // namespace pcl_vts

@@ -3,6 +3,8 @@
 // camera builds on these types alone, never on mesh_picture.h.
 #pragma once
 
+#include <pcl_vts/picture/export.h>
+
 #include <cstdint>
 #include <string>
 
@@ -21,9 +23,10 @@ struct PictureFrame {
 };
 
 /// True when the box holds no point or is not finite.
-bool isEmpty(const PictureFrame& frame);
+PCL_VTS_PICTURE_EXPORT bool isEmpty(const PictureFrame& frame);
 /// Smallest box holding both (an empty box is the neutral element).
-PictureFrame unionOf(const PictureFrame& a, const PictureFrame& b);
+PCL_VTS_PICTURE_EXPORT PictureFrame unionOf(const PictureFrame& a,
+                                            const PictureFrame& b);
 
 struct PictureOptions {
   PictureView view = PictureView::TOP;
