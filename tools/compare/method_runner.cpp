@@ -13,7 +13,7 @@ namespace pcl_vts {
 namespace compare {
 namespace {
 
-std::string dirOf(const std::string& path)
+[[maybe_unused]] std::string dirOf(const std::string& path)
 {
   const std::size_t slash = path.rfind('/');
   return slash == std::string::npos ? "." : path.substr(0, slash);
