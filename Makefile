@@ -6,8 +6,10 @@ CMAKE_FLAGS ?=
 DEMO_INPUT ?= test_data/samp11-utm-ground.pcd
 DEMO_OUTPUT ?= $(BUILD_DIR)/demo/samp11-utm-ground.ply
 BENCH_MAX_N ?= 1000000
+PACKAGE_BUILD_DIR ?= build-package
+PREFIX ?= /usr/local
 
-.PHONY: all deps configure build test demo bench compare format clean
+.PHONY: all deps configure build test demo bench compare install package format clean
 
 all: build
 
@@ -46,8 +48,24 @@ compare: deps
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target compare_methods
 	@bash tools/compare/run_compare.sh $(BUILD_DIR)
 
+# cmake --install: libraries, headers, pcd_to_mesh, the CMake package and the
+# pkg-config files under PREFIX (default /usr/local; e.g. make install PREFIX=$$HOME/.local).
+install: build
+	@cmake --install $(BUILD_DIR) --prefix $(PREFIX)
+
+# The Debian package pcl-vts_<version>_<arch>.deb (CPack, cmake/PclVtsPackage.cmake), built
+# in its own folder configured for /usr (libraries in /usr/lib/<multiarch>), without
+# tests, benchmarks or compare tools. Install it with apt-get install ./pcl-vts_*.deb.
+package: deps
+	@cmake -S . -B $(PACKAGE_BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr \
+	  -DPCL_VTS_BUILD_TESTS=OFF -DPCL_VTS_BUILD_BENCH=OFF -DPCL_VTS_BUILD_COMPARE=OFF \
+	  $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(PACKAGE_BUILD_DIR) -j $(JOBS)
+	@cd $(PACKAGE_BUILD_DIR) && cpack -G DEB >/dev/null
+	@ls $(PACKAGE_BUILD_DIR)/pcl-vts_*.deb
+
 format:
 	@clang-format -i $$(git ls-files '*.cpp' '*.hpp' '*.h')
 
 clean:
-	@rm -rf $(BUILD_DIR)
+	@rm -rf $(BUILD_DIR) $(PACKAGE_BUILD_DIR)

@@ -34,7 +34,7 @@ function(pcl_vts_add_module target)
     VISIBILITY_INLINES_HIDDEN ON
     POSITION_INDEPENDENT_CODE ON
     # An installed library finds its sibling modules beside itself.
-    INSTALL_RPATH "$ORIGIN")
+    INSTALL_RPATH "${PCL_VTS_LIB_RPATH}")
   target_compile_features(${target} PUBLIC cxx_std_17)
   target_include_directories(${target} PUBLIC
     $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>

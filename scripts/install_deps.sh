@@ -5,6 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config
+  dpkg-dev file         # make package: CPack's .deb (dpkg-shlibdeps, ELF detection)
   libpcl-dev            # PCL 1.13 (pulls FLANN, Boost, Eigen, VTK)
   libcgal-dev libgmp-dev libmpfr-dev   # the Delaunay oracle in tests and benchmarks
   libgtest-dev libbenchmark-dev
