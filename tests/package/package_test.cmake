@@ -46,6 +46,9 @@ endfunction()
 # The pcl_vts libraries a program loads come from the installed prefix, and it loads
 # at least one (else the check is void).
 function(check_loads_pcl_vts_from_prefix program)
+  if(NOT PCL_VTS_SHARED)
+    return()
+  endif()
   file(GET_RUNTIME_DEPENDENCIES EXECUTABLES ${program}
        RESOLVED_DEPENDENCIES_VAR resolved UNRESOLVED_DEPENDENCIES_VAR unresolved)
   if(unresolved)
@@ -152,6 +155,13 @@ if(MODE STREQUAL "install")
   endforeach()
 
 elseif(MODE STREQUAL "find_package")
+  # A static install (BUILD_SHARED_LIBS=OFF) links pcl_vts into the programs: the
+  # checks of what they load from the prefix are then moot.
+  file(GLOB_RECURSE PCL_VTS_SHARED ${PREFIX}/libpcl_vts*.so)
+  set(adapters_library "libpcl_vts\\.so")
+  if(NOT PCL_VTS_SHARED)
+    set(adapters_library "libpcl_common")
+  endif()
   set(examples ${WORK}/examples)
   set(core ${WORK}/core_only)
   file(REMOVE_RECURSE ${examples} ${core} ${WORK}/adapters_only ${WORK}/refused)
@@ -177,7 +187,7 @@ elseif(MODE STREQUAL "find_package")
   check_loads_pcl_vts_from_prefix(${PREFIX}/bin/pcd_to_mesh)
 
   run(${examples}/triangulate_grid)
-  check_loads_no_vtk_gdal(${examples}/triangulate_grid "libpcl_vts\\.so")
+  check_loads_no_vtk_gdal(${examples}/triangulate_grid "${adapters_library}")
 
   # COMPONENTS pcl_vts alone: the package finds PCL's common/search/kdtree for it
   # (consumer/CMakeLists.txt finds nothing itself, and checks that io is not found).
