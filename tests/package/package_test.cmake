@@ -43,29 +43,49 @@ function(run_must_fail expected)
   endif()
 endfunction()
 
+# The libraries a program loads, transitively, those matching `regex` in out_var; a
+# library it cannot find fails the test.
+function(loaded_libraries program regex out_var)
+  file(GET_RUNTIME_DEPENDENCIES EXECUTABLES ${program}
+       RESOLVED_DEPENDENCIES_VAR resolved UNRESOLVED_DEPENDENCIES_VAR unresolved)
+  if(unresolved)
+    message(FATAL_ERROR "${program}: unresolved libraries: ${unresolved}")
+  endif()
+  list(FILTER resolved INCLUDE REGEX "${regex}")
+  set(${out_var} ${resolved} PARENT_SCOPE)
+endfunction()
+
 # The pcl_vts libraries a program loads come from the installed prefix, and it loads
 # at least one (else the check is void).
 function(check_loads_pcl_vts_from_prefix program)
   if(NOT PCL_VTS_SHARED)
     return()
   endif()
-  file(GET_RUNTIME_DEPENDENCIES EXECUTABLES ${program}
-       RESOLVED_DEPENDENCIES_VAR resolved UNRESOLVED_DEPENDENCIES_VAR unresolved)
-  if(unresolved)
-    message(FATAL_ERROR "${program}: unresolved libraries: ${unresolved}")
-  endif()
-  list(FILTER resolved INCLUDE REGEX "/libpcl_vts[^/]*$")
+  loaded_libraries(${program} "/libpcl_vts[^/]*$" resolved)
   if(NOT resolved)
     message(FATAL_ERROR "${program} loads no pcl_vts library")
   endif()
+  file(REAL_PATH ${PREFIX} prefix)
   foreach(library IN LISTS resolved)
     file(REAL_PATH ${library} library)
-    file(REAL_PATH ${PREFIX} prefix)
     string(FIND "${library}" "${prefix}/" at)
     if(NOT at EQUAL 0)
       message(FATAL_ERROR "${program} loads ${library}, not the one in ${PREFIX}")
     endif()
   endforeach()
+endfunction()
+
+# A program loads none of the libraries matching `forbidden`, and one matching
+# `must_load` (else the check is void).
+function(check_loads_none program forbidden must_load)
+  loaded_libraries(${program} "${forbidden}" loaded)
+  if(loaded)
+    message(FATAL_ERROR "${program} loads ${loaded}")
+  endif()
+  loaded_libraries(${program} "${must_load}" loaded)
+  if(NOT loaded)
+    message(FATAL_ERROR "${program} does not load ${must_load}: the check is void")
+  endif()
 endfunction()
 
 # The number after `label` in text, or a failure naming what is missing.
@@ -87,25 +107,6 @@ function(check_example_output text out_triangles)
     message(FATAL_ERROR "triangulate_pcd: ${t} triangles, 2n - h - 2 = ${expected}")
   endif()
   set(${out_triangles} ${t} PARENT_SCOPE)
-endfunction()
-
-# The libraries a program loads, transitively: pcl_vts's, and never VTK or GDAL.
-function(check_loads_no_vtk_gdal program must_load)
-  file(GET_RUNTIME_DEPENDENCIES EXECUTABLES ${program}
-       RESOLVED_DEPENDENCIES_VAR resolved UNRESOLVED_DEPENDENCIES_VAR unresolved)
-  if(unresolved)
-    message(FATAL_ERROR "${program}: unresolved libraries: ${unresolved}")
-  endif()
-  list(FILTER resolved INCLUDE REGEX "[Vv][Tt][Kk]|gdal")
-  if(resolved)
-    message(FATAL_ERROR "${program} loads VTK or GDAL: ${resolved}")
-  endif()
-  file(GET_RUNTIME_DEPENDENCIES EXECUTABLES ${program}
-       RESOLVED_DEPENDENCIES_VAR all_resolved)
-  list(FILTER all_resolved INCLUDE REGEX "${must_load}")
-  if(NOT all_resolved)
-    message(FATAL_ERROR "${program} does not load ${must_load}: the check is void")
-  endif()
 endfunction()
 
 if(MODE STREQUAL "install")
@@ -159,8 +160,10 @@ elseif(MODE STREQUAL "find_package")
   # checks of what they load from the prefix are then moot.
   file(GLOB_RECURSE PCL_VTS_SHARED ${PREFIX}/libpcl_vts*.so)
   set(adapters_library "libpcl_vts\\.so")
+  set(core_library "libpcl_vts_core\\.so")
   if(NOT PCL_VTS_SHARED)
     set(adapters_library "libpcl_common")
+    set(core_library "libstdc\\+\\+")
   endif()
   set(examples ${WORK}/examples)
   set(core ${WORK}/core_only)
@@ -187,7 +190,7 @@ elseif(MODE STREQUAL "find_package")
   check_loads_pcl_vts_from_prefix(${PREFIX}/bin/pcd_to_mesh)
 
   run(${examples}/triangulate_grid)
-  check_loads_no_vtk_gdal(${examples}/triangulate_grid "${adapters_library}")
+  check_loads_none(${examples}/triangulate_grid "[Vv][Tt][Kk]|gdal" "${adapters_library}")
 
   # COMPONENTS pcl_vts alone: the package finds PCL's common/search/kdtree for it
   # (consumer/CMakeLists.txt finds nothing itself, and checks that io is not found).
@@ -213,12 +216,8 @@ elseif(MODE STREQUAL "find_package")
   run(${CMAKE_COMMAND} --build ${core})
   run(${core}/consumer)
   check_loads_pcl_vts_from_prefix(${core}/consumer)
-  file(GET_RUNTIME_DEPENDENCIES EXECUTABLES ${core}/consumer
-       RESOLVED_DEPENDENCIES_VAR core_libraries)
-  list(FILTER core_libraries INCLUDE REGEX "libpcl_(common|io|search|kdtree)|libpcl_vts\\.so")
-  if(core_libraries)
-    message(FATAL_ERROR "the core-only program loads PCL or the adapters: ${core_libraries}")
-  endif()
+  check_loads_none(${core}/consumer "libpcl_(common|io|search|kdtree)|libpcl_vts\\.so"
+                   "${core_library}")
   math(EXPR next_minor "${minor} + 1")
   math(EXPR next_major "${major} + 1")
   foreach(request ${major}.${next_minor} ${next_major}.0)
