@@ -96,7 +96,7 @@ function(number_after label text out_var)
   set(${out_var} ${CMAKE_MATCH_1} PARENT_SCOPE)
 endfunction()
 
-# triangulate_pcd's mesh: exactly the Delaunay triangulation of the hull of the
+# triangulate_pcd's (or read_and_triangulate's) mesh: exactly the Delaunay triangulation of the hull of the
 # distinct points, 2n - h - 2 triangles, and not empty.
 function(check_example_output text out_triangles)
   number_after("distinct points" "${text}" n)
@@ -167,7 +167,8 @@ elseif(MODE STREQUAL "find_package")
   endif()
   set(examples ${WORK}/examples)
   set(core ${WORK}/core_only)
-  file(REMOVE_RECURSE ${examples} ${core} ${WORK}/adapters_only ${WORK}/refused)
+  file(REMOVE_RECURSE ${examples} ${core} ${WORK}/adapters_only ${WORK}/io_only
+                    ${WORK}/refused)
   # Only CMAKE_PREFIX_PATH: the package finds its dependencies itself.
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples -B ${examples}
       -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${PREFIX})
@@ -197,10 +198,32 @@ elseif(MODE STREQUAL "find_package")
   set(adapters ${WORK}/adapters_only)
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/consumer -B ${adapters}
       -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${PREFIX} -DPCL_VTS_COMPONENT=pcl_vts
-      -DPROGRAM=${SOURCE_DIR}/examples/triangulate_grid.cpp)
+      -DPROGRAM=${SOURCE_DIR}/examples/triangulate_grid.cpp -DPCL_VTS_FORBID=pcl_io)
   run(${CMAKE_COMMAND} --build ${adapters})
   run(${adapters}/consumer)
   check_loads_pcl_vts_from_prefix(${adapters}/consumer)
+
+  # COMPONENTS io alone: the readers (pcl_io and GDAL inside a shared library, so no
+  # PCL searched) read the sample as PCL did for triangulate_pcd, the core meshes it.
+  set(reader ${WORK}/io_only)
+  set(forbid "pcl_common,pcl_io")
+  set(with_c OFF)
+  if(NOT PCL_VTS_SHARED)
+    set(forbid "") # a static io links pcl_io into the program: the package finds it
+    set(with_c ON)
+  endif()
+  run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/consumer -B ${reader}
+      -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${PREFIX} -DPCL_VTS_COMPONENT=io
+      -DPROGRAM=${SOURCE_DIR}/tests/package/consumer/read_and_triangulate.cpp
+      "-DPCL_VTS_FORBID=${forbid}" -DWITH_C=${with_c})
+  run(${CMAKE_COMMAND} --build ${reader})
+  run(${reader}/consumer ${SAMPLE})
+  check_example_output("${RUN_OUTPUT}" reader_triangles)
+  if(NOT reader_triangles EQUAL example_triangles)
+    message(FATAL_ERROR "read_and_triangulate: ${reader_triangles} triangles, "
+                        "triangulate_pcd: ${example_triangles}")
+  endif()
+  check_loads_pcl_vts_from_prefix(${reader}/consumer)
 
   # COMPONENTS core: no PCL searched, none loaded; the version file accepts this
   # minor version and refuses the next minor and major.
