@@ -4,6 +4,7 @@
 // and the temp file is removed, so a failed run leaves nothing behind.
 #include <pcl_vts/io/mesh_writer.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -232,16 +233,33 @@ class Emitter {
   AtomicFile& file_;
 };
 
-void writePly(Emitter& out, const TriangleMesh& mesh, bool ascii, bool dbl,
-              const std::string& comment, const std::vector<std::uint8_t>* flags)
+/// Records the first bad triangle id seen while streaming; the write then fails.
+struct TriangleIdCheck {
+  std::uint64_t vertex_count = 0;
+  std::string error;
+  bool ok(VertexId a, VertexId b, VertexId c, std::uint64_t triangle)
+  {
+    if (a < vertex_count && b < vertex_count && c < vertex_count)
+      return true;
+    if (error.empty())
+      error = "triangle " + std::to_string(triangle) + " uses vertex " +
+              std::to_string(std::max({a, b, c})) + " of " +
+              std::to_string(vertex_count);
+    return false;
+  }
+};
+
+Status writePly(Emitter& out, const MeshSource& mesh, bool ascii, bool dbl,
+                const std::string& comment, TriangleIdCheck& check)
 {
+  const bool flags = mesh.hasInsertedFlags();
   const char* type = dbl ? "double" : "float";
   out.text("ply\nformat ")
       .text(ascii ? "ascii" : "binary_little_endian")
       .text(" 1.0\ncomment ")
       .text(comment)
       .text("\nelement vertex ")
-      .number(static_cast<std::uint64_t>(mesh.vertexCount()))
+      .number(mesh.vertexCount())
       .text("\nproperty ")
       .text(type)
       .text(" x\nproperty ")
@@ -249,17 +267,16 @@ void writePly(Emitter& out, const TriangleMesh& mesh, bool ascii, bool dbl,
       .text(" y\nproperty ")
       .text(type)
       .text(flags ? " z\nproperty uchar inserted\nelement face " : " z\nelement face ")
-      .number(static_cast<std::uint64_t>(mesh.triangleCount()))
+      .number(mesh.triangleCount())
       .text("\nproperty list uchar int vertex_indices\nend_header\n");
-  const std::size_t n = mesh.vertexCount();
-  for (std::size_t v = 0; v < n; ++v) {
-    const double c[3] = {mesh.xy[v].x, mesh.xy[v].y, mesh.z[v]};
+  Status status = mesh.forEachVertex([&](double x, double y, double z, bool inserted) {
+    const double c[3] = {x, y, z};
     if (ascii) {
       out.number(c[0]).text(" ").number(c[1]).text(" ").number(c[2]);
       if (flags)
-        out.text(" ").number(std::uint64_t{(*flags)[v]});
+        out.text(inserted ? " 1" : " 0");
       out.text("\n");
-      continue;
+      return;
     }
     for (double value : c) {
       if (dbl)
@@ -268,76 +285,115 @@ void writePly(Emitter& out, const TriangleMesh& mesh, bool ascii, bool dbl,
         out.binary(static_cast<float>(value));
     }
     if (flags)
-      out.binary(static_cast<std::uint8_t>((*flags)[v]));
-  }
-  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-    const VertexId* tri = &mesh.triangles[3 * t];
+      out.binary(static_cast<std::uint8_t>(inserted ? 1 : 0));
+  });
+  if (!status.ok())
+    return status;
+  std::uint64_t t = 0;
+  return mesh.forEachTriangle([&](VertexId a, VertexId b, VertexId c) {
+    check.ok(a, b, c, t++);
     if (ascii) {
-      out.text("3 ")
-          .number(std::uint64_t{tri[0]})
-          .text(" ")
-          .number(std::uint64_t{tri[1]});
-      out.text(" ").number(std::uint64_t{tri[2]}).text("\n");
-      continue;
+      out.text("3 ").number(std::uint64_t{a}).text(" ").number(std::uint64_t{b});
+      out.text(" ").number(std::uint64_t{c}).text("\n");
+      return;
     }
     out.binary(static_cast<std::uint8_t>(3));
-    for (int k = 0; k < 3; ++k)
-      out.binary(static_cast<std::int32_t>(tri[k]));
-  }
+    out.binary(static_cast<std::int32_t>(a));
+    out.binary(static_cast<std::int32_t>(b));
+    out.binary(static_cast<std::int32_t>(c));
+  });
 }
 
-void writeObj(Emitter& out, const TriangleMesh& mesh, const std::string& comment,
-              const std::vector<std::uint8_t>* flags)
+Status writeObj(Emitter& out, const MeshSource& mesh, const std::string& comment,
+                TriangleIdCheck& check)
 {
   out.text("# ").text(comment).text("\n# ");
-  if (flags) {
+  if (mesh.hasInsertedFlags()) {
     std::uint64_t count = 0;
-    for (const std::uint8_t f : *flags)
-      count += f != 0;
+    const Status status =
+        mesh.forEachVertex([&](double, double, double, bool f) { count += f; });
+    if (!status.ok())
+      return status;
     out.number(count).text(" inserted vertices (hole filling)\n# ");
   }
-  out.number(static_cast<std::uint64_t>(mesh.vertexCount())).text(" vertices, ");
-  out.number(static_cast<std::uint64_t>(mesh.triangleCount())).text(" triangles\n");
-  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
-    out.text("v ").number(mesh.xy[v].x).text(" ").number(mesh.xy[v].y).text(" ");
-    out.number(mesh.z[v]).text("\n");
-  }
-  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-    const VertexId* tri = &mesh.triangles[3 * t];
-    out.text("f ").number(std::uint64_t{tri[0]} + 1).text(" ");
-    out.number(std::uint64_t{tri[1]} + 1).text(" ").number(std::uint64_t{tri[2]} + 1);
+  out.number(mesh.vertexCount()).text(" vertices, ");
+  out.number(mesh.triangleCount()).text(" triangles\n");
+  const Status status = mesh.forEachVertex([&](double x, double y, double z, bool) {
+    out.text("v ").number(x).text(" ").number(y).text(" ");
+    out.number(z).text("\n");
+  });
+  if (!status.ok())
+    return status;
+  std::uint64_t t = 0;
+  return mesh.forEachTriangle([&](VertexId a, VertexId b, VertexId c) {
+    check.ok(a, b, c, t++);
+    out.text("f ").number(std::uint64_t{a} + 1).text(" ");
+    out.number(std::uint64_t{b} + 1).text(" ").number(std::uint64_t{c} + 1);
     out.text("\n");
-  }
+  });
 }
 
-void writeVtk(Emitter& out, const TriangleMesh& mesh, bool dbl,
-              const std::string& comment, const std::vector<std::uint8_t>* flags)
+Status writeVtk(Emitter& out, const MeshSource& mesh, bool dbl,
+                const std::string& comment, TriangleIdCheck& check)
 {
-  const auto nt = static_cast<std::uint64_t>(mesh.triangleCount());
+  const std::uint64_t nt = mesh.triangleCount();
   out.text("# vtk DataFile Version 3.0\n").text(comment.substr(0, 255));
   out.text("\nASCII\nDATASET POLYDATA\nPOINTS ");
-  out.number(static_cast<std::uint64_t>(mesh.vertexCount()));
+  out.number(mesh.vertexCount());
   out.text(dbl ? " double\n" : " float\n");
-  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
-    out.number(mesh.xy[v].x).text(" ").number(mesh.xy[v].y).text(" ");
-    out.number(mesh.z[v]).text("\n");
-  }
+  Status status = mesh.forEachVertex([&](double x, double y, double z, bool) {
+    out.number(x).text(" ").number(y).text(" ");
+    out.number(z).text("\n");
+  });
+  if (!status.ok())
+    return status;
   out.text("POLYGONS ").number(nt).text(" ").number(4 * nt).text("\n");
-  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-    const VertexId* tri = &mesh.triangles[3 * t];
-    out.text("3 ")
-        .number(std::uint64_t{tri[0]})
-        .text(" ")
-        .number(std::uint64_t{tri[1]});
-    out.text(" ").number(std::uint64_t{tri[2]}).text("\n");
-  }
-  if (flags) {
-    out.text("POINT_DATA ").number(static_cast<std::uint64_t>(mesh.vertexCount()));
-    out.text("\nSCALARS inserted unsigned_char 1\nLOOKUP_TABLE default\n");
-    for (const std::uint8_t f : *flags)
-      out.number(std::uint64_t{f}).text("\n");
-  }
+  std::uint64_t t = 0;
+  status = mesh.forEachTriangle([&](VertexId a, VertexId b, VertexId c) {
+    check.ok(a, b, c, t++);
+    out.text("3 ").number(std::uint64_t{a}).text(" ").number(std::uint64_t{b});
+    out.text(" ").number(std::uint64_t{c}).text("\n");
+  });
+  if (!status.ok() || !mesh.hasInsertedFlags())
+    return status;
+  out.text("POINT_DATA ").number(mesh.vertexCount());
+  out.text("\nSCALARS inserted unsigned_char 1\nLOOKUP_TABLE default\n");
+  return mesh.forEachVertex(
+      [&](double, double, double, bool f) { out.text(f ? "1\n" : "0\n"); });
 }
+
+/// A TriangleMesh (and its optional inserted flags) seen as a MeshSource.
+class ArrayMeshSource : public MeshSource {
+ public:
+  ArrayMeshSource(const TriangleMesh& mesh, const std::vector<std::uint8_t>* flags,
+                  bool exact_in_float)
+      : mesh_(mesh)
+      , flags_(flags)
+      , exact_(exact_in_float)
+  {}
+  std::uint64_t vertexCount() const override { return mesh_.vertexCount(); }
+  std::uint64_t triangleCount() const override { return mesh_.triangleCount(); }
+  bool exactInFloat() const override { return exact_; }
+  bool hasInsertedFlags() const override { return flags_ != nullptr; }
+  Status forEachVertex(const VertexVisit& visit) const override
+  {
+    for (std::size_t v = 0; v < mesh_.vertexCount(); ++v)
+      visit(mesh_.xy[v].x, mesh_.xy[v].y, mesh_.z[v], flags_ && (*flags_)[v] != 0);
+    return Status::success();
+  }
+  Status forEachTriangle(const TriangleVisit& visit) const override
+  {
+    const VertexId* t = mesh_.triangles.data();
+    for (std::size_t k = 0; k < mesh_.triangleCount(); ++k, t += 3)
+      visit(t[0], t[1], t[2]);
+    return Status::success();
+  }
+
+ private:
+  const TriangleMesh& mesh_;
+  const std::vector<std::uint8_t>* flags_;
+  bool exact_;
+};
 
 Status checkMesh(const std::string& path, const TriangleMesh& mesh)
 {
@@ -436,10 +492,30 @@ Status writeMesh(const std::string& path, const TriangleMesh& mesh,
                          "cannot write " + quoted(path) + ": " +
                              std::to_string(flags->size()) + " inserted flags for " +
                              std::to_string(mesh.vertexCount()) + " vertices");
+  const ArrayMeshSource source(mesh, flags, verticesExactInFloat(mesh));
+  MeshWriteOptions rest = options;
+  rest.inserted = nullptr;
+  return writeMesh(path, source, rest, info);
+}
 
+Status writeMesh(const std::string& path, const MeshSource& mesh,
+                 const MeshWriteOptions& options, MeshWriteInfo* info)
+{
+  MeshFileFormat format = MeshFileFormat::PLY;
+  Status status = meshFileFormatFromPath(path, format);
+  if (!status.ok())
+    return status;
+  if (mesh.vertexCount() >
+      static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()))
+    return Status::error(
+        StatusCode::INVALID_PARAMETER,
+        "cannot write " + quoted(path) + ": " + std::to_string(mesh.vertexCount()) +
+            " vertices do not fit the 32-bit signed indices of the file");
   const bool ascii = options.ascii || format != MeshFileFormat::PLY;
-  const bool dbl = options.force_double || !verticesExactInFloat(mesh);
+  const bool dbl = options.force_double || !mesh.exactInFloat();
   const std::string comment = oneLine(options.comment);
+  TriangleIdCheck check;
+  check.vertex_count = mesh.vertexCount();
   try {
     AtomicFile file(path);
     status = file.open();
@@ -448,15 +524,20 @@ Status writeMesh(const std::string& path, const TriangleMesh& mesh,
     Emitter out(file);
     switch (format) {
     case MeshFileFormat::PLY:
-      writePly(out, mesh, ascii, dbl, comment, flags);
+      status = writePly(out, mesh, ascii, dbl, comment, check);
       break;
     case MeshFileFormat::OBJ:
-      writeObj(out, mesh, comment, flags);
+      status = writeObj(out, mesh, comment, check);
       break;
     case MeshFileFormat::VTK:
-      writeVtk(out, mesh, dbl, comment, flags);
+      status = writeVtk(out, mesh, dbl, comment, check);
       break;
     }
+    if (!status.ok())
+      return status; // the AtomicFile removes its temp file
+    if (!check.error.empty())
+      return Status::error(StatusCode::INVALID_PARAMETER,
+                           "cannot write " + quoted(path) + ": " + check.error);
     status = file.commit();
     if (!status.ok())
       return status;

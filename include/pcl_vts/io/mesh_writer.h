@@ -10,6 +10,7 @@
 #include <pcl_vts/io/export.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,34 @@ struct MeshWriteInfo {
 
 /// True when every x, y and z of the mesh converts to float and back unchanged.
 PCL_VTS_IO_EXPORT bool verticesExactInFloat(const TriangleMesh& mesh);
+
+/// A mesh read in order, one element at a time: the writer's view of a mesh that is
+/// never held whole (the tiled path streams it back from temporary files). Both
+/// visits may be called more than once (VTK writes the inserted flags last).
+class PCL_VTS_IO_EXPORT MeshSource {
+ public:
+  using VertexVisit = std::function<void(double x, double y, double z, bool inserted)>;
+  using TriangleVisit = std::function<void(VertexId a, VertexId b, VertexId c)>;
+  virtual ~MeshSource() = default;
+  virtual std::uint64_t vertexCount() const = 0;
+  virtual std::uint64_t triangleCount() const = 0;
+  /// True when every x, y and z converts to float and back unchanged.
+  virtual bool exactInFloat() const = 0;
+  /// True when vertices carry an "inserted" mark (hole filling).
+  virtual bool hasInsertedFlags() const = 0;
+  /// Visits every vertex in order; a failure (e.g. a temporary file that cannot be
+  /// read back) is returned and stops the write.
+  virtual Status forEachVertex(const VertexVisit& visit) const = 0;
+  /// Visits every triangle in order (CCW vertex ids).
+  virtual Status forEachTriangle(const TriangleVisit& visit) const = 0;
+};
+
+/// Writes a streamed mesh with the same bytes writeMesh(TriangleMesh) gives for the
+/// same vertices and triangles; same atomicity and errors. Triangle ids are checked
+/// against vertexCount() as they stream: a bad one fails the write (nothing appears).
+PCL_VTS_IO_EXPORT Status writeMesh(const std::string& path, const MeshSource& mesh,
+                                   const MeshWriteOptions& options,
+                                   MeshWriteInfo* info = nullptr);
 
 /// Writes mesh.xy/z as vertices and mesh.triangles (CCW, 3 per triangle) as faces.
 /// The file appears complete or not at all: the data goes to ".<name>.tmp.<pid>" in

@@ -1,0 +1,80 @@
+// Meshing inputs larger than memory: points are bucketed by tile into temporary
+// files, each tile is triangulated with a halo that grows until every triangle it
+// owns is proven final (its circumdisk holds no point the tile has not loaded), and
+// the mesh streams to the output file. The triangle set equals the in-memory run's,
+// and the file is byte-identical to the in-memory run written in canonical order
+// (canonicalMesh), for every tiling (docs/scaling.md).
+#pragma once
+#include <pcl_vts/core/status.h>
+#include <pcl_vts/core/vts_pipeline.h>
+#include <pcl_vts/io/mesh_writer.h>
+#include <pcl_vts/tiling/export.h>
+#include <pcl_vts/tiling/tile_frame.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace pcl_vts {
+
+/// The frame of a mesh's (non-inserted) vertices: the frame of the exact bounding
+/// box of the distinct input points, as the tiled path computes it.
+PCL_VTS_TILING_EXPORT TileFrame frameOfMesh(const TriangleMesh& mesh,
+                                            const std::vector<std::uint8_t>* inserted);
+
+/// Reorders a mesh into the canonical order of the tiled path: vertices by Morton
+/// code of the frame, then x, then y; each triangle rotated to start at its smallest
+/// vertex id, triangles sorted. inserted (optional, one per vertex) is permuted along.
+PCL_VTS_TILING_EXPORT void canonicalMesh(TriangleMesh& mesh,
+                                         std::vector<std::uint8_t>* inserted);
+
+/// Calls sink with every input point (xyz triples, input order, chunk by chunk).
+/// The tiled path calls it twice (bounds, then bucketing): it must give the same
+/// points both times.
+using PointSink = std::function<Status(const double* xyz, std::size_t n)>;
+using PointFeed = std::function<Status(const PointSink& sink)>;
+
+struct TiledProgress {
+  const char* phase = ""; ///< "scanning", "bucketing", "ordering", "meshing", "writing"
+  std::uint64_t done = 0;
+  std::uint64_t total = 0;
+};
+
+struct TiledMeshOptions {
+  /// Triangulation options; reconstruction must be off (trim and fill do not run
+  /// tiled yet: INVALID_PARAMETER).
+  VtsOptions vts;
+  /// Parent of the job's temporary folder (created and removed by the job).
+  std::string temp_parent = ".";
+  /// Memory the job may use; sets the tile size (about 1/400 of it in points).
+  std::uint64_t memory_limit = std::uint64_t{1} << 30;
+  /// Testing knobs: quadtree levels of tiles and blocks (-1 = from memory_limit).
+  int tile_level = -1;
+  int block_level = -1;
+  std::function<void(const TiledProgress&)> progress;
+};
+
+struct TiledMeshReport {
+  std::uint64_t points = 0; ///< points fed (each pass)
+  std::uint64_t non_finite_dropped = 0;
+  std::uint64_t vertices = 0; ///< distinct XY positions
+  std::uint64_t triangles = 0;
+  std::uint64_t tiles = 0;           ///< tiles with points
+  std::uint64_t points_loaded = 0;   ///< sum over tiles of the points of the last round
+  std::uint64_t max_tile_points = 0; ///< the largest last round (memory driver)
+  unsigned max_rounds = 0;           ///< most triangulations one tile needed
+  std::uint64_t temp_bytes = 0;
+  int tile_level = 0, block_level = 0;
+  double seconds_scan = 0, seconds_bucket = 0, seconds_mesh = 0, seconds_write = 0;
+  MeshWriteInfo written;
+};
+
+/// Meshes every point of `feed` and writes the mesh to `output` (atomically).
+PCL_VTS_TILING_EXPORT Status runTiledMesh(const PointFeed& feed,
+                                          const TiledMeshOptions& options,
+                                          const std::string& output,
+                                          const MeshWriteOptions& write_options,
+                                          TiledMeshReport& report);
+
+} // namespace pcl_vts

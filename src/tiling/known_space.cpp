@@ -1,0 +1,121 @@
+// Known-space queries over the block pyramid (known_space.h).
+#include "known_space.h"
+
+#include <pcl_vts/core/predicates.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pcl_vts {
+
+SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& c)
+{
+  SafeDisk disk;
+  const double bx = b.x - a.x, by = b.y - a.y;
+  const double cx = c.x - a.x, cy = c.y - a.y;
+  const double t1 = bx * cy, t2 = by * cx;
+  const double det = 2.0 * (t1 - t2);
+  // The determinant's relative error is a few ulps of |t1| + |t2| over |det|; below
+  // this ratio the centre could be anywhere, so nothing is claimed.
+  if (!(std::fabs(det) > 1e-6 * (std::fabs(t1) + std::fabs(t2))) ||
+      !std::isfinite(det)) {
+    disk.unbounded = true;
+    return disk;
+  }
+  const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+  const double ux = (cy * b2 - by * c2) / det;
+  const double uy = (bx * c2 - cx * b2) / det;
+  disk.center = {a.x + ux, a.y + uy};
+  const double r = std::sqrt(ux * ux + uy * uy);
+  // Relative error of the offset: well under 1e-9 given the test above; the sum
+  // a + u adds an ulp of |a|. 1e-7 covers both with a wide margin.
+  disk.radius = r + 1e-7 * (r + std::sqrt(b2) + std::sqrt(c2)) +
+                1e-15 * (std::fabs(a.x) + std::fabs(a.y));
+  if (!std::isfinite(disk.radius))
+    disk.unbounded = true;
+  return disk;
+}
+
+KnownSpace::KnownSpace(const TileFrame& frame, int level,
+                       const std::vector<std::uint64_t>& occupied,
+                       const std::vector<Rect>& bounds)
+    : frame_(frame)
+    , level_(level)
+    , counts_(static_cast<std::size_t>(level) + 1)
+    , loaded_(occupied.size(), 0)
+    , bounds_(bounds)
+{
+  counts_[level].resize(occupied.size());
+  for (std::size_t b = 0; b < occupied.size(); ++b)
+    counts_[level][b] = occupied[b] != 0;
+  for (int l = level - 1; l >= 0; --l) {
+    counts_[l].assign(std::size_t{1} << (2 * l), 0);
+    for (std::size_t n = 0; n < counts_[l + 1].size(); ++n)
+      counts_[l][n >> 2] += counts_[l + 1][n];
+  }
+}
+
+template <typename MeetsNode, typename MeetsBlock>
+void KnownSpace::collect(int level, std::uint32_t node, const MeetsNode& meets_node,
+                         const MeetsBlock& meets_block,
+                         std::vector<std::uint32_t>& hits) const
+{
+  if (counts_[level][node] == 0)
+    return;
+  if (level == level_) {
+    if (!loaded_[node] && meets_block(bounds_[node]))
+      hits.push_back(node);
+    return;
+  }
+  if (!meets_node(frame_.nodeRect(level, node)))
+    return;
+  for (std::uint32_t k = 0; k < 4; ++k)
+    collect(level + 1, (node << 2) | k, meets_node, meets_block, hits);
+}
+
+void KnownSpace::unknownInDisk(const SafeDisk& disk,
+                               std::vector<std::uint32_t>& hits) const
+{
+  const double r2 = disk.radius * disk.radius;
+  const auto meets = [&](const Rect& r) {
+    if (disk.unbounded)
+      return true;
+    const double dx = std::max({r.x0 - disk.center.x, 0.0, disk.center.x - r.x1});
+    const double dy = std::max({r.y0 - disk.center.y, 0.0, disk.center.y - r.y1});
+    return dx * dx + dy * dy <= r2;
+  };
+  collect(0, 0, meets, meets, hits);
+}
+
+void KnownSpace::unknownRightOf(const Point2& a, const Point2& b,
+                                std::vector<std::uint32_t>& hits) const
+{
+  const double ex = b.x - a.x, ey = b.y - a.y;
+  const double length = std::sqrt(ex * ex + ey * ey);
+  // Pruning only: a node is skipped when all its (slack-widened) corners are left
+  // of the line by far more than the rounding of the cross product.
+  const auto meets_node = [&](const Rect& r) {
+    const double tolerance = 1e-9 * length *
+                             (std::fabs(r.x0 - a.x) + std::fabs(r.x1 - a.x) +
+                              std::fabs(r.y0 - a.y) + std::fabs(r.y1 - a.y));
+    const double xs[2] = {r.x0, r.x1}, ys[2] = {r.y0, r.y1};
+    for (double x : xs)
+      for (double y : ys)
+        if (ex * (y - a.y) - ey * (x - a.x) < tolerance)
+          return true;
+    return false;
+  };
+  // A block's box corners are extreme points: if any of its points is strictly
+  // right of the line, a corner is. Decided exactly (collinear points keep the edge).
+  const auto meets_block = [&](const Rect& r) {
+    const double xs[2] = {r.x0, r.x1}, ys[2] = {r.y0, r.y1};
+    for (double x : xs)
+      for (double y : ys)
+        if (orient2d(a, b, Point2{x, y}) == Sign::NEGATIVE)
+          return true;
+    return false;
+  };
+  collect(0, 0, meets_node, meets_block, hits);
+}
+
+} // namespace pcl_vts

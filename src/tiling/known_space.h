@@ -1,0 +1,63 @@
+// What a tile knows: every occupied block it has loaded, every empty block (the block
+// histogram says so) and everything outside the frame. A triangle of the loaded
+// points is final once its circumdisk meets no occupied block that is not loaded;
+// a hull edge of the loaded points is final once the open half-plane beyond it meets
+// none. This one rule decides halo growth (docs/scaling.md).
+#pragma once
+#include <pcl_vts/core/point2.h>
+#include <pcl_vts/tiling/tile_frame.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace pcl_vts {
+
+/// A disk that contains the exact circumdisk of a triangle, or "unbounded" when
+/// the triangle is too flat for floating point to bound its circle.
+struct SafeDisk {
+  Point2 center;
+  double radius = 0;
+  bool unbounded = false;
+};
+
+/// The circumdisk of (a, b, c) grown by a bound on the rounding of its computation.
+SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& c);
+
+class KnownSpace {
+ public:
+  /// occupied[block] = points in that block (Morton-numbered blocks of `level`);
+  /// bounds[block] = the exact bounding box of its points (any value when empty).
+  KnownSpace(const TileFrame& frame, int level,
+             const std::vector<std::uint64_t>& occupied,
+             const std::vector<Rect>& bounds);
+
+  int level() const { return level_; }
+  bool occupied(std::uint32_t block) const { return counts_[level_][block] != 0; }
+  bool loaded(std::uint32_t block) const { return loaded_[block] != 0; }
+  void setLoaded(std::uint32_t block, bool on) { loaded_[block] = on ? 1 : 0; }
+
+  /// Appends to `hits` every occupied, unloaded block the disk may meet
+  /// (each at most once per call; duplicates across calls are the caller's).
+  void unknownInDisk(const SafeDisk& disk, std::vector<std::uint32_t>& hits) const;
+  /// Appends every occupied, unloaded block that may meet the open half-plane to the
+  /// right of the directed line a -> b.
+  void unknownRightOf(const Point2& a, const Point2& b,
+                      std::vector<std::uint32_t>& hits) const;
+
+ private:
+  /// Descends the pyramid through nodes whose rectangle may meet the region
+  /// (meets_node) down to unloaded occupied blocks whose points' box may meet it
+  /// (meets_block).
+  template <typename MeetsNode, typename MeetsBlock>
+  void collect(int level, std::uint32_t node, const MeetsNode& meets_node,
+               const MeetsBlock& meets_block, std::vector<std::uint32_t>& hits) const;
+
+  TileFrame frame_;
+  int level_;
+  /// counts_[l][node]: occupied blocks under that node of level l.
+  std::vector<std::vector<std::uint32_t>> counts_;
+  std::vector<std::uint8_t> loaded_;
+  const std::vector<Rect>& bounds_;
+};
+
+} // namespace pcl_vts

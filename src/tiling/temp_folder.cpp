@@ -1,0 +1,111 @@
+// Temporary folder with signal-safe cleanup (temp_folder.h).
+#include "temp_folder.h"
+
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#include <vector>
+
+namespace pcl_vts {
+namespace {
+
+// One folder at a time per process (a job is sequential); the handler reads it.
+constexpr std::size_t PATH_CAPACITY = 4096;
+char g_folder[PATH_CAPACITY];
+volatile std::sig_atomic_t g_active = 0;
+struct sigaction g_previous[3];
+constexpr int SIGNALS[3] = {SIGINT, SIGTERM, SIGHUP};
+
+struct LinuxDirent64 {
+  std::uint64_t ino;
+  std::int64_t off;
+  unsigned short reclen;
+  unsigned char type;
+  char name[1];
+};
+
+/// Unlinks every entry of the folder, then the folder: open, getdents64, unlinkat
+/// and rmdir are async-signal-safe, so the signal handler may call this.
+void removeFolderSignalSafe(const char* folder)
+{
+  const int fd = ::open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    alignas(8) char buffer[8192];
+    for (;;) {
+      const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof(buffer));
+      if (n <= 0)
+        break;
+      for (long at = 0; at < n;) {
+        const auto* entry = reinterpret_cast<const LinuxDirent64*>(buffer + at);
+        const char* name = entry->name;
+        if (!(name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0))))
+          ::unlinkat(fd, name, 0);
+        at += entry->reclen;
+      }
+    }
+    ::close(fd);
+  }
+  ::rmdir(folder);
+}
+
+void onSignal(int signal)
+{
+  if (g_active)
+    removeFolderSignalSafe(g_folder);
+  g_active = 0;
+  for (int k = 0; k < 3; ++k)
+    if (SIGNALS[k] == signal)
+      ::sigaction(signal, &g_previous[k], nullptr);
+  ::raise(signal);
+}
+
+} // namespace
+
+Status TempFolder::create(const std::string& parent)
+{
+  remove();
+  std::string pattern =
+      (parent.empty() ? std::string(".") : parent) + "/.pcl_vts-XXXXXX";
+  if (pattern.size() + 64 >= PATH_CAPACITY)
+    return Status::error(StatusCode::IO_ERROR,
+                         "temporary folder path too long: '" + parent + "'");
+  std::vector<char> buffer(pattern.begin(), pattern.end());
+  buffer.push_back('\0');
+  if (::mkdtemp(buffer.data()) == nullptr)
+    return Status::error(StatusCode::IO_ERROR, "cannot create a temporary folder in '" +
+                                                   parent +
+                                                   "': " + std::strerror(errno) +
+                                                   " (choose another with --temp-dir)");
+  path_ = buffer.data();
+  std::memcpy(g_folder, path_.c_str(), path_.size() + 1);
+  struct sigaction action;
+  std::memset(&action, 0, sizeof(action));
+  action.sa_handler = onSignal;
+  sigemptyset(&action.sa_mask);
+  for (int k = 0; k < 3; ++k)
+    ::sigaction(SIGNALS[k], &action, &g_previous[k]);
+  g_active = 1;
+  return Status::success();
+}
+
+void TempFolder::remove()
+{
+  if (path_.empty())
+    return;
+  g_active = 0;
+  for (int k = 0; k < 3; ++k)
+    ::sigaction(SIGNALS[k], &g_previous[k], nullptr);
+  removeFolderSignalSafe(path_.c_str());
+  path_.clear();
+}
+
+TempFolder::~TempFolder()
+{
+  remove();
+}
+
+} // namespace pcl_vts

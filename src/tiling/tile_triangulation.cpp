@@ -1,0 +1,188 @@
+// Halo growth until the tile's stars are proven (tile_triangulation.h).
+#include "tile_triangulation.h"
+
+#include <algorithm>
+#include <array>
+#include <numeric>
+
+namespace pcl_vts {
+namespace {
+
+/// Unloaded occupied blocks in the block rectangle around `blocks`, widened by
+/// `margin` blocks.
+void ringAround(const std::vector<std::uint32_t>& blocks, int level,
+                const KnownSpace& space, std::vector<std::uint32_t>& out,
+                std::uint32_t margin = 1)
+{
+  std::uint32_t x0 = ~0u, y0 = ~0u, x1 = 0, y1 = 0;
+  for (std::uint32_t b : blocks) {
+    const std::uint32_t x = gatherBits(b), y = gatherBits(b >> 1);
+    x0 = std::min(x0, x);
+    y0 = std::min(y0, y);
+    x1 = std::max(x1, x);
+    y1 = std::max(y1, y);
+  }
+  const std::uint32_t last = (1u << level) - 1;
+  x0 = x0 > margin ? x0 - margin : 0;
+  y0 = y0 > margin ? y0 - margin : 0;
+  x1 = std::min(x1 + std::min(margin, last), last);
+  y1 = std::min(y1 + std::min(margin, last), last);
+  for (std::uint32_t y = y0; y <= y1; ++y)
+    for (std::uint32_t x = x0; x <= x1; ++x) {
+      const std::uint32_t b = spreadBits(x) | (spreadBits(y) << 1);
+      if (space.occupied(b) && !space.loaded(b))
+        out.push_back(b);
+    }
+}
+
+/// Adds `more` (any order, repeats allowed) to the sorted list `loaded`.
+void load(std::vector<std::uint32_t>& more, std::vector<std::uint32_t>& loaded,
+          KnownSpace& space)
+{
+  std::sort(more.begin(), more.end());
+  more.erase(std::unique(more.begin(), more.end()), more.end());
+  for (std::uint32_t b : more)
+    space.setLoaded(b, true);
+  std::vector<std::uint32_t> merged;
+  merged.reserve(loaded.size() + more.size());
+  std::merge(loaded.begin(), loaded.end(), more.begin(), more.end(),
+             std::back_inserter(merged));
+  loaded.swap(merged);
+  more.clear();
+}
+
+/// Unknown blocks that the stars of the tile's vertices (and their hull edges) meet.
+void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in_tile,
+                   const KnownSpace& space, std::vector<std::uint32_t>& hits)
+{
+  const std::size_t nt = mesh.triangleCount();
+  for (std::size_t t = 0; t < nt; ++t) {
+    const VertexId* v = &mesh.triangles[3 * t];
+    if (!in_tile[v[0]] && !in_tile[v[1]] && !in_tile[v[2]])
+      continue;
+    space.unknownInDisk(safeCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]),
+                        hits);
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t e = 3 * t + static_cast<std::size_t>(k);
+      const VertexId a = mesh.triangles[e],
+                     b = mesh.triangles[nextHalfedge(static_cast<HalfedgeId>(e))];
+      if (mesh.halfedges[e] == INVALID_ID && (in_tile[a] || in_tile[b]))
+        space.unknownRightOf(mesh.xy[a], mesh.xy[b], hits);
+    }
+  }
+}
+
+} // namespace
+
+Status triangulateTile(const TileContext& context, std::uint32_t tile,
+                       TileResult& result)
+{
+  const TileFrame& frame = *context.frame;
+  const BlockStore& store = *context.store;
+  KnownSpace& space = *context.space;
+  const int tile_level = store.tileLevel(), block_level = store.blockLevel();
+  const int shift = 2 * (block_level - tile_level);
+  result = TileResult{};
+
+  std::vector<std::uint32_t> loaded, more;
+  for (std::uint32_t b = tile << shift; b < ((tile + 1) << shift); ++b)
+    if (space.occupied(b))
+      more.push_back(b);
+  const std::vector<std::uint32_t> own = more;
+  ringAround(own, block_level, space, more);
+  load(more, loaded, space);
+
+  std::vector<double> xyz;
+  VtsResult mesh;
+  std::vector<std::uint32_t> code;
+  std::vector<std::uint8_t> in_tile;
+  Status status;
+  for (;;) {
+    ++result.rounds;
+    xyz.clear();
+    for (std::uint32_t b : loaded)
+      if (!(status = store.readBlock(b, xyz)).ok())
+        break;
+    if (status.ok())
+      status = runVtsPipeline(xyz.data(), xyz.size() / 3, context.options, mesh);
+    if (!status.ok()) {
+      // Too few or collinear points: widen, unless nothing is left to load.
+      if (status.code != StatusCode::EMPTY_INPUT &&
+          status.code != StatusCode::TOO_FEW_POINTS &&
+          status.code != StatusCode::ALL_COLLINEAR)
+        break;
+      // The nearest other points may be far: widen until some are found.
+      for (std::uint32_t margin = 1; more.empty() && margin < (2u << block_level);
+           margin *= 2)
+        ringAround(loaded, block_level, space, more, margin);
+      if (more.empty())
+        break;
+      load(more, loaded, space);
+      continue;
+    }
+    const TriangleMesh& m = mesh.mesh;
+    const std::size_t nv = m.vertexCount();
+    code.resize(nv);
+    in_tile.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+      code[v] = frame.code(m.xy[v]);
+      in_tile[v] = TileFrame::nodeOf(code[v], tile_level) == tile;
+    }
+    unprovenStars(m, in_tile, space, more);
+    if (more.empty())
+      break;
+    load(more, loaded, space);
+  }
+  result.points_loaded = xyz.size() / 3;
+  for (std::uint32_t b : loaded)
+    space.setLoaded(b, false);
+  if (!status.ok())
+    return status;
+
+  // Global ids: canonical rank inside each loaded (hence complete) block.
+  const TriangleMesh& m = mesh.mesh;
+  const std::size_t nv = m.vertexCount();
+  std::vector<VertexId> order(nv);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](VertexId a, VertexId b) {
+    return canonicalLess(code[a], m.xy[a], code[b], m.xy[b]);
+  });
+  std::vector<std::uint32_t> global(nv);
+  const std::vector<std::uint64_t>& first = *context.block_first_vertex;
+  for (std::size_t k = 0; k < nv;) {
+    const std::uint32_t block = TileFrame::nodeOf(code[order[k]], block_level);
+    std::size_t end = k;
+    while (end < nv && TileFrame::nodeOf(code[order[end]], block_level) == block) {
+      global[order[end]] = static_cast<std::uint32_t>(first[block] + (end - k));
+      ++end;
+    }
+    if (end - k != store.blockDistinct()[block])
+      return Status::error(StatusCode::INTERNAL_ERROR,
+                           "tile " + std::to_string(tile) + ": block " +
+                               std::to_string(block) + " has " +
+                               std::to_string(end - k) + " vertices, its index says " +
+                               std::to_string(store.blockDistinct()[block]));
+    k = end;
+  }
+  for (VertexId v : order)
+    if (in_tile[v])
+      result.xyz.insert(result.xyz.end(), {m.xy[v].x, m.xy[v].y, m.z[v]});
+  std::vector<std::array<std::uint32_t, 3>> owned;
+  for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+    std::array<std::uint32_t, 3> g = {global[m.triangles[3 * t]],
+                                      global[m.triangles[3 * t + 1]],
+                                      global[m.triangles[3 * t + 2]]};
+    const int k = g[0] < g[1] ? (g[0] < g[2] ? 0 : 2) : (g[1] < g[2] ? 1 : 2);
+    if (!in_tile[m.triangles[3 * t + static_cast<std::size_t>(k)]])
+      continue;
+    std::rotate(g.begin(), g.begin() + k, g.end());
+    owned.push_back(g);
+  }
+  std::sort(owned.begin(), owned.end());
+  result.triangles.reserve(3 * owned.size());
+  for (const auto& g : owned)
+    result.triangles.insert(result.triangles.end(), g.begin(), g.end());
+  return Status::success();
+}
+
+} // namespace pcl_vts

@@ -1,0 +1,256 @@
+// The tiled path against the in-memory run: the same triangle set and the same file
+// bytes (both in canonical order), for every generator and for tilings from one tile
+// to tiny tiles; temporary files gone afterwards; bad conditions fail cleanly.
+#include "support/cgal_oracle.h"
+#include "support/generators.h"
+#include "support/temp_folder_test.h"
+
+#include <pcl_vts/tiling/tiled_mesh.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <numeric>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace pcl_vts {
+namespace test {
+namespace {
+
+std::string slurp(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Feeds xyz in chunks of `chunk` points, as a reader of several files would.
+PointFeed feedOf(const std::vector<double>& xyz, std::size_t chunk = 997)
+{
+  return [&xyz, chunk](const PointSink& sink) {
+    for (std::size_t at = 0; at < xyz.size() / 3; at += chunk) {
+      const std::size_t n = std::min(chunk, xyz.size() / 3 - at);
+      if (Status s = sink(&xyz[3 * at], n); !s.ok())
+        return s;
+    }
+    return Status::success();
+  };
+}
+
+class TiledMeshTest : public TempFolderTest {
+ protected:
+  /// Writes the in-memory run in canonical order; false (with a message) if it fails.
+  Status writeInMemory(const std::vector<double>& xyz, const std::string& path,
+                       TriangleMesh* canonical = nullptr)
+  {
+    VtsResult result;
+    Status s = runVtsPipeline(xyz.data(), xyz.size() / 3, VtsOptions{}, result);
+    if (!s.ok())
+      return s;
+    canonicalMesh(result.mesh, nullptr);
+    if (canonical != nullptr)
+      *canonical = result.mesh;
+    return writeMesh(path, result.mesh, MeshWriteOptions{});
+  }
+
+  Status writeTiled(const std::vector<double>& xyz, const std::string& path,
+                    int tile_level, int block_level, TiledMeshReport& report)
+  {
+    TiledMeshOptions options;
+    options.temp_parent = root_.string();
+    options.tile_level = tile_level;
+    options.block_level = block_level;
+    return runTiledMesh(feedOf(xyz), options, path, MeshWriteOptions{}, report);
+  }
+
+  std::size_t entriesIn(const std::filesystem::path& folder) const
+  {
+    return static_cast<std::size_t>(
+        std::distance(std::filesystem::directory_iterator(folder),
+                      std::filesystem::directory_iterator{}));
+  }
+};
+
+class TiledEqualsInMemory : public TiledMeshTest,
+                            public ::testing::WithParamInterface<Distribution> {};
+
+TEST_P(TiledEqualsInMemory, SameBytesForEveryTiling)
+{
+  // Every tile of an all-cocircular set needs every point: keep that one small.
+  const std::size_t n = GetParam() == Distribution::CIRCLE ? 800 : 6000;
+  const std::vector<double> xyz = generatePoints(GetParam(), n, 11);
+  const std::string reference = (root_ / "memory.ply").string();
+  TriangleMesh canonical;
+  const Status memory = writeInMemory(xyz, reference, &canonical);
+  const std::string expected = memory.ok() ? slurp(reference) : std::string();
+  for (const auto& [tile_level, block_level] :
+       std::vector<std::pair<int, int>>{{0, 2}, {1, 3}, {2, 4}, {3, 5}, {3, 7}}) {
+    SCOPED_TRACE("tile level " + std::to_string(tile_level) + ", block level " +
+                 std::to_string(block_level));
+    const std::string path = (root_ / "tiled.ply").string();
+    TiledMeshReport report;
+    const Status tiled = writeTiled(xyz, path, tile_level, block_level, report);
+    ASSERT_EQ(tiled.ok(), memory.ok())
+        << tiled.toString() << " / " << memory.toString();
+    if (!memory.ok()) {
+      EXPECT_EQ(tiled.code, memory.code);
+      continue;
+    }
+    EXPECT_EQ(report.triangles, canonical.triangleCount());
+    EXPECT_EQ(report.vertices, canonical.vertexCount());
+    EXPECT_TRUE(slurp(path) == expected)
+        << "tiled file differs from the in-memory file";
+    EXPECT_EQ(entriesIn(root_), 2u) << "temporary files left behind";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllGenerators, TiledEqualsInMemory,
+                         ::testing::ValuesIn(allDistributions()),
+                         [](const auto& param_info) {
+                           return distributionName(param_info.param);
+                         });
+
+TEST_F(TiledMeshTest, MatchesTheCgalOracle)
+{
+  // Independent of the in-memory code path: the tiled triangle set is CGAL's.
+  const std::vector<double> xyz = generatePoints(Distribution::BIG_VOIDS, 4000, 5);
+  const std::string path = (root_ / "tiled.obj").string();
+  TiledMeshReport report;
+  ASSERT_TRUE(writeTiled(xyz, path, 3, 6, report).ok());
+  std::vector<Point2> points;
+  std::vector<std::uint32_t> flat;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("v ", 0) == 0) {
+      double x, y, z;
+      ASSERT_EQ(std::sscanf(line.c_str(), "v %lf %lf %lf", &x, &y, &z), 3);
+      points.push_back({x, y});
+    } else if (line.rfind("f ", 0) == 0) {
+      unsigned a, b, c;
+      ASSERT_EQ(std::sscanf(line.c_str(), "f %u %u %u", &a, &b, &c), 3);
+      flat.insert(flat.end(), {a - 1, b - 1, c - 1});
+    }
+  }
+  EXPECT_GT(report.tiles, 8u);
+  std::vector<std::uint32_t> identity(points.size());
+  std::iota(identity.begin(), identity.end(), 0u);
+  EXPECT_EQ(canonicalTriangles(flat, identity),
+            canonicalTriangles(cgalDelaunay(points)));
+}
+
+TEST_F(TiledMeshTest, DuplicatesAcrossChunksKeepTheRuleOfTheInMemoryRun)
+{
+  std::vector<double> xyz = generatePoints(Distribution::DUPLICATES, 5000, 3);
+  const std::vector<double> again = generatePoints(Distribution::UNIFORM, 2000, 3);
+  xyz.insert(xyz.end(), again.begin(), again.end()); // same XY positions, other z
+  xyz.insert(xyz.end(), xyz.begin(), xyz.begin() + 3000);
+  const std::string reference = (root_ / "memory.ply").string();
+  ASSERT_TRUE(writeInMemory(xyz, reference).ok());
+  const std::string path = (root_ / "tiled.ply").string();
+  TiledMeshReport report;
+  ASSERT_TRUE(writeTiled(xyz, path, 2, 4, report).ok());
+  EXPECT_TRUE(slurp(path) == slurp(reference));
+}
+
+TEST_F(TiledMeshTest, NonFinitePointsAreDroppedAndCounted)
+{
+  std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 3000, 9);
+  xyz[3 * 10] = std::nan("");
+  xyz[3 * 20 + 2] = HUGE_VAL;
+  const std::string path = (root_ / "tiled.ply").string();
+  TiledMeshReport report;
+  ASSERT_TRUE(writeTiled(xyz, path, 2, 4, report).ok());
+  EXPECT_EQ(report.non_finite_dropped, 2u);
+  EXPECT_EQ(report.vertices, 2998u);
+}
+
+TEST_F(TiledMeshTest, TrimAndFillAreRefusedNotSilentlySkipped)
+{
+  const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 1000, 1);
+  TiledMeshOptions options;
+  options.temp_parent = root_.string();
+  options.vts.reconstruction.trim = true;
+  TiledMeshReport report;
+  const Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
+                                MeshWriteOptions{}, report);
+  EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER);
+  EXPECT_NE(s.message.find("--no-trim"), std::string::npos);
+  EXPECT_EQ(entriesIn(root_), 0u);
+}
+
+TEST_F(TiledMeshTest, AnInputThatChangesBetweenPassesIsAnError)
+{
+  const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 3000, 2);
+  int pass = 0;
+  const PointFeed shrinking = [&](const PointSink& sink) {
+    const std::size_t n = xyz.size() / 3 - (pass++ == 0 ? 0 : 100);
+    return sink(xyz.data(), n);
+  };
+  TiledMeshOptions options;
+  options.temp_parent = root_.string();
+  options.tile_level = 1;
+  TiledMeshReport report;
+  const Status s = runTiledMesh(shrinking, options, (root_ / "t.ply").string(),
+                                MeshWriteOptions{}, report);
+  EXPECT_EQ(s.code, StatusCode::IO_ERROR);
+  EXPECT_NE(s.message.find("changed"), std::string::npos) << s.message;
+  EXPECT_EQ(entriesIn(root_), 0u) << "temporary files or a partial output left behind";
+}
+
+TEST_F(TiledMeshTest, AFullTemporaryDiskIsAClearErrorWithNothingLeft)
+{
+  // A child process with a 64 KiB file-size limit stands for a full disk.
+  const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 20000, 4);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    signal(SIGXFSZ, SIG_IGN);
+    rlimit limit{64 * 1024, 64 * 1024};
+    setrlimit(RLIMIT_FSIZE, &limit);
+    TiledMeshOptions options;
+    options.temp_parent = root_.string();
+    options.tile_level = 0;
+    TiledMeshReport report;
+    const Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
+                                  MeshWriteOptions{}, report);
+    const bool clear = s.code == StatusCode::IO_ERROR &&
+                       s.message.find("--temp-dir") != std::string::npos;
+    _exit(clear ? 0 : 1);
+  }
+  int wstatus = 0;
+  ASSERT_EQ(waitpid(child, &wstatus, 0), child);
+  ASSERT_TRUE(WIFEXITED(wstatus));
+  EXPECT_EQ(WEXITSTATUS(wstatus), 0) << "no clear 'full' error";
+  EXPECT_EQ(entriesIn(root_), 0u) << "temporary files or a partial output left behind";
+}
+
+TEST_F(TiledMeshTest, ATemporaryFolderThatCannotBeCreatedIsAClearError)
+{
+  const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 100, 2);
+  TiledMeshOptions options;
+  options.temp_parent = (root_ / "missing" / "deeper").string();
+  TiledMeshReport report;
+  const Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
+                                MeshWriteOptions{}, report);
+  EXPECT_EQ(s.code, StatusCode::IO_ERROR);
+  EXPECT_NE(s.message.find("temporary folder"), std::string::npos) << s.message;
+}
+
+TEST_F(TiledMeshTest, HalosStaySmallOnUniformData)
+{
+  const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 40000, 8);
+  TiledMeshReport report;
+  ASSERT_TRUE(writeTiled(xyz, (root_ / "t.ply").string(), 2, 6, report).ok());
+  EXPECT_EQ(report.tiles, 16u);
+  // Each tile loads its own quarter of a quarter plus a ring of blocks.
+  EXPECT_LT(report.points_loaded, 2 * xyz.size() / 3);
+  EXPECT_LE(report.max_rounds, 3u);
+}
+
+} // namespace
+} // namespace test
+} // namespace pcl_vts
