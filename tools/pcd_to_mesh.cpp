@@ -4,11 +4,14 @@
 // "[done, ...]" line per stage; but every option is validated, each failure class has
 // its own exit code and one stderr line, and the output appears only when complete
 // (mesh_writer.h). --png draws the final mesh (mesh_picture.h).
+#include "input_list.h"
+
 #include <pcl_vts/core/vts_pipeline.h>
 #include <pcl_vts/io/mesh_writer.h>
 #include <pcl_vts/io/point_cloud_loader.h>
 #include <pcl_vts/picture/mesh_picture.h>
 #include <pcl_vts/preprocess_cloud.h>
+#include <pcl_vts/tiling/tiled_mesh.h>
 
 #include <pcl/console/print.h>
 
@@ -44,9 +47,17 @@ constexpr int DEFAULT_PNG_WIDTH = 1000;
 constexpr int MIN_PNG_WIDTH = 64;
 constexpr int MAX_PNG_WIDTH = 8192;
 
+// In-memory meshing costs about 185 bytes per point (docs/scaling.md), plus the 24
+// bytes of the points read: above this many bytes per point of the limit, tile.
+constexpr std::uint64_t IN_MEMORY_BYTES_PER_POINT = 240;
+
 struct CliOptions {
-  std::string input;
+  std::vector<std::string> inputs; ///< files, after folders and @LISTs are expanded
+  std::string input;               ///< how messages name the input: a file or "N files"
   std::string output;
+  std::uint64_t memory_limit = 0; ///< bytes; default: half the physical memory
+  std::string temp_dir;           ///< default: the output's folder
+  int tile_level = -1;            ///< testing knob: force the tiled path
   pcl_vts::VtsOptions vts;
   pcl_vts::CloudLoadOptions load;
   pcl_vts::PreprocessOptions preprocess;
@@ -64,14 +75,17 @@ struct CliOptions {
 void printHelp()
 {
   std::printf(
-      "Usage: pcd_to_mesh INPUT OUTPUT.{ply,obj,vtk} [options]\n"
+      "Usage: pcd_to_mesh INPUT... OUTPUT.{ply,obj,vtk} [options]\n"
       "\n"
       "Triangulates an elevation point cloud (z = f(x, y): terrain, DEM, horizon) "
       "with\n"
       "the VTS grid method: the exact Delaunay triangulation of the XY projection,\n"
       "tiling the convex hull of the distinct XY points.\n"
       "\n"
-      "Input:  format from the extension (any case), else from the content; always\n"
+      "Input:  one or more files, folders (every file with a supported extension in\n"
+      "        them, by name) or @LIST (a text file naming one path per line), meshed\n"
+      "        as one point set with the same rules. Format from the extension (any\n"
+      "        case), else from the content; always\n"
       "        read in double precision:\n"
       "        .pcd  PCD (ascii, binary, binary_compressed), fields x y z or X Y Z,\n"
       "              float32, float64 or integer\n"
@@ -142,6 +156,16 @@ void printHelp()
       "                      height, boundary edges red, inserted points as dots\n"
       "                      (default: no picture)\n"
       "  --png-width N       pixels per view, whole N in %d..%d (default: %d)\n"
+      "  --memory-limit SIZE memory the job may use, e.g. 512M, 4G (default: half the\n"
+      "                      physical memory, %s here); a larger job runs tiled:\n"
+      "                      points bucketed into temporary files, tiles meshed with\n"
+      "                      halos grown until every triangle is proven, the same\n"
+      "                      mesh (and the same file bytes) as in memory; the tiled\n"
+      "                      path needs --no-trim --no-fill and no preprocessing\n"
+      "  --temp-dir DIR      folder for the tiled path's temporary files, removed at\n"
+      "                      the end, on error and on Ctrl-C (default: the output's\n"
+      "                      folder)\n"
+      "  --tile-level L      testing: force the tiled path with 4^L tiles, L in 0..10\n"
       "  --quiet             print nothing but errors (default: print a summary)\n"
       "\n"
       "Exit status:\n"
@@ -158,7 +182,8 @@ void printHelp()
       "  5  internal error (out of memory, or a bug: please report)\n"
       "Errors print one line on stderr starting with \"pcd_to_mesh: error: \".\n",
       DEFAULT_CELL_SIZE, DEFAULT_DUPLICATES, pcl_vts::TrimOptions{}.trim_factor,
-      MIN_PNG_WIDTH, MAX_PNG_WIDTH, DEFAULT_PNG_WIDTH);
+      MIN_PNG_WIDTH, MAX_PNG_WIDTH, DEFAULT_PNG_WIDTH,
+      (std::to_string(pcl_vts::tools::physicalMemoryBytes() / 2 >> 20) + "M").c_str());
 }
 
 /// Strict: the whole text is one finite number >= 0 (PCL's parse_argument is not).
@@ -264,7 +289,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
         name == "--returns" || name == "--trim-factor" || name == "--max-edge" ||
         name == "--max-hole-area" || name == "--threads" || name == "--crop" ||
         name == "--voxel" || name == "--grid-min" || name == "--outliers" ||
-        name == "--png" || name == "--png-width";
+        name == "--png" || name == "--png-width" || name == "--memory-limit" ||
+        name == "--temp-dir" || name == "--tile-level";
     if (inline_value && !takes_value) {
       error = "option '" + name + "' takes no value";
       return false;
@@ -386,7 +412,22 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
       opt.force_double = true;
     else if (name == "--quiet")
       opt.quiet = true;
-    else {
+    else if (name == "--memory-limit") {
+      if (!pcl_vts::tools::parseByteSize(value, opt.memory_limit)) {
+        error = "--memory-limit must be a size such as 512M or 4G, got '" + value + "'";
+        return false;
+      }
+    } else if (name == "--temp-dir")
+      opt.temp_dir = value;
+    else if (name == "--tile-level") {
+      char* end = nullptr;
+      const long level = std::strtol(value.c_str(), &end, 10);
+      if (value.empty() || *end != 0 || level < 0 || level > 10) {
+        error = "--tile-level must be a whole number in 0..10, got '" + value + "'";
+        return false;
+      }
+      opt.tile_level = static_cast<int>(level);
+    } else {
       error = "unknown option '" + arg + "'";
       return false;
     }
@@ -399,15 +440,21 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
   }
   opt.vts.reconstruction.trim = !opt.no_trim;
   opt.vts.reconstruction.fill = !opt.no_fill;
-  if (positional.size() != 2) {
-    error = positional.size() < 2
-                ? "expected INPUT and OUTPUT.{ply,obj,vtk}, got " +
-                      std::to_string(positional.size()) + " file argument(s)"
-                : "unexpected extra argument '" + positional[2] + "'";
+  if (positional.size() < 2) {
+    error = "expected INPUT... and OUTPUT.{ply,obj,vtk}, got " +
+            std::to_string(positional.size()) + " file argument(s)";
     return false;
   }
-  opt.input = positional[0];
-  opt.output = positional[1];
+  opt.output = positional.back();
+  positional.pop_back();
+  opt.inputs = positional; // folders and @LISTs are expanded by run(): input errors
+  if (opt.memory_limit == 0)
+    opt.memory_limit = std::max<std::uint64_t>(
+        pcl_vts::tools::physicalMemoryBytes() / 2, std::uint64_t{256} << 20);
+  if (opt.temp_dir.empty()) {
+    const std::size_t slash = opt.output.rfind('/');
+    opt.temp_dir = slash == std::string::npos ? "." : opt.output.substr(0, slash + 1);
+  }
   return true;
 }
 
@@ -569,9 +616,232 @@ pcl_vts::Status drawMesh(const CliOptions& opt, const pcl_vts::TriangleMesh& mes
   return pcl_vts::Status::success();
 }
 
-int run(const CliOptions& opt)
+/// Reads input file f. With several inputs, a file left empty by the filters (e.g.
+/// a tile without ground points) is skipped, not an error.
+pcl_vts::Status loadInput(const CliOptions& opt, std::size_t f,
+                          std::vector<double>& xyz,
+                          pcl_vts::CloudDescription& description, bool& skipped)
+{
+  skipped = false;
+  pcl_vts::Status s =
+      pcl_vts::loadPointCloud(opt.inputs[f], opt.load, xyz, description);
+  if (s.code == pcl_vts::StatusCode::EMPTY_INPUT && opt.inputs.size() > 1) {
+    xyz.clear();
+    skipped = true;
+    return pcl_vts::Status::success();
+  }
+  return s;
+}
+
+std::string readFailure(const pcl_vts::Status& s)
+{
+  return s.code == pcl_vts::StatusCode::IO_ERROR ? "cannot read input " + s.message
+         : s.code == pcl_vts::StatusCode::INVALID_PARAMETER
+             ? s.message
+             : "input unusable: " + s.toString();
+}
+
+/// Sums one file's description into the run's.
+void addDescription(const CliOptions& opt, std::size_t f,
+                    const pcl_vts::CloudDescription& one, bool skipped,
+                    pcl_vts::CloudDescription& all)
+{
+  all.points_read += one.points_read;
+  all.points_kept += one.points_kept;
+  const bool many = opt.inputs.size() > 1;
+  if (f == 0) {
+    all.format = one.format;
+    all.details = many ? one.details + " (first of " +
+                             std::to_string(opt.inputs.size()) + " files)"
+                       : one.details;
+  }
+  const std::string prefix = many ? "'" + opt.inputs[f] + "': " : std::string();
+  if (skipped)
+    all.notes.push_back(prefix + "no point kept, skipped");
+  for (const std::string& note : one.notes)
+    all.notes.push_back(prefix + note);
+}
+
+std::string mib(std::uint64_t bytes)
+{
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.0f MiB", static_cast<double>(bytes) / 1048576.0);
+  return text;
+}
+
+/// Progress of a long tiled run on stderr: rewritten in place on a terminal, one
+/// line every few seconds otherwise.
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool quiet)
+      : quiet_(quiet)
+      , tty_(::isatty(2) != 0)
+      , start_(std::chrono::steady_clock::now())
+      , last_(start_)
+  {}
+  ~ProgressLine()
+  {
+    if (shown_ && tty_)
+      std::fprintf(stderr, "\n");
+  }
+  void update(const pcl_vts::TiledProgress& p)
+  {
+    if (quiet_)
+      return;
+    const auto now = std::chrono::steady_clock::now();
+    const double since = std::chrono::duration<double>(now - last_).count();
+    // Quiet for the first seconds (short runs print nothing), then a steady pace.
+    if (since < (tty_ ? 0.5 : 5.0) && (p.phase == phase_ || !shown_))
+      return;
+    last_ = now;
+    phase_ = p.phase;
+    shown_ = true;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    char text[160];
+    if (p.total > 0)
+      std::snprintf(text, sizeof(text), "%s %llu / %llu (%.0f%%), %.0f s", p.phase,
+                    static_cast<unsigned long long>(p.done),
+                    static_cast<unsigned long long>(p.total),
+                    100.0 * static_cast<double>(p.done) / static_cast<double>(p.total),
+                    elapsed);
+    else if (p.done > 0)
+      std::snprintf(text, sizeof(text), "%s %llu points, %.0f s", p.phase,
+                    static_cast<unsigned long long>(p.done), elapsed);
+    else
+      std::snprintf(text, sizeof(text), "%s, %.0f s", p.phase, elapsed);
+    std::fprintf(stderr, tty_ ? "\rpcd_to_mesh: %-70s" : "pcd_to_mesh: %s\n", text);
+    std::fflush(stderr);
+  }
+
+ private:
+  bool quiet_, tty_, shown_ = false;
+  std::chrono::steady_clock::time_point start_, last_;
+  const char* phase_ = "";
+};
+
+/// The tiled path (tiled_mesh.h): inputs streamed twice, the mesh streamed out.
+int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total)
+{
+  const std::string why = "the input (" + opt.input + ") does not fit --memory-limit " +
+                          mib(opt.memory_limit) + " in memory";
+  if (opt.tile_level < 0 && (!opt.no_trim || !opt.no_fill))
+    return out.fail(EXIT_USAGE,
+                    why + ", and trimming and hole filling do not run tiled "
+                          "yet: add --no-trim --no-fill, or raise --memory-limit");
+  if (!opt.no_trim || !opt.no_fill)
+    return out.fail(EXIT_USAGE, "--tile-level needs --no-trim --no-fill: trimming and "
+                                "hole filling do not run tiled yet");
+  if (opt.preprocess.any() || !opt.png.empty())
+    return out.fail(EXIT_USAGE,
+                    (opt.tile_level < 0 ? why : "--tile-level") +
+                        std::string(": preprocessing and --png run in memory "
+                                    "only"));
+  pcl_vts::CloudDescription input;
+  bool input_failed = false;
+  int pass = 0;
+  const pcl_vts::PointFeed feed = [&](const pcl_vts::PointSink& sink) {
+    ++pass;
+    for (std::size_t f = 0; f < opt.inputs.size(); ++f) {
+      std::vector<double> xyz;
+      pcl_vts::CloudDescription one;
+      bool skipped = false;
+      pcl_vts::Status s = loadInput(opt, f, xyz, one, skipped);
+      if (!s.ok()) {
+        input_failed = true;
+        return pcl_vts::Status::error(s.code, readFailure(s));
+      }
+      if (pass == 1)
+        addDescription(opt, f, one, skipped, input);
+      if (!(s = sink(xyz.data(), xyz.size() / 3)).ok())
+        return s;
+    }
+    return pcl_vts::Status::success();
+  };
+  pcl_vts::TiledMeshOptions options;
+  options.vts = opt.vts;
+  options.temp_parent = opt.temp_dir;
+  options.memory_limit = opt.memory_limit;
+  options.tile_level = opt.tile_level;
+  ProgressLine progress(opt.quiet);
+  options.progress = [&](const pcl_vts::TiledProgress& p) { progress.update(p); };
+  pcl_vts::MeshWriteOptions write_options;
+  write_options.ascii = opt.ascii;
+  write_options.force_double = opt.force_double;
+  write_options.comment = "pcl_vts pcd_to_mesh: Delaunay triangulation of " + opt.input;
+
+  out.begin("Meshing tiled (memory limit %s, temporary files in '%s') ",
+            mib(opt.memory_limit).c_str(), opt.temp_dir.c_str());
+  pcl_vts::TiledMeshReport report;
+  const pcl_vts::Status s =
+      pcl_vts::runTiledMesh(feed, options, opt.output, write_options, report);
+  if (!s.ok()) {
+    const int code = input_failed                              ? exitCodeFor(s.code)
+                     : s.code == pcl_vts::StatusCode::IO_ERROR ? EXIT_OUTPUT
+                                                               : exitCodeFor(s.code);
+    return out.fail(code, input_failed || s.code != pcl_vts::StatusCode::TOO_FEW_POINTS
+                              ? s.message
+                              : "input unusable: " + s.toString());
+  }
+  out.done(1e3 * (report.seconds_scan + report.seconds_bucket + report.seconds_mesh +
+                  report.seconds_write),
+           std::to_string(report.triangles) + " triangles");
+  for (const std::string& note : input.notes)
+    out.line("  %s\n", note.c_str());
+  out.line("  scan         [done, %.1f ms : %llu points, %llu non-finite dropped]\n",
+           1e3 * report.seconds_scan, static_cast<unsigned long long>(report.points),
+           static_cast<unsigned long long>(report.non_finite_dropped));
+  out.line(
+      "  bucket       [done, %.1f ms : %llu tiles of level %d, blocks of level %d, "
+      "%s of temporary files]\n",
+      1e3 * report.seconds_bucket, static_cast<unsigned long long>(report.tiles),
+      report.tile_level, report.block_level, mib(report.temp_bytes).c_str());
+  out.line(
+      "  triangulate  [done, %.1f ms : %llu triangles, %.2f points loaded per point, "
+      "largest tile %llu points, at most %u rounds]\n",
+      1e3 * report.seconds_mesh, static_cast<unsigned long long>(report.triangles),
+      static_cast<double>(report.points_loaded) /
+          static_cast<double>(
+              std::max<std::uint64_t>(1, report.points - report.non_finite_dropped)),
+      static_cast<unsigned long long>(report.max_tile_points), report.max_rounds);
+  out.line("  trim         [off : --no-trim]\n");
+  out.line("  fill         [off : --no-fill]\n");
+  out.line("  write        [done, %.1f ms : %s, %llu bytes]\n",
+           1e3 * report.seconds_write,
+           pcl_vts::meshFileFormatName(report.written.format),
+           static_cast<unsigned long long>(report.written.bytes));
+  const std::uint64_t finite = report.points - report.non_finite_dropped;
+  out.line("Summary\n");
+  out.line("  %-20s %zu\n", "points read", input.points_read);
+  out.line("  %-20s %zu\n", "points kept", input.points_kept);
+  out.line("  %-20s %llu\n", "non-finite dropped",
+           static_cast<unsigned long long>(report.non_finite_dropped));
+  out.line("  %-20s %llu\n", "duplicates merged",
+           static_cast<unsigned long long>(finite - report.vertices));
+  out.line("  %-20s %llu\n", "distinct points",
+           static_cast<unsigned long long>(report.vertices));
+  out.line("  %-20s %llu\n", "triangles",
+           static_cast<unsigned long long>(report.triangles));
+  out.line("  %-20s %llu (level %d)\n", "tiles",
+           static_cast<unsigned long long>(report.tiles), report.tile_level);
+  out.line("  %-20s %.1f\n", "time (ms)", msSince(t_total));
+  out.line("  %-20s %.1f MiB (limit %s)\n", "peak memory", peakMemoryMiB(),
+           mib(opt.memory_limit).c_str());
+  out.line("  %-20s %s\n", "mesh written to", opt.output.c_str());
+  std::fflush(stdout);
+  return 0;
+}
+
+int run(CliOptions opt)
 {
   Reporter out(opt.quiet);
+  {
+    std::vector<std::string> files;
+    std::string error;
+    if (!pcl_vts::tools::expandInputs(opt.inputs, files, error))
+      return out.fail(EXIT_INPUT, error);
+    opt.inputs = files;
+    opt.input = files.size() == 1 ? files[0] : std::to_string(files.size()) + " files";
+  }
   const auto t_total = Clock::now();
   pcl_vts::MeshFileFormat format = pcl_vts::MeshFileFormat::PLY;
   if (pcl_vts::Status s = pcl_vts::meshFileFormatFromPath(opt.output, format); !s.ok())
@@ -588,14 +858,27 @@ int run(const CliOptions& opt)
   auto start = Clock::now();
   std::vector<double> xyz;
   pcl_vts::CloudDescription input;
-  if (pcl_vts::Status s = pcl_vts::loadPointCloud(opt.input, opt.load, xyz, input);
-      !s.ok())
-    return out.fail(exitCodeFor(s.code),
-                    s.code == pcl_vts::StatusCode::IO_ERROR
-                        ? "cannot read input " + s.message
-                    : s.code == pcl_vts::StatusCode::INVALID_PARAMETER
-                        ? s.message
-                        : "input unusable: " + s.toString());
+  bool tiled = opt.tile_level >= 0;
+  for (std::size_t f = 0; f < opt.inputs.size() && !tiled; ++f) {
+    std::vector<double> part;
+    pcl_vts::CloudDescription one;
+    bool skipped = false;
+    if (pcl_vts::Status s = loadInput(opt, f, part, one, skipped); !s.ok())
+      return out.fail(exitCodeFor(s.code), readFailure(s));
+    addDescription(opt, f, one, skipped, input);
+    if (xyz.empty())
+      xyz.swap(part);
+    else
+      xyz.insert(xyz.end(), part.begin(), part.end());
+    tiled = xyz.size() / 3 * IN_MEMORY_BYTES_PER_POINT > opt.memory_limit;
+  }
+  if (tiled) {
+    std::vector<double>().swap(xyz);
+    out.done(msSince(start), "more than --memory-limit allows in memory: tiled");
+    return runTiled(opt, out, t_total);
+  }
+  if (xyz.empty())
+    return out.fail(EXIT_DATA, "input unusable: EMPTY_INPUT: no point in " + opt.input);
   const double ms_read = msSince(start);
   out.done(ms_read, std::to_string(input.points_read) + " points, " +
                         pcl_vts::cloudFileFormatName(input.format) + " " +
@@ -670,6 +953,9 @@ int run(const CliOptions& opt)
 
   out.begin("Writing '%s' ", opt.output.c_str());
   start = Clock::now();
+  // The canonical order (tiled_mesh.h): the same bytes as a tiled run would write.
+  pcl_vts::canonicalMesh(result.mesh,
+                         opt.no_fill ? nullptr : &result.reconstruction.fill.inserted);
   pcl_vts::MeshWriteOptions write_options;
   write_options.ascii = opt.ascii;
   write_options.force_double = opt.force_double;

@@ -730,9 +730,10 @@ TEST_F(PcdToMesh, BadOptionValuesAndUnknownOptionsAreUsageErrors)
                 before);
   expectFailure(run({"in.pcd", "out.ply", "--no-trim=yes"}), 1, "takes no value",
                 before);
-  expectFailure(run({"in.pcd"}), 1, "expected INPUT and OUTPUT", before);
-  expectFailure(run({"in.pcd", "a.ply", "b.ply"}), 1, "unexpected extra argument",
+  expectFailure(run({"in.pcd"}), 1, "expected INPUT... and OUTPUT", before);
+  expectFailure(run({"in.pcd", "out.ply", "--memory-limit", "lots"}), 1, "512M",
                 before);
+  expectFailure(run({"in.pcd", "out.ply", "--tile-level", "11"}), 1, "0..10", before);
 }
 
 TEST_F(PcdToMesh, WriteFailureMidFileIsAnOutputErrorAndLeavesNoFile)
@@ -1305,8 +1306,8 @@ TEST_F(PcdToMesh, InputThatIsAFolderIsAnInputError)
     const auto before = workFiles();
     expectFailure(run({name, "out.ply"}), 2, "", before);
     const CliResult r = run({name, "out.ply"});
-    EXPECT_TRUE(r.err.find("not a regular file") != std::string::npos ||
-                r.err.find("Is a directory") != std::string::npos)
+    // A folder is a list of inputs: an empty one names itself.
+    EXPECT_NE(r.err.find("holds no file with a supported extension"), std::string::npos)
         << r.err;
   }
 }
@@ -1457,17 +1458,23 @@ TEST_F(PcdToMesh, DefaultPipelineTrimsAndFillsIntoAManifoldMesh)
   std::string why;
   EXPECT_TRUE(isEdgeManifold(mesh, &why)) << why;
   EXPECT_TRUE(allTrianglesCcw(mesh, &why)) << why;
-  // Inserted points are appended after the input's distinct points, which keep
-  // their positions; the summary counts agree with the file.
+  // Both files are in canonical order (Morton code, x, y): without the inserted
+  // points, the surface's vertices are the triangulation's, in the same order; the
+  // summary counts agree with the file.
   const std::size_t inserted = summaryValue(full.out, "points inserted");
   EXPECT_GT(inserted, 0u) << "samp11 ground has building holes to fill";
   ASSERT_EQ(mesh.vertexCount(), delaunay.mesh.vertexCount() + inserted);
-  for (std::size_t v = 0; v < delaunay.mesh.vertexCount(); ++v)
-    ASSERT_TRUE(mesh.xy[v] == delaunay.mesh.xy[v]) << "vertex " << v << " moved";
-  // The file marks exactly the inserted vertices; the pure triangulation has no mark.
   ASSERT_EQ(surface.inserted.size(), mesh.vertexCount());
-  for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-    EXPECT_EQ(surface.inserted[v], v >= delaunay.mesh.vertexCount() ? 1 : 0) << v;
+  std::size_t marked = 0, next = 0;
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    if (surface.inserted[v] != 0) {
+      ++marked;
+      continue;
+    }
+    ASSERT_LT(next, delaunay.mesh.vertexCount());
+    ASSERT_TRUE(mesh.xy[v] == delaunay.mesh.xy[next++]) << "vertex " << v << " moved";
+  }
+  EXPECT_EQ(marked, inserted);
   EXPECT_TRUE(delaunay.inserted.empty());
   EXPECT_EQ(summaryValue(full.out, "triangles"), mesh.triangleCount());
   EXPECT_GT(summaryValue(full.out, "trimmed triangles"), 0u);
@@ -1635,6 +1642,122 @@ TEST_F(PcdToMesh, HelpListsThePngOptions)
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("--png FILE"), std::string::npos);
   EXPECT_NE(r.out.find("--png-width N"), std::string::npos);
+}
+
+// ---- Many inputs and the tiled path (issue 12) -------------------------------------
+
+/// Splits a cloud into `parts` XYZ files in work/; returns their names.
+std::vector<std::string> splitIntoXyzFiles(const std::vector<Xyz>& cloud,
+                                           std::size_t parts, const fs::path& folder)
+{
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < parts; ++k) {
+    const std::vector<Xyz> part(
+        cloud.begin() + static_cast<long>(k * cloud.size() / parts),
+        cloud.begin() + static_cast<long>((k + 1) * cloud.size() / parts));
+    names.push_back("part" + std::to_string(k) + ".xyz");
+    writeBytes(folder / names.back(), xyzText(part, "", ' '));
+  }
+  return names;
+}
+
+/// A PLY file without its comment line (which names the inputs).
+std::string withoutComment(const std::string& ply)
+{
+  const std::size_t at = ply.find("\ncomment ");
+  return at == std::string::npos
+             ? ply
+             : ply.substr(0, at) + ply.substr(ply.find('\n', at + 1));
+}
+
+TEST_F(PcdToMesh, SeveralFilesFoldersAndListsMeshAsOnePointSet)
+{
+  std::vector<Xyz> cloud = utmCloud(4000, 21);
+  cloud.insert(cloud.end(), cloud.begin(),
+               cloud.begin() + 500); // duplicates across files
+  writeBytes(work("all.xyz"), xyzText(cloud, "", ' '));
+  fs::create_directory(work("parts"));
+  const std::vector<std::string> names = splitIntoXyzFiles(cloud, 3, work("parts"));
+  writeBytes(work("list.txt"), "# the parts\nparts/" + names[0] + "\n\nparts/" +
+                                   names[1] + "\n" +
+                                   work("parts/" + names[2]).string() + "\n");
+  ASSERT_EQ(run({"all.xyz", "one.ply"}).exit_code, 0);
+  const std::string expected = withoutComment(readText(work("one.ply")));
+  const CliResult files =
+      run({"parts/" + names[0], "parts/" + names[1], "parts/" + names[2], "files.ply"});
+  ASSERT_EQ(files.exit_code, 0) << files.err;
+  EXPECT_EQ(summaryValue(files.out, "points read"), cloud.size());
+  EXPECT_EQ(summaryValue(files.out, "duplicates merged"), 500u);
+  EXPECT_TRUE(withoutComment(readText(work("files.ply"))) == expected);
+  ASSERT_EQ(run({"parts", "folder.ply"}).exit_code, 0);
+  EXPECT_TRUE(withoutComment(readText(work("folder.ply"))) == expected);
+  ASSERT_EQ(run({"@list.txt", "list.ply"}).exit_code, 0);
+  EXPECT_TRUE(withoutComment(readText(work("list.ply"))) == expected);
+}
+
+TEST_F(PcdToMesh, ACorruptFileAmongManyIsAnInputErrorNamingIt)
+{
+  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(900, 4), 3, work_);
+  writeBytes(work("bad.xyz"), "1 2 3\n4 five 6\n");
+  const auto before = workFiles();
+  expectFailure(run({names[0], "bad.xyz", names[1], "out.ply"}), 2, "bad.xyz", before);
+  expectFailure(run({names[0], "bad.xyz", names[1], "out.ply", "--tile-level", "1",
+                     "--no-trim", "--no-fill"}),
+                2, "bad.xyz", before);
+  expectFailure(run({"@missing.txt", "out.ply"}), 2, "missing.txt", before);
+}
+
+TEST_F(PcdToMesh, TiledRunWritesTheInMemoryBytesAndLeavesNoTemporaryFile)
+{
+  const std::vector<std::string> names =
+      splitIntoXyzFiles(utmCloud(20000, 8), 4, work_);
+  std::vector<std::string> args = names;
+  args.push_back("memory.ply");
+  const CliResult memory = runDelaunay(args);
+  ASSERT_EQ(memory.exit_code, 0) << memory.err;
+  for (const std::string level : {"0", "2", "4"}) {
+    args.back() = "tiled" + level + ".ply";
+    std::vector<std::string> tiled_args = args;
+    tiled_args.insert(tiled_args.end(), {"--tile-level", level, "--temp-dir", "."});
+    const CliResult tiled = runDelaunay(tiled_args);
+    ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
+    EXPECT_NE(tiled.out.find("Meshing tiled"), std::string::npos) << tiled.out;
+    EXPECT_EQ(summaryValue(tiled.out, "triangles"),
+              summaryValue(memory.out, "triangles"));
+    EXPECT_EQ(summaryValue(tiled.out, "distinct points"),
+              summaryValue(memory.out, "distinct points"));
+    EXPECT_TRUE(readText(work(args.back())) == readText(work("memory.ply")))
+        << "tiled output differs at tile level " << level;
+  }
+  // Only the inputs and the meshes: the temporary folder is gone.
+  EXPECT_EQ(workFiles().size(), names.size() + 4);
+}
+
+TEST_F(PcdToMesh, AJobAboveTheMemoryLimitRunsTiledOrSaysWhatItNeeds)
+{
+  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(6000, 3), 2, work_);
+  const auto before = workFiles();
+  // 6000 points need about 1.4 MB in memory: a 1M limit sends the job to the tiles.
+  expectFailure(run({names[0], names[1], "out.ply", "--memory-limit", "1M"}), 1,
+                "--no-trim --no-fill", before);
+  const CliResult tiled =
+      runDelaunay({names[0], names[1], "tiled.ply", "--memory-limit", "1M"});
+  ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
+  EXPECT_NE(tiled.out.find("Meshing tiled"), std::string::npos) << tiled.out;
+  ASSERT_EQ(runDelaunay({names[0], names[1], "memory.ply"}).exit_code, 0);
+  EXPECT_TRUE(readText(work("tiled.ply")) == readText(work("memory.ply")));
+}
+
+TEST_F(PcdToMesh, ATemporaryFolderThatIsFullFailsCleanly)
+{
+  const std::vector<std::string> names =
+      splitIntoXyzFiles(utmCloud(30000, 5), 1, work_);
+  const auto before = workFiles();
+  // A 200 KiB file-size limit: the bucket files cannot be written.
+  const CliResult r = run({names[0], "out.ply", "--tile-level", "0", "--no-trim",
+                           "--no-fill", "--temp-dir", "."},
+                          "ulimit -f 200 &&");
+  expectFailure(r, 4, "--temp-dir", before);
 }
 
 } // namespace
