@@ -55,14 +55,14 @@ install: build
 
 # The Debian package pcl-vts_<version>_<arch>.deb (CPack, cmake/PclVtsPackage.cmake), built
 # in its own folder configured for /usr (libraries in /usr/lib/<multiarch>), without
-# tests, benchmarks or compare tools. Install it with apt-get install ./pcl-vts_*.deb.
+# tests, benchmarks or compare tools. Install it with apt-get install ./pcl-vts_*.deb;
+# dpkg-deb -I shows its Depends (dpkg-shlibdeps), dpkg-deb -c its files.
 package: deps
 	@cmake -S . -B $(PACKAGE_BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr \
 	  -DPCL_VTS_BUILD_TESTS=OFF -DPCL_VTS_BUILD_BENCH=OFF -DPCL_VTS_BUILD_COMPARE=OFF \
 	  $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(PACKAGE_BUILD_DIR) -j $(JOBS)
-	@cd $(PACKAGE_BUILD_DIR) && cpack -G DEB >/dev/null
-	@ls $(PACKAGE_BUILD_DIR)/pcl-vts_*.deb
+	@cd $(PACKAGE_BUILD_DIR) && cpack -G DEB
 
 format:
 	@clang-format -i $$(git ls-files '*.cpp' '*.hpp' '*.h')

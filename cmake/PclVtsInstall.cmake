@@ -10,19 +10,24 @@ include(CMakePackageConfigHelpers)
 set(PCL_VTS_CMAKE_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/pcl_vts)
 get_property(PCL_VTS_MODULES GLOBAL PROPERTY PCL_VTS_MODULES)
 
+# Two install components, as a distribution splits them: Runtime (the versioned
+# shared libraries, pcd_to_mesh) and Development (headers, the .so links, static
+# libraries, CMake and pkg-config files): `cmake --install build --component Runtime`.
+# `make package` puts both in one .deb.
 install(TARGETS ${PCL_VTS_MODULES} EXPORT pcl_vtsTargets
-  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
-  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT Runtime
+          NAMELINK_COMPONENT Development
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT Development)
 # The public headers (private ones live beside their sources in src/) and the
 # generated export headers.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/pcl_vts ${PROJECT_BINARY_DIR}/include/pcl_vts
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT Development)
 if(TARGET pcd_to_mesh)
-  install(TARGETS pcd_to_mesh RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  install(TARGETS pcd_to_mesh RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
 endif()
 install(EXPORT pcl_vtsTargets NAMESPACE pcl_vts:: FILE pcl_vtsTargets.cmake
-        DESTINATION ${PCL_VTS_CMAKE_INSTALL_DIR})
+        DESTINATION ${PCL_VTS_CMAKE_INSTALL_DIR} COMPONENT Development)
 
 # ---- What one item of a module's INTERFACE_LINK_LIBRARIES asks of its users ------------
 # Sets, in the caller:
@@ -147,7 +152,7 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/pcl_vtsConfigVersion.cmak
   VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/pcl_vtsConfig.cmake
               ${PROJECT_BINARY_DIR}/pcl_vtsConfigVersion.cmake
-        DESTINATION ${PCL_VTS_CMAKE_INSTALL_DIR})
+        DESTINATION ${PCL_VTS_CMAKE_INSTALL_DIR} COMPONENT Development)
 
 # ---- pkg-config: <target>.pc per module (pcl_vts_core.pc, ..., pcl_vts.pc) --------------
 file(RELATIVE_PATH PCL_VTS_PC_TO_PREFIX ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig
@@ -196,5 +201,6 @@ foreach(target IN LISTS PCL_VTS_MODULES)
   configure_file(${PROJECT_SOURCE_DIR}/cmake/pcl_vts.pc.in
                  ${PROJECT_BINARY_DIR}/pkgconfig/${PC_NAME}.pc @ONLY)
   install(FILES ${PROJECT_BINARY_DIR}/pkgconfig/${PC_NAME}.pc
-          DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+          DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig
+          COMPONENT Development)
 endforeach()

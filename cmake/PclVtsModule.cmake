@@ -6,6 +6,10 @@
 # generated here as <pcl_vts/<module>/export.h> (PCL_VTS_<MODULE>_EXPORT; for the PCL
 # adapters <pcl_vts/export.h> and PCL_VTS_EXPORT). A static build defines
 # PCL_VTS_<MODULE>_STATIC_DEFINE for itself and its users, so the macros are empty.
+# The target is recorded in the global property PCL_VTS_MODULES: that list is what
+# cmake/PclVtsInstall.cmake installs, exports as a package component and describes in
+# a pkg-config file, with the dependencies read from its link interface. A new module
+# needs nothing more than this call and its target_link_libraries.
 function(pcl_vts_add_module target)
   cmake_parse_arguments(ARG "" "EXPORT_NAME" "SOURCES" ${ARGN})
   add_library(${target} ${ARG_SOURCES})
