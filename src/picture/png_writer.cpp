@@ -1,16 +1,13 @@
 // writePng: truecolour PNG (IHDR, IDAT, IEND) with per-row adaptive filters, deflated
-// by png_deflate.h, written atomically like mesh_writer.h (temp file, fsync, rename).
+// by png_deflate.h, written through AtomicFile (core/atomic_file.h) as meshes are.
 #include "png_deflate.h"
 
+#include <pcl_vts/core/atomic_file.h>
 #include <pcl_vts/picture/image.h>
 
 #include <array>
-#include <cerrno>
 #include <cstdlib>
-#include <cstring>
-#include <fcntl.h>
 #include <string>
-#include <unistd.h>
 
 namespace pcl_vts {
 
@@ -98,51 +95,6 @@ std::vector<std::uint8_t> filteredScanlines(const Picture& picture)
   return out;
 }
 
-Status ioError(const std::string& what, const std::string& path, int err)
-{
-  return Status::error(StatusCode::IO_ERROR,
-                       what + " '" + path + "': " + std::strerror(err));
-}
-
-/// bytes under path, or nothing: a temp file in the same folder, synced, renamed.
-Status writeFileAtomically(const std::string& path,
-                           const std::vector<std::uint8_t>& bytes)
-{
-  const std::size_t slash = path.rfind('/');
-  const std::string folder =
-      slash == std::string::npos ? "" : path.substr(0, slash + 1);
-  const std::string temp =
-      folder + "." + path.substr(folder.size()) + ".tmp." + std::to_string(::getpid());
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  if (fd < 0)
-    return ioError("cannot write", path, errno);
-  int err = 0;
-  const std::uint8_t* p = bytes.data();
-  std::size_t left = bytes.size();
-  while (left > 0 && err == 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0 && errno != EINTR)
-      err = errno;
-    else if (n == 0)
-      err = EIO;
-    else if (n > 0) {
-      p += n;
-      left -= static_cast<std::size_t>(n);
-    }
-  }
-  if (err == 0 && ::fsync(fd) != 0)
-    err = errno;
-  if (::close(fd) != 0 && err == 0)
-    err = errno;
-  if (err == 0 && ::rename(temp.c_str(), path.c_str()) != 0)
-    err = errno;
-  if (err != 0) {
-    ::unlink(temp.c_str());
-    return ioError("cannot write", path, err);
-  }
-  return Status::success();
-}
-
 } // namespace
 
 Status writePng(const std::string& path, const Picture& picture)
@@ -165,7 +117,7 @@ Status writePng(const std::string& path, const Picture& picture)
   const std::vector<std::uint8_t> raw = filteredScanlines(picture);
   putChunk(png, "IDAT", png_detail::zlibCompress(raw.data(), raw.size()));
   putChunk(png, "IEND", {});
-  return writeFileAtomically(path, png);
+  return writeFileAtomically(path, png.data(), png.size());
 }
 
 } // namespace pcl_vts

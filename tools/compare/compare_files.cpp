@@ -3,13 +3,14 @@
 // general.
 #include "compare_files.h"
 
+#include <pcl_vts/core/atomic_file.h>
+
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 namespace pcl_vts {
 namespace compare {
@@ -22,38 +23,25 @@ Status ioError(const std::string& path, const std::string& what)
   return Status::error(StatusCode::IO_ERROR, path + ": " + what);
 }
 
-std::string tempPathFor(const std::string& path)
-{
-  const std::size_t slash = path.rfind('/');
-  const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-  return dir + "." + name + ".tmp." + std::to_string(::getpid());
-}
-
-/// Runs write(FILE*) into a temp file next to path, then renames it over path.
+/// Runs write(file) into an AtomicFile (core/atomic_file.h): path appears complete
+/// or not at all.
 template <class Writer>
 Status writeAtomically(const std::string& path, Writer write)
 {
-  const std::string temp = tempPathFor(path);
-  std::FILE* file = std::fopen(temp.c_str(), "wb");
-  if (!file)
-    return ioError(path, std::string("cannot create: ") + std::strerror(errno));
-  bool ok = write(file);
-  ok = (std::fflush(file) == 0) && ok;
-  const int saved_errno = errno;
-  ok = (std::fclose(file) == 0) && ok;
-  if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) {
-    const int e = ok ? errno : saved_errno;
-    std::remove(temp.c_str());
-    return ioError(path, std::string("cannot write: ") + std::strerror(e));
-  }
-  return Status::success();
+  AtomicFile file(path);
+  Status status = file.open();
+  if (!status.ok())
+    return status;
+  write(file);
+  return file.commit();
 }
 
+/// Appends count values; a failed write is kept by the file and reported by commit().
 template <class T>
-bool put(std::FILE* file, const T* data, std::size_t count)
+bool put(AtomicFile& file, const T* data, std::size_t count)
 {
-  return std::fwrite(data, sizeof(T), count, file) == count;
+  file.write(data, sizeof(T) * count);
+  return file.good();
 }
 
 template <class T>
@@ -69,12 +57,12 @@ bool get(std::istream& in, T* data, std::size_t count)
 Status writeTextFile(const std::string& path, const std::string& text)
 {
   return writeAtomically(
-      path, [&](std::FILE* file) { return put(file, text.data(), text.size()); });
+      path, [&](AtomicFile& file) { return put(file, text.data(), text.size()); });
 }
 
 Status writePointSet(const std::string& path, const PointSet& points)
 {
-  return writeAtomically(path, [&](std::FILE* file) {
+  return writeAtomically(path, [&](AtomicFile& file) {
     const std::uint64_t n = points.size();
     return put(file, POINTS_MAGIC, 8) && put(file, &n, 1) &&
            put(file, points.offset, 3) && put(file, points.xyz.data(), 3 * n);
@@ -111,7 +99,7 @@ Status writeMeshPly(const std::string& path, const CompareMesh& mesh)
          << "element vertex " << nv << "\nproperty double x\nproperty double y\n"
          << "property double z\nproperty int source\nelement face " << nt
          << "\nproperty list uchar uint vertex_indices\nend_header\n";
-  return writeAtomically(path, [&](std::FILE* file) {
+  return writeAtomically(path, [&](AtomicFile& file) {
     const std::string text = header.str();
     bool ok = put(file, text.data(), text.size());
     for (std::size_t v = 0; ok && v < nv; ++v) {
