@@ -1,6 +1,5 @@
-#include "parallel_for.h"
-
 #include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -159,12 +158,11 @@ Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
       order[fill[cell_of[k]]++] = static_cast<std::uint32_t>(k);
   }
   grid.points.resize(n);
-  detail::parallelFor(threads, n,
-                      [&](std::size_t k) { grid.points[k] = points[order[k]]; });
+  parallelFor(threads, n, [&](std::size_t k) { grid.points[k] = points[order[k]]; });
   // Lexicographic inside each cell, on the gathered copy (no random reads), carrying
   // `order` along: insertion sort for the usual handful of points, std::sort for
   // crowded cells.
-  detail::parallelFor(threads, grid.cellCount(), [&](std::size_t c) {
+  parallelFor(threads, grid.cellCount(), [&](std::size_t c) {
     sortCell(grid.points, order, grid.cell_start[c], grid.cell_start[c + 1]);
   });
   return Status::success();

@@ -1,11 +1,11 @@
 #include "strip_growth.h"
 
 #include <pcl_vts/core/grid_triangulator.h>
+#include <pcl_vts/core/parallel_for.h>
 
 #include <algorithm>
 #include <atomic>
 #include <string>
-#include <thread>
 #include <tuple>
 
 #if defined(__GLIBC__)
@@ -109,14 +109,7 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
                                      open_head, strips[s]);
     worker_stats[w] = search.stats();
   };
-  {
-    std::vector<std::thread> team;
-    for (unsigned w = 1; w < workers; ++w)
-      team.emplace_back(work, w);
-    work(0);
-    for (std::thread& t : team)
-      t.join();
-  }
+  runTeam(workers, work);
   stats = SearchStats();
   for (const SearchStats& s : worker_stats) {
     stats.local += s.local;

@@ -1,17 +1,15 @@
-#include "parallel_for.h"
-
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
 #include <pcl_vts/core/cell_subdivision.h>
 #include <pcl_vts/core/convex_hull.h>
 #include <pcl_vts/core/grid_triangulator.h>
 #include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/vts_pipeline.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <thread>
 
 namespace pcl_vts {
 namespace {
@@ -156,14 +154,12 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     return s;
   CellGrid grid;
   std::vector<std::uint32_t> order;
-  const unsigned threads = options.threads > 0
-                               ? options.threads
-                               : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned threads = options.threads > 0 ? options.threads : allCores();
   if (Status s = buildCellGrid(xy, options.cell_size, grid, order, threads); !s.ok())
     return s;
   std::vector<double> vz(order.size());
   std::vector<std::uint32_t> vsource(order.size());
-  detail::parallelFor(threads, order.size(), [&](std::size_t k) {
+  parallelFor(threads, order.size(), [&](std::size_t k) {
     vz[k] = z[order[k]];
     vsource[k] = source[order[k]];
   });
@@ -194,7 +190,7 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   diag.cell_size = grid.cell_size;
   result.input_to_vertex.assign(n, INVALID_ID);
   // Each input point is one slot: distinct writes.
-  detail::parallelFor(threads, order.size(), [&](std::size_t k) {
+  parallelFor(threads, order.size(), [&](std::size_t k) {
     result.input_to_vertex[source[order[k]]] = slot_to_vertex[k];
   });
   { // release what is no longer needed before the triangulation allocates

@@ -11,10 +11,10 @@
 #include "mesh_metrics.h"
 #include "method_runner.h"
 #include "methods.h"
-#include "parallel_for.h"
 #include "poisson_footprint.h"
 #include "synthetic_terrain.h"
 
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/io/point_cloud_loader.h>
 
 #include <pcl/console/print.h>
@@ -211,7 +211,7 @@ int runComparison(const CompareOptions& opt)
     return EXIT_OUTPUT;
   }
 
-  const unsigned threads = opt.threads ? opt.threads : metricThreads();
+  const unsigned threads = opt.threads ? opt.threads : pcl_vts::allCores();
   const PointReference reference(points, 10, threads);
   const PictureFrame frame = frameOfPoints(points);
   for (int k = 0; k < 3; ++k)

@@ -1,6 +1,7 @@
 // Metro-style distances (surface_error.h).
-#include "parallel_for.h"
 #include "surface_error.h"
+
+#include <pcl_vts/core/parallel_for.h>
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
@@ -77,7 +78,7 @@ PointReference::PointReference(const PointSet& points, int k, unsigned threads)
   const int kk =
       static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(k), n));
   std::vector<double> spacing(n, 0.0);
-  parallelFor(n, threads, [&](std::size_t begin, std::size_t end, unsigned) {
+  parallelChunks(threads, n, [&](std::size_t begin, std::size_t end, unsigned) {
     std::vector<int> ids;
     std::vector<float> d2;
     for (std::size_t i = begin; i < end; ++i) {
@@ -171,7 +172,7 @@ DistanceStats meshToPoints(const SurfaceSamples& samples, const CompareMesh& mes
   std::vector<Accumulator> parts(threads);
   const std::size_t n = samples.size();
   // Chunks start at a triangle's first sample, so no run is split between threads.
-  parallelFor(n, threads, [&](std::size_t begin, std::size_t end, unsigned thread) {
+  parallelChunks(threads, n, [&](std::size_t begin, std::size_t end, unsigned thread) {
     while (begin > 0 && begin < n &&
            samples.triangle[begin] == samples.triangle[begin - 1])
       ++begin;
@@ -243,11 +244,11 @@ DistanceStats pointsToMesh(const std::vector<double>& xyz, const TriangleGrid& g
                            unsigned threads)
 {
   std::vector<Accumulator> parts(threads);
-  parallelFor(xyz.size() / 3, threads,
-              [&](std::size_t begin, std::size_t end, unsigned thread) {
-                for (std::size_t i = begin; i < end; ++i)
-                  parts[thread].add(grid.nearestDistance(&xyz[3 * i]));
-              });
+  parallelChunks(threads, xyz.size() / 3,
+                 [&](std::size_t begin, std::size_t end, unsigned thread) {
+                   for (std::size_t i = begin; i < end; ++i)
+                     parts[thread].add(grid.nearestDistance(&xyz[3 * i]));
+                 });
   return combine(parts);
 }
 
@@ -255,13 +256,13 @@ DistanceStats meshToTruth(const SurfaceSamples& samples,
                           double (*height)(double, double), unsigned threads)
 {
   std::vector<Accumulator> parts(threads);
-  parallelFor(samples.size(), threads,
-              [&](std::size_t begin, std::size_t end, unsigned thread) {
-                for (std::size_t i = begin; i < end; ++i) {
-                  const double* p = &samples.xyz[3 * i];
-                  parts[thread].add(std::fabs(p[2] - height(p[0], p[1])));
-                }
-              });
+  parallelChunks(threads, samples.size(),
+                 [&](std::size_t begin, std::size_t end, unsigned thread) {
+                   for (std::size_t i = begin; i < end; ++i) {
+                     const double* p = &samples.xyz[3 * i];
+                     parts[thread].add(std::fabs(p[2] - height(p[0], p[1])));
+                   }
+                 });
   return combine(parts);
 }
 

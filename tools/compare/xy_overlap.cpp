@@ -1,7 +1,8 @@
 // XY overlap (xy_overlap.h).
 #include "mesh_topology.h"
-#include "parallel_for.h"
 #include "xy_overlap.h"
+
+#include <pcl_vts/core/parallel_for.h>
 
 #include <cmath>
 #include <vector>
@@ -66,7 +67,7 @@ XyOverlap measureXyOverlap(const CompareMesh& mesh, const TriangleGrid& grid,
   // Pairs: each thread marks into its own array; the last tested partner per
   // triangle avoids testing a pair once per shared cell.
   std::vector<std::vector<std::uint8_t>> marks(threads);
-  parallelFor(nt, threads, [&](std::size_t begin, std::size_t end, unsigned thread) {
+  parallelChunks(threads, nt, [&](std::size_t begin, std::size_t end, unsigned thread) {
     std::vector<std::uint8_t>& mark = marks[thread];
     mark.assign(nt, 0);
     std::vector<std::uint32_t> last_partner(nt, UINT32_MAX);
@@ -97,29 +98,30 @@ XyOverlap measureXyOverlap(const CompareMesh& mesh, const TriangleGrid& grid,
   // Area: samples inside other triangles.
   std::vector<double> area(threads, 0.0);
   const double per_sample = samples.areaPerSample();
-  parallelFor(samples.size(), threads,
-              [&](std::size_t begin, std::size_t end, unsigned thread) {
-                for (std::size_t i = begin; i < end; ++i) {
-                  const double* p = &samples.xyz[3 * i];
-                  const std::uint32_t own = samples.triangle[i];
-                  // Inside another triangle means the interiors intersect: only
-                  // samples of triangles found overlapping above can be.
-                  if (!overlapping[own])
-                    continue;
-                  int cover = 1;
-                  grid.forEachInCell(p[0], p[1], [&](std::uint32_t t) {
-                    if (t != own && strictlyInside(mesh, t, p))
-                      ++cover;
-                  });
-                  if (cover > 1) {
-                    // This sample's 3D area share, projected to XY.
-                    const double area3 = triangleArea(mesh, own);
-                    const double cos_z =
-                        area3 > 0.0 ? std::fabs(signedXyArea(mesh, own)) / area3 : 0.0;
-                    area[thread] += per_sample * cos_z / cover;
-                  }
-                }
-              });
+  parallelChunks(threads, samples.size(),
+                 [&](std::size_t begin, std::size_t end, unsigned thread) {
+                   for (std::size_t i = begin; i < end; ++i) {
+                     const double* p = &samples.xyz[3 * i];
+                     const std::uint32_t own = samples.triangle[i];
+                     // Inside another triangle means the interiors intersect: only
+                     // samples of triangles found overlapping above can be.
+                     if (!overlapping[own])
+                       continue;
+                     int cover = 1;
+                     grid.forEachInCell(p[0], p[1], [&](std::uint32_t t) {
+                       if (t != own && strictlyInside(mesh, t, p))
+                         ++cover;
+                     });
+                     if (cover > 1) {
+                       // This sample's 3D area share, projected to XY.
+                       const double area3 = triangleArea(mesh, own);
+                       const double cos_z =
+                           area3 > 0.0 ? std::fabs(signedXyArea(mesh, own)) / area3
+                                       : 0.0;
+                       area[thread] += per_sample * cos_z / cover;
+                     }
+                   }
+                 });
   for (double a : area)
     result.overlap_area += a;
   return result;

@@ -1,0 +1,67 @@
+// The one way pcl_vts runs work on several threads: a team of workers, worker 0 on
+// the calling thread, joined before returning. Two loops are built on it: contiguous
+// chunks with the worker's number (for per-thread sums, compare_methods' metrics) and
+// one call per index (core stages whose iterations write distinct slots, so the
+// result is the same for any thread count). Header-only: no symbol to export.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <thread>
+#include <vector>
+
+namespace pcl_vts {
+
+/// Threads meaning "all cores": the hardware's concurrency, at least 1.
+inline unsigned allCores()
+{
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+/// Runs work(w) for w = 0 .. workers - 1, each on its own thread (worker 0 on the
+/// calling one), and returns when all are done. workers 0 counts as 1.
+template <typename Work>
+void runTeam(unsigned workers, const Work& work)
+{
+  std::vector<std::thread> team;
+  for (unsigned w = 1; w < workers; ++w)
+    team.emplace_back([&work, w] { work(w); });
+  work(0u);
+  for (std::thread& t : team)
+    t.join();
+}
+
+/// Splits [0, n) into one contiguous chunk per thread, at most `threads` (0 counts
+/// as 1) and at most n: chunk(begin, end, thread) with chunks of ceil(n / count)
+/// indices in thread order; chunk must write only its range or its thread's slot.
+template <typename Chunk>
+void parallelChunks(unsigned threads, std::size_t n, const Chunk& chunk)
+{
+  const auto count = static_cast<unsigned>(std::max<std::size_t>(
+      1, std::min<std::size_t>(threads, std::max<std::size_t>(1, n))));
+  if (count == 1) {
+    chunk(std::size_t{0}, n, 0u);
+    return;
+  }
+  const std::size_t size = (n + count - 1) / count;
+  runTeam(count, [&](unsigned t) {
+    const std::size_t begin = std::min(n, t * size), end = std::min(n, begin + size);
+    chunk(begin, end, t);
+  });
+}
+
+/// body(k) for every k in [0, n), each index by exactly one thread; ranges too small
+/// to pay for threads (under 65536 indices a thread) stay on the calling thread.
+template <typename Body>
+void parallelFor(unsigned threads, std::size_t n, const Body& body)
+{
+  constexpr std::size_t MIN_PER_THREAD = 1u << 16; // below this, threads cost more
+  const std::size_t useful = std::max<std::size_t>(1, n / MIN_PER_THREAD);
+  parallelChunks(static_cast<unsigned>(std::min<std::size_t>(threads, useful)), n,
+                 [&](std::size_t begin, std::size_t end, unsigned) {
+                   for (std::size_t k = begin; k < end; ++k)
+                     body(k);
+                 });
+}
+
+} // namespace pcl_vts
