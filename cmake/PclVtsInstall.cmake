@@ -25,6 +25,10 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/pcl_vts ${PROJECT_BINARY_DIR}/in
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT Development)
 if(TARGET pcd_to_mesh)
   install(TARGETS pcd_to_mesh RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
+  if(TARGET pcd_to_mesh_mpi)
+    install(TARGETS pcd_to_mesh_mpi RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+            COMPONENT Runtime)
+  endif()
 endif()
 install(EXPORT pcl_vtsTargets NAMESPACE pcl_vts:: FILE pcl_vtsTargets.cmake
         DESTINATION ${PCL_VTS_CMAKE_INSTALL_DIR} COMPONENT Development)

@@ -14,6 +14,7 @@ PACKAGES=(
   time                  # peak-memory figures in make bench
   gnuplot-nox           # make bench: docs/img/bench_ns_per_point.png
   libgdal-dev           # optional: GeoTIFF input of pcd_to_mesh
+  libopenmpi-dev openmpi-bin   # pcd_to_mesh_mpi: the tiled job across MPI ranks
 )
 
 # shellcheck source=scripts/apt_install.sh

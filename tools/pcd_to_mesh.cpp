@@ -6,6 +6,10 @@
 // (mesh_writer.h). --png draws the final mesh (mesh_picture.h).
 #include "input_list.h"
 
+#ifdef PCL_VTS_MPI_TOOL
+#include <pcl_vts/mpi/mpi_comm.h>
+#endif
+
 #include <pcl_vts/core/vts_pipeline.h>
 #include <pcl_vts/io/mesh_writer.h>
 #include <pcl_vts/io/point_cloud_loader.h>
@@ -33,6 +37,9 @@
 #include <vector>
 
 namespace {
+
+/// Set on MPI ranks other than 0: they print nothing, rank 0 speaks for the job.
+bool g_silent = false;
 
 // One exit code per class of failure (listed in --help).
 constexpr int EXIT_USAGE = 1;    // unknown option, bad value, bad output extension
@@ -529,9 +536,12 @@ class Reporter {
     va_end(args);
   }
 
-  /// Reports a failure: closes a pending stage line, one line on stderr.
+  /// Reports a failure: closes a pending stage line, one line on stderr (rank 0
+  /// only: under MPI every rank fails with the same agreed error).
   int fail(int exit_code, const std::string& message)
   {
+    if (g_silent)
+      return exit_code;
     if (open_ && !quiet_)
       std::printf("[failed]\n");
     std::fflush(stdout);
@@ -720,10 +730,15 @@ class ProgressLine {
 };
 
 /// The tiled path (tiled_mesh.h): inputs streamed twice, the mesh streamed out.
-int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total)
+int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
+             pcl_vts::JobComm& comm)
 {
   const std::string why = "the input (" + opt.input + ") does not fit --memory-limit " +
                           mib(opt.memory_limit) + " in memory";
+  if (comm.size() > 1 && (!opt.no_trim || !opt.no_fill))
+    return out.fail(EXIT_USAGE,
+                    "trimming and hole filling do not run on MPI ranks yet: "
+                    "add --no-trim --no-fill");
   if (opt.tile_level < 0 && (!opt.no_trim || !opt.no_fill))
     return out.fail(EXIT_USAGE,
                     why + ", and trimming and hole filling do not run tiled "
@@ -738,42 +753,51 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total)
                                     "only"));
   pcl_vts::CloudDescription input;
   bool input_failed = false;
-  int pass = 0;
-  const pcl_vts::PointFeed feed = [&](const pcl_vts::PointSink& sink) {
-    ++pass;
-    for (std::size_t f = 0; f < opt.inputs.size(); ++f) {
-      std::vector<double> xyz;
-      pcl_vts::CloudDescription one;
-      bool skipped = false;
-      pcl_vts::Status s = loadInput(opt, f, xyz, one, skipped);
-      if (!s.ok()) {
-        input_failed = true;
-        return pcl_vts::Status::error(s.code, readFailure(s));
-      }
-      if (pass == 1)
-        addDescription(opt, f, one, skipped, input);
-      if (!(s = sink(xyz.data(), xyz.size() / 3)).ok())
-        return s;
+  std::vector<std::uint8_t> described(opt.inputs.size(), 0);
+  pcl_vts::PointInputs inputs;
+  inputs.count = opt.inputs.size();
+  inputs.read = [&](std::size_t f, const pcl_vts::PointSink& sink) {
+    std::vector<double> xyz;
+    pcl_vts::CloudDescription one;
+    bool skipped = false;
+    pcl_vts::Status s = loadInput(opt, f, xyz, one, skipped);
+    if (!s.ok()) {
+      input_failed = true;
+      return pcl_vts::Status::error(s.code, readFailure(s));
     }
-    return pcl_vts::Status::success();
+    if (!described[f]) // read twice: scan, then bucket
+      addDescription(opt, f, one, skipped, input);
+    described[f] = 1;
+    return sink(xyz.data(), xyz.size() / 3);
   };
   pcl_vts::TiledMeshOptions options;
   options.vts = opt.vts;
   options.temp_parent = opt.temp_dir;
   options.memory_limit = opt.memory_limit;
   options.tile_level = opt.tile_level;
-  ProgressLine progress(opt.quiet);
+  options.threads = opt.vts.threads;
+  ProgressLine progress(opt.quiet || g_silent);
   options.progress = [&](const pcl_vts::TiledProgress& p) { progress.update(p); };
   pcl_vts::MeshWriteOptions write_options;
   write_options.ascii = opt.ascii;
   write_options.force_double = opt.force_double;
   write_options.comment = "pcl_vts pcd_to_mesh: Delaunay triangulation of " + opt.input;
 
-  out.begin("Meshing tiled (memory limit %s, temporary files in '%s') ",
-            mib(opt.memory_limit).c_str(), opt.temp_dir.c_str());
+  out.begin("Meshing tiled (memory limit %s, temporary files in '%s'%s) ",
+            mib(opt.memory_limit).c_str(), opt.temp_dir.c_str(),
+            comm.size() > 1
+                ? (", " + std::to_string(comm.size()) + " MPI ranks").c_str()
+                : "");
   pcl_vts::TiledMeshReport report;
   const pcl_vts::Status s =
-      pcl_vts::runTiledMesh(feed, options, opt.output, write_options, report);
+      pcl_vts::runTiledMesh(inputs, options, opt.output, write_options, report, comm);
+  // Every rank returned the same status; agree on what the inputs said too.
+  std::vector<std::uint64_t> totals = {input_failed ? 1u : 0u, input.points_read,
+                                       input.points_kept};
+  comm.sum(totals);
+  input_failed = totals[0] != 0;
+  input.points_read = totals[1];
+  input.points_kept = totals[2];
   if (!s.ok()) {
     const int code = input_failed                              ? exitCodeFor(s.code)
                      : s.code == pcl_vts::StatusCode::IO_ERROR ? EXIT_OUTPUT
@@ -831,9 +855,9 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total)
   return 0;
 }
 
-int run(CliOptions opt)
+int run(CliOptions opt, pcl_vts::JobComm& comm)
 {
-  Reporter out(opt.quiet);
+  Reporter out(opt.quiet || g_silent);
   {
     std::vector<std::string> files;
     std::string error;
@@ -858,7 +882,7 @@ int run(CliOptions opt)
   auto start = Clock::now();
   std::vector<double> xyz;
   pcl_vts::CloudDescription input;
-  bool tiled = opt.tile_level >= 0;
+  bool tiled = opt.tile_level >= 0 || comm.size() > 1;
   for (std::size_t f = 0; f < opt.inputs.size() && !tiled; ++f) {
     std::vector<double> part;
     pcl_vts::CloudDescription one;
@@ -874,8 +898,12 @@ int run(CliOptions opt)
   }
   if (tiled) {
     std::vector<double>().swap(xyz);
-    out.done(msSince(start), "more than --memory-limit allows in memory: tiled");
-    return runTiled(opt, out, t_total);
+    out.done(msSince(start), comm.size() > 1 ? "the MPI ranks read their share: tiled"
+                             : opt.tile_level >= 0
+                                 ? "tiled (--tile-level)"
+                                 : "more than --memory-limit allows in "
+                                   "memory: tiled");
+    return runTiled(opt, out, t_total, comm);
   }
   if (xyz.empty())
     return out.fail(EXIT_DATA, "input unusable: EMPTY_INPUT: no point in " + opt.input);
@@ -1044,6 +1072,14 @@ int main(int argc, char** argv)
   // fails, is reported, and the temp file is removed.
   std::signal(SIGPIPE, SIG_IGN);
   std::signal(SIGXFSZ, SIG_IGN);
+#ifdef PCL_VTS_MPI_TOOL
+  // Every rank parses the same arguments and runs the same tiled job; rank 0 speaks.
+  const pcl_vts::MpiSession mpi(&argc, &argv);
+  pcl_vts::MpiComm comm;
+  g_silent = comm.rank() != 0;
+#else
+  pcl_vts::LocalComm comm;
+#endif
   Reporter errors(true);
   try {
     CliOptions options;
@@ -1054,7 +1090,7 @@ int main(int argc, char** argv)
       printHelp();
       return 0;
     }
-    return run(options);
+    return run(options, comm);
   } catch (const std::bad_alloc&) {
     return errors.fail(EXIT_INTERNAL, "out of memory");
   } catch (const std::exception& e) {

@@ -1,11 +1,15 @@
 // Tile files and their block index (block_store.h).
 #include "block_store.h"
 
+#include <pcl_vts/tiling/job_comm.h>
+
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fcntl.h>
 #include <numeric>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace pcl_vts {
@@ -54,15 +58,21 @@ Status readAll(int fd, void* data, std::size_t bytes, off_t offset, int& err)
 } // namespace
 
 BlockStore::BlockStore(std::string folder, const TileFrame& frame, int tile_level,
-                       int block_level, std::size_t buffer_points)
+                       int block_level, std::size_t buffer_points, int rank, int ranks)
     : folder_(std::move(folder))
     , frame_(frame)
     , tile_level_(tile_level)
     , block_level_(block_level)
     , buffer_points_(std::max<std::size_t>(buffer_points, 64))
+    , rank_(rank)
+    , ranks_(ranks)
     , buffers_(std::size_t{1} << (2 * tile_level))
-    , tile_points_(buffers_.size(), 0)
+    , part_points_(buffers_.size(), 0)
     , block_points_(std::size_t{1} << (2 * block_level), 0)
+    , block_distinct_(block_points_.size(), 0)
+    , block_start_(block_points_.size(), 0)
+    , block_bounds_(block_points_.size(),
+                    Rect{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL})
     , fds_(buffers_.size(), -1)
 {}
 
@@ -76,6 +86,11 @@ BlockStore::~BlockStore()
 std::string BlockStore::tilePath(std::uint32_t tile) const
 {
   return folder_ + "/tile_" + std::to_string(tile) + ".xyz";
+}
+
+std::string BlockStore::partPath(std::uint32_t tile, int rank) const
+{
+  return folder_ + "/tile_" + std::to_string(tile) + ".part" + std::to_string(rank);
 }
 
 Status BlockStore::ioError(const std::string& what, const std::string& path,
@@ -96,7 +111,7 @@ Status BlockStore::add(const double* xyz, std::size_t n)
     const std::uint32_t tile = TileFrame::nodeOf(frame_.code(p[0], p[1]), tile_level_);
     std::vector<double>& buffer = buffers_[tile];
     buffer.insert(buffer.end(), p, p + 3);
-    ++tile_points_[tile];
+    ++part_points_[tile];
     if (buffer.size() >= 3 * buffer_points_) {
       const Status s = flush(tile);
       if (!s.ok())
@@ -111,7 +126,7 @@ Status BlockStore::flush(std::uint32_t tile)
   std::vector<double>& buffer = buffers_[tile];
   if (buffer.empty())
     return Status::success();
-  const std::string path = tilePath(tile);
+  const std::string path = partPath(tile, rank_);
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
   if (fd < 0)
     return ioError("create", path, errno);
@@ -126,36 +141,44 @@ Status BlockStore::flush(std::uint32_t tile)
   return Status::success();
 }
 
-Status BlockStore::finish()
+Status BlockStore::flush()
 {
-  const std::size_t blocks = block_points_.size();
-  block_distinct_.assign(blocks, 0);
-  block_start_.assign(blocks, 0);
-  block_bounds_.assign(blocks, Rect{});
-  for (std::uint32_t tile = 0; tile < buffers_.size(); ++tile) {
-    if (tile_points_[tile] == 0)
-      continue;
-    Status s = flush(tile);
-    if (s.ok())
-      s = orderTile(tile);
-    if (!s.ok())
+  for (std::uint32_t tile = 0; tile < buffers_.size(); ++tile)
+    if (Status s = flush(tile); !s.ok())
       return s;
-  }
   return Status::success();
 }
 
 Status BlockStore::orderTile(std::uint32_t tile)
 {
-  const std::string path = tilePath(tile);
-  const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-  if (fd < 0)
-    return ioError("open", path, errno);
-  fds_[tile] = fd;
-  const std::size_t n = tile_points_[tile];
-  std::vector<double> in(3 * n);
+  // The parts in rank order: the points in input order.
+  std::vector<double> in;
   int err = 0;
-  if (!readAll(fd, in.data(), n * POINT_BYTES, 0, err).ok())
-    return ioError("read back", path, err);
+  for (int r = 0; r < ranks_; ++r) {
+    const std::string part = partPath(tile, r);
+    const int fd = ::open(part.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+      if (errno == ENOENT)
+        continue; // that rank had no point here
+      return ioError("open", part, errno);
+    }
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || st.st_size % static_cast<off_t>(POINT_BYTES) != 0) {
+      ::close(fd);
+      return ioError("read back", part, EIO);
+    }
+    const std::size_t old = in.size();
+    in.resize(old + static_cast<std::size_t>(st.st_size) / sizeof(double));
+    const Status s =
+        readAll(fd, &in[old], static_cast<std::size_t>(st.st_size), 0, err);
+    ::close(fd);
+    ::unlink(part.c_str());
+    if (!s.ok())
+      return ioError("read back", part, err);
+  }
+  const std::size_t n = in.size() / 3;
+  if (n == 0)
+    return Status::success();
 
   // Stable counting sort by block (the blocks of one tile are a contiguous range).
   const int shift = 2 * (block_level_ - tile_level_);
@@ -176,7 +199,14 @@ Status BlockStore::orderTile(std::uint32_t tile)
     std::copy_n(&in[3 * i], 3, &out[3 * k]);
   }
   std::vector<double>().swap(in);
-  if (!writeAll(fd, out.data(), n * POINT_BYTES, 0, err).ok())
+  const std::string path = tilePath(tile);
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  if (fd < 0)
+    return ioError("create", path, errno);
+  const Status written = writeAll(fd, out.data(), n * POINT_BYTES, 0, err);
+  if (::close(fd) != 0 && written.ok())
+    return ioError("write", path, errno);
+  if (!written.ok())
     return ioError("write", path, err);
 
   // Per block: count, distinct XY positions, exact bounding box.
@@ -189,7 +219,7 @@ Status BlockStore::orderTile(std::uint32_t tile)
     if (begin == end)
       continue;
     xy.clear();
-    Rect box{out[3 * begin], out[3 * begin + 1], out[3 * begin], out[3 * begin + 1]};
+    Rect box{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (std::uint64_t k = begin; k < end; ++k) {
       const Point2 p{out[3 * k], out[3 * k + 1]};
       xy.push_back(p);
@@ -208,16 +238,51 @@ Status BlockStore::orderTile(std::uint32_t tile)
   return Status::success();
 }
 
+void BlockStore::shareIndex(JobComm& comm)
+{
+  comm.sum(block_points_);
+  comm.sum(block_distinct_);
+  comm.sum(block_start_);
+  comm.sum(part_points_); // now: every rank's points per tile
+  std::vector<double> low(2 * block_bounds_.size()), high(2 * block_bounds_.size());
+  for (std::size_t b = 0; b < block_bounds_.size(); ++b) {
+    low[2 * b] = block_bounds_[b].x0;
+    low[2 * b + 1] = block_bounds_[b].y0;
+    high[2 * b] = block_bounds_[b].x1;
+    high[2 * b + 1] = block_bounds_[b].y1;
+  }
+  comm.min(low);
+  comm.max(high);
+  for (std::size_t b = 0; b < block_bounds_.size(); ++b)
+    block_bounds_[b] = Rect{low[2 * b], low[2 * b + 1], high[2 * b], high[2 * b + 1]};
+}
+
+std::uint64_t BlockStore::tilePoints(std::uint32_t tile) const
+{
+  return part_points_[tile];
+}
+
+int BlockStore::openTile(std::uint32_t tile) const
+{
+  const std::lock_guard<std::mutex> lock(fd_mutex_);
+  if (fds_[tile] < 0)
+    fds_[tile] = ::open(tilePath(tile).c_str(), O_RDONLY | O_CLOEXEC);
+  return fds_[tile];
+}
+
 Status BlockStore::readBlock(std::uint32_t block, std::vector<double>& xyz) const
 {
   const std::uint64_t n = block_points_[block];
   if (n == 0)
     return Status::success();
   const std::uint32_t tile = block >> (2 * (block_level_ - tile_level_));
+  const int fd = openTile(tile);
+  if (fd < 0)
+    return ioError("open", tilePath(tile), errno);
   const std::size_t old = xyz.size();
   xyz.resize(old + 3 * n);
   int err = 0;
-  if (!readAll(fds_[tile], &xyz[old], n * POINT_BYTES,
+  if (!readAll(fd, &xyz[old], n * POINT_BYTES,
                static_cast<off_t>(block_start_[block] * POINT_BYTES), err)
            .ok())
     return ioError("read back", tilePath(tile), err);
@@ -226,7 +291,7 @@ Status BlockStore::readBlock(std::uint32_t block, std::vector<double>& xyz) cons
 
 std::uint64_t BlockStore::bytesOnDisk() const
 {
-  return std::accumulate(tile_points_.begin(), tile_points_.end(), std::uint64_t{0}) *
+  return std::accumulate(part_points_.begin(), part_points_.end(), std::uint64_t{0}) *
          POINT_BYTES;
 }
 

@@ -1,11 +1,14 @@
 // Points bucketed by tile into temporary files, then ordered by block inside each
 // file: any block reads back with one pread, in input order (duplicates keep their
-// relative order, so the duplicate rules give the in-memory run's z).
+// relative order, so the duplicate rules give the in-memory run's z). With several
+// ranks, each buckets its own inputs into its own part files (rank r reads inputs
+// after rank r-1's), and a tile's parts are joined in rank order when it is ordered.
 #pragma once
 #include <pcl_vts/core/status.h>
 #include <pcl_vts/tiling/tile_frame.h>
 
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -16,23 +19,31 @@ class BlockStore {
   /// Files go to `folder` (which must exist); tiles and blocks are the quadtree
   /// nodes of tile_level <= block_level; each tile buffers `buffer_points` points.
   BlockStore(std::string folder, const TileFrame& frame, int tile_level,
-             int block_level, std::size_t buffer_points);
+             int block_level, std::size_t buffer_points, int rank = 0, int ranks = 1);
   ~BlockStore();
   BlockStore(const BlockStore&) = delete;
   BlockStore& operator=(const BlockStore&) = delete;
 
-  /// Buckets n finite points (xyz triples).
+  /// Buckets n finite points (xyz triples) into this rank's part files.
   Status add(const double* xyz, std::size_t n);
-  /// Flushes, orders every tile file by block, counts points, distinct XY positions
-  /// and the bounding box of each block. Needs memory for one tile, twice.
-  Status finish();
+  /// Writes what is still buffered. Every rank, before any orders a tile.
+  Status flush();
+  /// Joins tile's parts into one file ordered by block; fills the index entries
+  /// (count, distinct XY positions, bounding box, offset) of its blocks. Needs memory
+  /// for one tile, twice.
+  Status orderTile(std::uint32_t tile);
+  /// After each rank ordered its tiles: the index entries merged over ranks
+  /// (a rank's entries are zero, +inf/-inf boxes, for tiles it did not order).
+  void shareIndex(class JobComm& comm);
+  /// Points per tile over all ranks (after shareIndex).
+  std::uint64_t tilePoints(std::uint32_t tile) const;
 
   /// Appends the points of `block` (xyz triples, input order) to xyz.
   Status readBlock(std::uint32_t block, std::vector<double>& xyz) const;
 
   int tileLevel() const { return tile_level_; }
   int blockLevel() const { return block_level_; }
-  const std::vector<std::uint64_t>& tilePoints() const { return tile_points_; }
+  std::size_t tileCount() const { return buffers_.size(); }
   const std::vector<std::uint64_t>& blockPoints() const { return block_points_; }
   const std::vector<std::uint64_t>& blockDistinct() const { return block_distinct_; }
   const std::vector<Rect>& blockBounds() const { return block_bounds_; }
@@ -40,22 +51,25 @@ class BlockStore {
 
  private:
   std::string tilePath(std::uint32_t tile) const;
+  std::string partPath(std::uint32_t tile, int rank) const;
   Status flush(std::uint32_t tile);
-  Status orderTile(std::uint32_t tile);
+  int openTile(std::uint32_t tile) const;
   Status ioError(const std::string& what, const std::string& path, int err) const;
 
   std::string folder_;
   TileFrame frame_;
   int tile_level_, block_level_;
   std::size_t buffer_points_;
+  int rank_, ranks_;
   std::vector<std::vector<double>> buffers_;
-  std::vector<std::uint64_t> tile_points_;
+  std::vector<std::uint64_t> part_points_; ///< this rank's points per tile
   std::vector<std::uint64_t> block_points_;
   std::vector<std::uint64_t> block_distinct_;
   std::vector<std::uint64_t>
       block_start_; ///< first point of the block in its tile file
   std::vector<Rect> block_bounds_;
-  std::vector<int> fds_;
+  mutable std::vector<int> fds_; ///< opened on first read (under fd_mutex_)
+  mutable std::mutex fd_mutex_;
 };
 
 } // namespace pcl_vts

@@ -42,7 +42,6 @@ KnownSpace::KnownSpace(const TileFrame& frame, int level,
     : frame_(frame)
     , level_(level)
     , counts_(static_cast<std::size_t>(level) + 1)
-    , loaded_(occupied.size(), 0)
     , bounds_(bounds)
 {
   counts_[level].resize(occupied.size());
@@ -57,23 +56,23 @@ KnownSpace::KnownSpace(const TileFrame& frame, int level,
 
 template <typename MeetsNode, typename MeetsBlock>
 void KnownSpace::collect(int level, std::uint32_t node, const MeetsNode& meets_node,
-                         const MeetsBlock& meets_block,
+                         const MeetsBlock& meets_block, const LoadedBlocks& loaded,
                          std::vector<std::uint32_t>& hits) const
 {
   if (counts_[level][node] == 0)
     return;
   if (level == level_) {
-    if (!loaded_[node] && meets_block(bounds_[node]))
+    if (!loaded[node] && meets_block(bounds_[node]))
       hits.push_back(node);
     return;
   }
   if (!meets_node(frame_.nodeRect(level, node)))
     return;
   for (std::uint32_t k = 0; k < 4; ++k)
-    collect(level + 1, (node << 2) | k, meets_node, meets_block, hits);
+    collect(level + 1, (node << 2) | k, meets_node, meets_block, loaded, hits);
 }
 
-void KnownSpace::unknownInDisk(const SafeDisk& disk,
+void KnownSpace::unknownInDisk(const SafeDisk& disk, const LoadedBlocks& loaded,
                                std::vector<std::uint32_t>& hits) const
 {
   const double r2 = disk.radius * disk.radius;
@@ -84,10 +83,11 @@ void KnownSpace::unknownInDisk(const SafeDisk& disk,
     const double dy = std::max({r.y0 - disk.center.y, 0.0, disk.center.y - r.y1});
     return dx * dx + dy * dy <= r2;
   };
-  collect(0, 0, meets, meets, hits);
+  collect(0, 0, meets, meets, loaded, hits);
 }
 
 void KnownSpace::unknownRightOf(const Point2& a, const Point2& b,
+                                const LoadedBlocks& loaded,
                                 std::vector<std::uint32_t>& hits) const
 {
   const double ex = b.x - a.x, ey = b.y - a.y;
@@ -115,7 +115,7 @@ void KnownSpace::unknownRightOf(const Point2& a, const Point2& b,
           return true;
     return false;
   };
-  collect(0, 0, meets_node, meets_block, hits);
+  collect(0, 0, meets_node, meets_block, loaded, hits);
 }
 
 } // namespace pcl_vts

@@ -23,6 +23,10 @@ struct SafeDisk {
 /// The circumdisk of (a, b, c) grown by a bound on the rounding of its computation.
 SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& c);
 
+/// Per worker: which blocks the tile being meshed has loaded (1 byte per block).
+using LoadedBlocks = std::vector<std::uint8_t>;
+
+/// The occupied blocks and their point boxes, shared read-only by every worker.
 class KnownSpace {
  public:
   /// occupied[block] = points in that block (Morton-numbered blocks of `level`);
@@ -32,16 +36,16 @@ class KnownSpace {
              const std::vector<Rect>& bounds);
 
   int level() const { return level_; }
+  std::size_t blockCount() const { return counts_[level_].size(); }
   bool occupied(std::uint32_t block) const { return counts_[level_][block] != 0; }
-  bool loaded(std::uint32_t block) const { return loaded_[block] != 0; }
-  void setLoaded(std::uint32_t block, bool on) { loaded_[block] = on ? 1 : 0; }
 
   /// Appends to `hits` every occupied, unloaded block the disk may meet
   /// (each at most once per call; duplicates across calls are the caller's).
-  void unknownInDisk(const SafeDisk& disk, std::vector<std::uint32_t>& hits) const;
+  void unknownInDisk(const SafeDisk& disk, const LoadedBlocks& loaded,
+                     std::vector<std::uint32_t>& hits) const;
   /// Appends every occupied, unloaded block that may meet the open half-plane to the
   /// right of the directed line a -> b.
-  void unknownRightOf(const Point2& a, const Point2& b,
+  void unknownRightOf(const Point2& a, const Point2& b, const LoadedBlocks& loaded,
                       std::vector<std::uint32_t>& hits) const;
 
  private:
@@ -50,13 +54,13 @@ class KnownSpace {
   /// (meets_block).
   template <typename MeetsNode, typename MeetsBlock>
   void collect(int level, std::uint32_t node, const MeetsNode& meets_node,
-               const MeetsBlock& meets_block, std::vector<std::uint32_t>& hits) const;
+               const MeetsBlock& meets_block, const LoadedBlocks& loaded,
+               std::vector<std::uint32_t>& hits) const;
 
   TileFrame frame_;
   int level_;
   /// counts_[l][node]: occupied blocks under that node of level l.
   std::vector<std::vector<std::uint32_t>> counts_;
-  std::vector<std::uint8_t> loaded_;
   const std::vector<Rect>& bounds_;
 };
 

@@ -11,8 +11,8 @@ namespace {
 /// Unloaded occupied blocks in the block rectangle around `blocks`, widened by
 /// `margin` blocks.
 void ringAround(const std::vector<std::uint32_t>& blocks, int level,
-                const KnownSpace& space, std::vector<std::uint32_t>& out,
-                std::uint32_t margin = 1)
+                const KnownSpace& space, const LoadedBlocks& flags,
+                std::vector<std::uint32_t>& out, std::uint32_t margin = 1)
 {
   std::uint32_t x0 = ~0u, y0 = ~0u, x1 = 0, y1 = 0;
   for (std::uint32_t b : blocks) {
@@ -30,19 +30,19 @@ void ringAround(const std::vector<std::uint32_t>& blocks, int level,
   for (std::uint32_t y = y0; y <= y1; ++y)
     for (std::uint32_t x = x0; x <= x1; ++x) {
       const std::uint32_t b = spreadBits(x) | (spreadBits(y) << 1);
-      if (space.occupied(b) && !space.loaded(b))
+      if (space.occupied(b) && !flags[b])
         out.push_back(b);
     }
 }
 
 /// Adds `more` (any order, repeats allowed) to the sorted list `loaded`.
 void load(std::vector<std::uint32_t>& more, std::vector<std::uint32_t>& loaded,
-          KnownSpace& space)
+          LoadedBlocks& flags)
 {
   std::sort(more.begin(), more.end());
   more.erase(std::unique(more.begin(), more.end()), more.end());
   for (std::uint32_t b : more)
-    space.setLoaded(b, true);
+    flags[b] = 1;
   std::vector<std::uint32_t> merged;
   merged.reserve(loaded.size() + more.size());
   std::merge(loaded.begin(), loaded.end(), more.begin(), more.end(),
@@ -53,7 +53,8 @@ void load(std::vector<std::uint32_t>& more, std::vector<std::uint32_t>& loaded,
 
 /// Unknown blocks that the stars of the tile's vertices (and their hull edges) meet.
 void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in_tile,
-                   const KnownSpace& space, std::vector<std::uint32_t>& hits)
+                   const KnownSpace& space, const LoadedBlocks& flags,
+                   std::vector<std::uint32_t>& hits)
 {
   const std::size_t nt = mesh.triangleCount();
   for (std::size_t t = 0; t < nt; ++t) {
@@ -61,13 +62,13 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
     if (!in_tile[v[0]] && !in_tile[v[1]] && !in_tile[v[2]])
       continue;
     space.unknownInDisk(safeCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]),
-                        hits);
+                        flags, hits);
     for (int k = 0; k < 3; ++k) {
       const std::size_t e = 3 * t + static_cast<std::size_t>(k);
       const VertexId a = mesh.triangles[e],
                      b = mesh.triangles[nextHalfedge(static_cast<HalfedgeId>(e))];
       if (mesh.halfedges[e] == INVALID_ID && (in_tile[a] || in_tile[b]))
-        space.unknownRightOf(mesh.xy[a], mesh.xy[b], hits);
+        space.unknownRightOf(mesh.xy[a], mesh.xy[b], flags, hits);
     }
   }
 }
@@ -75,11 +76,11 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
 } // namespace
 
 Status triangulateTile(const TileContext& context, std::uint32_t tile,
-                       TileResult& result)
+                       LoadedBlocks& flags, TileResult& result)
 {
   const TileFrame& frame = *context.frame;
   const BlockStore& store = *context.store;
-  KnownSpace& space = *context.space;
+  const KnownSpace& space = *context.space;
   const int tile_level = store.tileLevel(), block_level = store.blockLevel();
   const int shift = 2 * (block_level - tile_level);
   result = TileResult{};
@@ -89,8 +90,8 @@ Status triangulateTile(const TileContext& context, std::uint32_t tile,
     if (space.occupied(b))
       more.push_back(b);
   const std::vector<std::uint32_t> own = more;
-  ringAround(own, block_level, space, more);
-  load(more, loaded, space);
+  ringAround(own, block_level, space, flags, more);
+  load(more, loaded, flags);
 
   std::vector<double> xyz;
   VtsResult mesh;
@@ -114,10 +115,10 @@ Status triangulateTile(const TileContext& context, std::uint32_t tile,
       // The nearest other points may be far: widen until some are found.
       for (std::uint32_t margin = 1; more.empty() && margin < (2u << block_level);
            margin *= 2)
-        ringAround(loaded, block_level, space, more, margin);
+        ringAround(loaded, block_level, space, flags, more, margin);
       if (more.empty())
         break;
-      load(more, loaded, space);
+      load(more, loaded, flags);
       continue;
     }
     const TriangleMesh& m = mesh.mesh;
@@ -128,14 +129,14 @@ Status triangulateTile(const TileContext& context, std::uint32_t tile,
       code[v] = frame.code(m.xy[v]);
       in_tile[v] = TileFrame::nodeOf(code[v], tile_level) == tile;
     }
-    unprovenStars(m, in_tile, space, more);
+    unprovenStars(m, in_tile, space, flags, more);
     if (more.empty())
       break;
-    load(more, loaded, space);
+    load(more, loaded, flags);
   }
   result.points_loaded = xyz.size() / 3;
   for (std::uint32_t b : loaded)
-    space.setLoaded(b, false);
+    flags[b] = 0;
   if (!status.ok())
     return status;
 

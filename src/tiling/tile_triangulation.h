@@ -22,7 +22,7 @@ namespace pcl_vts {
 struct TileContext {
   const TileFrame* frame = nullptr;
   const BlockStore* store = nullptr;
-  KnownSpace* space = nullptr;
+  const KnownSpace* space = nullptr;
   /// Per block: global id of its first vertex (canonical order, prefix sums).
   const std::vector<std::uint64_t>* block_first_vertex = nullptr;
   VtsOptions options; ///< triangulation only (reconstruction off)
@@ -35,8 +35,9 @@ struct TileResult {
   unsigned rounds = 0; ///< triangulations run (1 = the first halo sufficed)
 };
 
-/// Triangulates tile `tile` (a node of the store's tile level).
+/// Triangulates tile `tile` (a node of the store's tile level). `flags` is the
+/// worker's scratch: all zero on entry and on return, one byte per block.
 Status triangulateTile(const TileContext& context, std::uint32_t tile,
-                       TileResult& result);
+                       LoadedBlocks& flags, TileResult& result);
 
 } // namespace pcl_vts

@@ -8,12 +8,16 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <numeric>
+#include <thread>
 
 namespace pcl_vts {
 namespace {
@@ -48,109 +52,162 @@ int levelFor(std::uint64_t points, double fill, double target, int max_level)
   return level;
 }
 
-/// A file written once, then read back in order in chunks.
-class SpoolFile {
- public:
-  ~SpoolFile()
-  {
-    if (file_ != nullptr)
-      std::fclose(file_);
-  }
-  Status open(const std::string& path)
-  {
-    path_ = path;
-    file_ = std::fopen(path.c_str(), "w+b");
-    if (file_ == nullptr)
-      return error("create", errno);
-    return Status::success();
-  }
-  Status append(const void* data, std::size_t bytes)
-  {
-    if (bytes != 0 && std::fwrite(data, 1, bytes, file_) != bytes)
-      return error("write", errno);
-    return Status::success();
-  }
-  Status finishWriting()
-  {
-    if (std::fflush(file_) != 0)
-      return error("write", errno);
-    return Status::success();
-  }
-  /// Reads the whole file from the start, `chunk` bytes at a time.
-  template <typename Visit>
-  Status forEachChunk(std::size_t chunk, const Visit& visit) const
-  {
-    std::rewind(file_);
-    std::vector<char> buffer(chunk);
-    for (;;) {
-      const std::size_t got = std::fread(buffer.data(), 1, chunk, file_);
-      if (got > 0)
-        visit(buffer.data(), got);
-      if (got < chunk) {
-        if (std::ferror(file_))
-          return error("read back", errno);
-        return Status::success();
-      }
-    }
-  }
+std::string resultPath(const std::string& folder, std::uint32_t tile)
+{
+  return folder + "/result_" + std::to_string(tile) + ".bin";
+}
 
- private:
-  Status error(const char* what, int err) const
-  {
-    std::string why = std::strerror(err);
-    if (err == ENOSPC || err == EDQUOT || err == EFBIG)
-      why += " (the temporary folder is full: choose another with --temp-dir)";
+std::string ioFailure(const char* what, const std::string& path, int err)
+{
+  std::string why = std::strerror(err);
+  if (err == ENOSPC || err == EDQUOT || err == EFBIG)
+    why += " (the temporary folder is full: choose another with --temp-dir)";
+  return std::string("cannot ") + what + " '" + path + "': " + why;
+}
+
+/// One tile's output: a header (vertex count, triangle count, all float-exact), the
+/// vertices (3 doubles) and the owned triangles (3 uint32), canonical order.
+Status writeTileResult(const std::string& path, const TileResult& tile)
+{
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr)
+    return Status::error(StatusCode::IO_ERROR, ioFailure("create", path, errno));
+  bool exact = true;
+  for (double v : tile.xyz)
+    exact = exact && exactInFloat(v);
+  const std::uint64_t header[3] = {tile.xyz.size() / 3, tile.triangles.size() / 3,
+                                   exact ? 1u : 0u};
+  bool ok = std::fwrite(header, sizeof(header), 1, file) == 1;
+  ok =
+      ok && (tile.xyz.empty() || std::fwrite(tile.xyz.data(), sizeof(double),
+                                             tile.xyz.size(), file) == tile.xyz.size());
+  ok = ok && (tile.triangles.empty() ||
+              std::fwrite(tile.triangles.data(), sizeof(std::uint32_t),
+                          tile.triangles.size(), file) == tile.triangles.size());
+  const int err = errno;
+  if (std::fclose(file) != 0 || !ok)
     return Status::error(StatusCode::IO_ERROR,
-                         std::string("cannot ") + what + " '" + path_ + "': " + why);
-  }
-  std::string path_;
-  std::FILE* file_ = nullptr;
-};
+                         ioFailure("write", path, ok ? errno : err));
+  return Status::success();
+}
 
-/// The streamed mesh: vertices (3 doubles) and triangles (3 uint32) in spool files.
-class SpooledMesh : public MeshSource {
+/// The whole mesh, read back tile by tile from the result files (rank 0).
+class TileResultsMesh : public MeshSource {
  public:
-  SpooledMesh(const SpoolFile& vertices, const SpoolFile& triangles, std::uint64_t nv,
-              std::uint64_t nt, bool exact)
-      : vertices_(vertices)
-      , triangles_(triangles)
-      , nv_(nv)
-      , nt_(nt)
-      , exact_(exact)
+  TileResultsMesh(std::string folder, std::vector<std::uint32_t> tiles)
+      : folder_(std::move(folder))
+      , tiles_(std::move(tiles))
   {}
+
+  /// Reads every header: counts and float-exactness.
+  Status scan()
+  {
+    nv_ = nt_ = 0;
+    exact_ = true;
+    for (std::uint32_t t : tiles_) {
+      std::uint64_t header[3];
+      if (Status s = readAt(t, 0, header, sizeof(header)); !s.ok())
+        return s;
+      nv_ += header[0];
+      nt_ += header[1];
+      exact_ = exact_ && header[2] != 0;
+    }
+    return Status::success();
+  }
   std::uint64_t vertexCount() const override { return nv_; }
   std::uint64_t triangleCount() const override { return nt_; }
   bool exactInFloat() const override { return exact_; }
   bool hasInsertedFlags() const override { return false; }
   Status forEachVertex(const VertexVisit& visit) const override
   {
-    return vertices_.forEachChunk(CHUNK * 24, [&](const char* data, std::size_t bytes) {
+    return forEachSection(true, [&](const char* data, std::size_t count) {
       double xyz[3];
-      for (std::size_t at = 0; at + 24 <= bytes; at += 24) {
-        std::memcpy(xyz, data + at, 24);
+      for (std::size_t k = 0; k < count; ++k) {
+        std::memcpy(xyz, data + 24 * k, 24);
         visit(xyz[0], xyz[1], xyz[2], false);
       }
     });
   }
   Status forEachTriangle(const TriangleVisit& visit) const override
   {
-    return triangles_.forEachChunk(
-        CHUNK * 12, [&](const char* data, std::size_t bytes) {
-          std::uint32_t t[3];
-          for (std::size_t at = 0; at + 12 <= bytes; at += 12) {
-            std::memcpy(t, data + at, 12);
-            visit(t[0], t[1], t[2]);
-          }
-        });
+    return forEachSection(false, [&](const char* data, std::size_t count) {
+      std::uint32_t t[3];
+      for (std::size_t k = 0; k < count; ++k) {
+        std::memcpy(t, data + 12 * k, 12);
+        visit(t[0], t[1], t[2]);
+      }
+    });
   }
 
  private:
-  static constexpr std::size_t CHUNK = 1 << 16;
-  const SpoolFile& vertices_;
-  const SpoolFile& triangles_;
-  std::uint64_t nv_, nt_;
-  bool exact_;
+  Status readAt(std::uint32_t tile, long offset, void* data, std::size_t bytes) const
+  {
+    const std::string path = resultPath(folder_, tile);
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (file == nullptr)
+      return Status::error(StatusCode::IO_ERROR, ioFailure("open", path, errno));
+    const bool ok = std::fseek(file, offset, SEEK_SET) == 0 &&
+                    std::fread(data, 1, bytes, file) == bytes;
+    std::fclose(file);
+    if (!ok)
+      return Status::error(StatusCode::IO_ERROR, "cannot read back '" + path +
+                                                     "': shorter than its header says");
+    return Status::success();
+  }
+
+  /// Visits the vertex (or triangle) section of every tile, in tile order, in chunks.
+  template <typename Visit>
+  Status forEachSection(bool vertices, const Visit& visit) const
+  {
+    const std::size_t item = vertices ? 24 : 12;
+    std::vector<char> buffer;
+    for (std::uint32_t t : tiles_) {
+      std::uint64_t header[3];
+      if (Status s = readAt(t, 0, header, sizeof(header)); !s.ok())
+        return s;
+      const std::uint64_t count = vertices ? header[0] : header[1];
+      long offset = static_cast<long>(sizeof(header) + (vertices ? 0 : 24 * header[0]));
+      for (std::uint64_t done = 0; done < count;) {
+        const std::size_t n =
+            static_cast<std::size_t>(std::min<std::uint64_t>(count - done, 1 << 16));
+        buffer.resize(n * item);
+        if (Status s = readAt(t, offset, buffer.data(), buffer.size()); !s.ok())
+          return s;
+        visit(buffer.data(), n);
+        done += n;
+        offset += static_cast<long>(n * item);
+      }
+    }
+    return Status::success();
+  }
+
+  std::string folder_;
+  std::vector<std::uint32_t> tiles_;
+  std::uint64_t nv_ = 0, nt_ = 0;
+  bool exact_ = true;
 };
+
+/// Every rank learns whether any failed; the first failing rank's error wins.
+Status agree(JobComm& comm, const Status& mine)
+{
+  std::vector<std::uint64_t> failed(static_cast<std::size_t>(comm.size()), 0);
+  failed[static_cast<std::size_t>(comm.rank())] = mine.ok() ? 0 : 1;
+  comm.sum(failed);
+  const auto first = std::find(failed.begin(), failed.end(), 1u);
+  if (first == failed.end())
+    return Status::success();
+  const int root = static_cast<int>(first - failed.begin());
+  std::string bytes;
+  if (comm.rank() == root)
+    bytes = std::to_string(static_cast<int>(mine.code)) + " " + mine.message;
+  comm.broadcast(bytes, root);
+  const std::size_t space = bytes.find(' ');
+  const auto code = static_cast<StatusCode>(std::stoi(bytes.substr(0, space)));
+  const std::string message = bytes.substr(space + 1);
+  return Status::error(code, comm.size() > 1
+                                 ? "rank " + std::to_string(root) + ": " + message
+                                 : message);
+}
 
 } // namespace
 
@@ -215,58 +272,99 @@ Status runTiledMesh(const PointFeed& feed, const TiledMeshOptions& options,
                     const std::string& output, const MeshWriteOptions& write_options,
                     TiledMeshReport& report)
 {
+  PointInputs inputs;
+  inputs.count = 1;
+  inputs.read = [&feed](std::size_t, const PointSink& sink) { return feed(sink); };
+  LocalComm local;
+  return runTiledMesh(inputs, options, output, write_options, report, local);
+}
+
+Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
+                    const std::string& output, const MeshWriteOptions& write_options,
+                    TiledMeshReport& report, JobComm& comm)
+{
   report = TiledMeshReport{};
+  const int rank = comm.rank(), ranks = comm.size();
+  Status status;
   if (options.vts.reconstruction.trim || options.vts.reconstruction.fill)
-    return Status::error(
-        StatusCode::INVALID_PARAMETER,
-        "trimming and hole filling do not run tiled yet: turn them off "
-        "(--no-trim --no-fill) or raise the memory limit so the job "
-        "runs in memory");
-  if (Status s = validateOptions(options.vts); !s.ok())
-    return s;
+    status =
+        Status::error(StatusCode::INVALID_PARAMETER,
+                      "trimming and hole filling do not run tiled yet: turn them off "
+                      "(--no-trim --no-fill) or raise the memory limit so the job "
+                      "runs in memory");
+  if (status.ok())
+    status = validateOptions(options.vts);
   MeshFileFormat format;
-  if (Status s = meshFileFormatFromPath(output, format); !s.ok())
-    return s;
+  if (status.ok())
+    status = meshFileFormatFromPath(output, format);
+  if (!status.ok())
+    return status; // the same on every rank
   const auto progress = [&](const char* phase, std::uint64_t done,
                             std::uint64_t total) {
-    if (options.progress)
+    if (options.progress && rank == 0)
       options.progress(TiledProgress{phase, done, total});
   };
+  // This rank's sources: a contiguous range, after the lower ranks'.
+  const std::size_t first_source =
+      inputs.count * static_cast<std::size_t>(rank) / static_cast<std::size_t>(ranks);
+  const std::size_t last_source = inputs.count * static_cast<std::size_t>(rank + 1) /
+                                  static_cast<std::size_t>(ranks);
+  const auto readMine = [&](const PointSink& sink) {
+    for (std::size_t k = first_source; k < last_source; ++k)
+      if (Status s = inputs.read(k, sink); !s.ok())
+        return s;
+    return Status::success();
+  };
 
-  // 1. Scan: count and exact bounds of the finite points.
+  // 1. Scan: count and exact bounds of the finite points, over all ranks.
   auto start = Clock::now();
-  double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
-  Status status = feed([&](const double* xyz, std::size_t n) {
+  std::vector<double> low = {HUGE_VAL, HUGE_VAL}, high = {-HUGE_VAL, -HUGE_VAL};
+  std::vector<std::uint64_t> counts = {0, 0}; // points, non-finite
+  status = readMine([&](const double* xyz, std::size_t n) {
     for (std::size_t i = 0; i < n; ++i) {
       const double* p = xyz + 3 * i;
-      ++report.points;
+      ++counts[0];
       if (!finitePoint(p)) {
-        ++report.non_finite_dropped;
+        ++counts[1];
         continue;
       }
-      x0 = std::min(x0, p[0]);
-      y0 = std::min(y0, p[1]);
-      x1 = std::max(x1, p[0]);
-      y1 = std::max(y1, p[1]);
+      low[0] = std::min(low[0], p[0]);
+      low[1] = std::min(low[1], p[1]);
+      high[0] = std::max(high[0], p[0]);
+      high[1] = std::max(high[1], p[1]);
     }
-    progress("scanning", report.points, 0);
+    progress("scanning", counts[0], 0);
     return Status::success();
   });
-  if (!status.ok())
+  if (!(status = agree(comm, status)).ok())
     return status;
+  const std::uint64_t my_points = counts[0];
+  comm.sum(counts);
+  comm.min(low);
+  comm.max(high);
+  report.points = counts[0];
+  report.non_finite_dropped = counts[1];
   const std::uint64_t finite = report.points - report.non_finite_dropped;
   if (finite == 0)
     return Status::error(StatusCode::EMPTY_INPUT, "no finite point in the input");
+  const double x0 = low[0], y0 = low[1], x1 = high[0], y1 = high[1];
   const TileFrame frame = TileFrame::fromBounds(x0, y0, x1, y1);
   report.seconds_scan = secondsSince(start);
 
-  // 2. Levels: tiles sized by the memory limit, blocks of about a thousand points.
+  // 2. Levels: tiles sized by the memory limit shared by the workers, blocks of
+  //    about a thousand points. Every rank computes the same.
+  unsigned workers = options.threads != 0
+                         ? options.threads
+                         : std::max(1u, std::thread::hardware_concurrency());
   const double fill = std::max(1.0 / 1024, std::max(x1 - x0, frame.side / 1e6) *
                                                std::max(y1 - y0, frame.side / 1e6) /
                                                (frame.side * frame.side));
-  constexpr int MAX_BLOCK_LEVEL = 10; // 4^10 blocks: bounds and flags stay ~40 MB
-  const double tile_target =
-      std::max(1e4, static_cast<double>(options.memory_limit) / 400.0);
+  constexpr int MAX_BLOCK_LEVEL = 10; // 4^10 blocks: the index stays ~60 MB
+  double tile_target =
+      std::max(1e4, static_cast<double>(options.memory_limit) / 400.0 / workers);
+  if (ranks > 1) // a few tiles per rank, or the ranks would wait for one another
+    tile_target = std::min(tile_target,
+                           std::max(1e4, static_cast<double>(finite) / (4.0 * ranks)));
   int tile_level = options.tile_level >= 0
                        ? std::min(options.tile_level, MAX_BLOCK_LEVEL)
                        : levelFor(finite, fill, tile_target, MAX_BLOCK_LEVEL);
@@ -278,43 +376,63 @@ Status runTiledMesh(const PointFeed& feed, const TiledMeshOptions& options,
   report.tile_level = tile_level;
   report.block_level = block_level;
 
-  // 3. Bucket into tile files, then order each by block.
+  // 3. One temporary folder (rank 0 makes it, every rank writes into it).
   start = Clock::now();
   TempFolder temp;
-  if (!(status = temp.create(options.temp_parent)).ok())
+  std::string folder;
+  if (rank == 0) {
+    status = temp.create(options.temp_parent);
+    folder = temp.path();
+  }
+  if (!(status = agree(comm, status)).ok())
     return status;
+  comm.broadcast(folder, 0);
+
+  // 4. Bucket this rank's points into its part files, then order the tiles (shared
+  //    out over the ranks) and share the block index.
   const std::size_t tiles = std::size_t{1} << (2 * tile_level);
   const std::size_t buffer_points = std::clamp<std::size_t>(
       static_cast<std::size_t>(options.memory_limit / 8 / (tiles * 24)), 64, 16384);
-  BlockStore store(temp.path(), frame, tile_level, block_level, buffer_points);
+  BlockStore store(folder, frame, tile_level, block_level, buffer_points, rank, ranks);
   std::vector<double> chunk;
-  std::uint64_t bucketed = 0, fed = 0;
-  status = feed([&](const double* xyz, std::size_t n) {
+  std::uint64_t fed = 0, bucketed = 0;
+  status = readMine([&](const double* xyz, std::size_t n) {
     chunk.clear();
     for (std::size_t i = 0; i < n; ++i)
       if (finitePoint(xyz + 3 * i))
         chunk.insert(chunk.end(), xyz + 3 * i, xyz + 3 * i + 3);
     fed += n;
     bucketed += chunk.size() / 3;
-    progress("bucketing", fed, report.points);
+    progress("bucketing", fed * static_cast<std::uint64_t>(ranks), report.points);
     return store.add(chunk.data(), chunk.size() / 3);
   });
   std::vector<double>().swap(chunk);
-  if (status.ok() && (fed != report.points || bucketed != finite))
+  if (status.ok() && fed != my_points)
     status = Status::error(
         StatusCode::IO_ERROR,
-        "the input changed while it was read: " + std::to_string(report.points) +
+        "the input changed while it was read: " + std::to_string(my_points) +
             " points the first time, " + std::to_string(fed) + " the second");
-  if (status.ok()) {
-    progress("ordering", 0, 0);
-    status = store.finish();
-  }
-  if (!status.ok())
+  if (status.ok())
+    status = store.flush();
+  if (!(status = agree(comm, status)).ok())
     return status;
-  report.temp_bytes = store.bytesOnDisk();
+  {
+    std::vector<std::uint64_t> bucketed_all = {bucketed};
+    comm.sum(bucketed_all);
+    if (bucketed_all[0] != finite)
+      return Status::error(StatusCode::IO_ERROR, "the input changed while it was read");
+  }
+  progress("ordering", 0, 0);
+  for (std::uint32_t t = static_cast<std::uint32_t>(rank); t < tiles && status.ok();
+       t += static_cast<std::uint32_t>(ranks))
+    status = store.orderTile(t);
+  if (!(status = agree(comm, status)).ok())
+    return status;
+  store.shareIndex(comm);
+  report.temp_bytes = store.bytesOnDisk(); // every rank's points, after shareIndex
   report.seconds_bucket = secondsSince(start);
 
-  // 4. Global vertex ids: prefix sums of the distinct points per block.
+  // 5. Global vertex ids: prefix sums of the distinct points per block.
   const std::vector<std::uint64_t>& distinct = store.blockDistinct();
   std::vector<std::uint64_t> first_vertex(distinct.size() + 1, 0);
   std::partial_sum(distinct.begin(), distinct.end(), first_vertex.begin() + 1);
@@ -331,64 +449,104 @@ Status runTiledMesh(const PointFeed& feed, const TiledMeshOptions& options,
                          "fewer than 3 distinct XY positions (" +
                              std::to_string(report.vertices) + ")");
 
-  // 5. Tiles in Morton order: their vertex id ranges follow each other, so the
-  //    spooled vertices and sorted owned triangles come out in canonical order.
+  // 6. Tiles: the k-th tile with points goes to rank k mod ranks, and there to the
+  //    next free worker. Each writes its result file; nothing depends on who meshed.
   start = Clock::now();
-  KnownSpace space(frame, block_level, store.blockPoints(), store.blockBounds());
+  std::vector<std::uint32_t> occupied_tiles, mine;
+  for (std::uint32_t t = 0; t < tiles; ++t)
+    if (store.tilePoints(t) != 0) {
+      if (occupied_tiles.size() % static_cast<std::size_t>(ranks) ==
+          static_cast<std::size_t>(rank))
+        mine.push_back(t);
+      occupied_tiles.push_back(t);
+    }
+  report.tiles = occupied_tiles.size();
+  const KnownSpace space(frame, block_level, store.blockPoints(), store.blockBounds());
   TileContext context;
   context.frame = &frame;
   context.store = &store;
   context.space = &space;
   context.block_first_vertex = &first_vertex;
   context.options = options.vts;
-  SpoolFile vertices, triangles;
-  if (!(status = vertices.open(temp.path() + "/vertices.bin")).ok() ||
-      !(status = triangles.open(temp.path() + "/triangles.bin")).ok())
+  workers =
+      std::max(1u, std::min<unsigned>(workers, static_cast<unsigned>(mine.size())));
+  context.options.threads = std::max(
+      1u, (options.threads != 0 ? options.threads
+                                : std::max(1u, std::thread::hardware_concurrency())) /
+              workers);
+  std::atomic<std::size_t> next{0};
+  std::atomic<std::uint64_t> done{0};
+  std::mutex mutex;
+  Status failure;
+  std::vector<std::uint64_t> stats = {0, 0}; // points loaded, largest tile
+  unsigned max_rounds = 0;
+  const auto work = [&]() {
+    LoadedBlocks flags(space.blockCount(), 0);
+    TileResult tile;
+    for (;;) {
+      const std::size_t k = next.fetch_add(1);
+      if (k >= mine.size())
+        return;
+      {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!failure.ok())
+          return;
+      }
+      Status s = triangulateTile(context, mine[k], flags, tile);
+      if (s.ok())
+        s = writeTileResult(resultPath(folder, mine[k]), tile);
+      const std::lock_guard<std::mutex> lock(mutex);
+      if (!s.ok()) {
+        if (failure.ok())
+          failure = Status::error(s.code,
+                                  "tile " + std::to_string(mine[k]) + ": " + s.message);
+        return;
+      }
+      stats[0] += tile.points_loaded;
+      stats[1] = std::max(stats[1], tile.points_loaded);
+      max_rounds = std::max(max_rounds, tile.rounds);
+      progress("meshing", done.fetch_add(1) + 1, mine.size());
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned w = 1; w < workers; ++w)
+    pool.emplace_back(work);
+  work();
+  for (std::thread& thread : pool)
+    thread.join();
+  if (!(status = agree(comm, failure)).ok())
     return status;
-  bool exact = true;
-  std::uint64_t tiles_with_points = 0;
-  for (std::size_t t = 0; t < tiles; ++t)
-    tiles_with_points += store.tilePoints()[t] != 0;
-  std::uint64_t vertices_written = 0;
-  TileResult tile;
-  for (std::uint32_t t = 0; t < tiles; ++t) {
-    if (store.tilePoints()[t] == 0)
-      continue;
-    if (!(status = triangulateTile(context, t, tile)).ok())
-      return Status::error(status.code,
-                           "tile " + std::to_string(t) + ": " + status.message);
-    ++report.tiles;
-    report.points_loaded += tile.points_loaded;
-    report.max_tile_points = std::max(report.max_tile_points, tile.points_loaded);
-    report.max_rounds = std::max(report.max_rounds, tile.rounds);
-    report.triangles += tile.triangles.size() / 3;
-    vertices_written += tile.xyz.size() / 3;
-    for (double v : tile.xyz)
-      exact = exact && exactInFloat(v);
-    if (!(status = vertices.append(tile.xyz.data(), tile.xyz.size() * sizeof(double)))
-             .ok() ||
-        !(status = triangles.append(tile.triangles.data(),
-                                    tile.triangles.size() * sizeof(std::uint32_t)))
-             .ok())
-      return status;
-    progress("meshing", report.tiles, tiles_with_points);
-  }
-  if (vertices_written != report.vertices)
-    return Status::error(StatusCode::INTERNAL_ERROR,
-                         "tiles wrote " + std::to_string(vertices_written) +
-                             " vertices, the block index counts " +
-                             std::to_string(report.vertices));
-  if (!(status = vertices.finishWriting()).ok() ||
-      !(status = triangles.finishWriting()).ok())
-    return status;
+  std::vector<double> largest = {static_cast<double>(stats[1]),
+                                 static_cast<double>(max_rounds)};
+  comm.max(largest);
+  std::vector<std::uint64_t> loaded = {stats[0]};
+  comm.sum(loaded);
+  report.points_loaded = loaded[0];
+  report.max_tile_points = static_cast<std::uint64_t>(largest[0]);
+  report.max_rounds = static_cast<unsigned>(largest[1]);
   report.seconds_mesh = secondsSince(start);
 
-  // 6. The output file, atomically.
+  // 7. Rank 0 writes the file, atomically, from the result files in tile order.
   start = Clock::now();
   progress("writing", 0, 0);
-  const SpooledMesh mesh(vertices, triangles, report.vertices, report.triangles, exact);
-  status = writeMesh(output, mesh, write_options, &report.written);
+  if (rank == 0) {
+    TileResultsMesh mesh(folder, occupied_tiles);
+    status = mesh.scan();
+    if (status.ok() && mesh.vertexCount() != report.vertices)
+      status = Status::error(StatusCode::INTERNAL_ERROR,
+                             "tiles wrote " + std::to_string(mesh.vertexCount()) +
+                                 " vertices, the block index counts " +
+                                 std::to_string(report.vertices));
+    report.triangles = mesh.triangleCount();
+    if (status.ok())
+      status = writeMesh(output, mesh, write_options, &report.written);
+  }
+  status = agree(comm, status);
+  std::vector<std::uint64_t> triangles = {report.triangles};
+  comm.sum(triangles);
+  report.triangles = triangles[0];
   report.seconds_write = secondsSince(start);
+  comm.barrier(); // every rank is done with the folder before rank 0 removes it
   return status;
 }
 

@@ -10,12 +10,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 #include <numeric>
 #include <sys/resource.h>
 #include <sys/wait.h>
+#include <thread>
 #include <unistd.h>
 
 namespace pcl_vts {
@@ -39,6 +42,101 @@ PointFeed feedOf(const std::vector<double>& xyz, std::size_t chunk = 997)
     }
     return Status::success();
   };
+}
+
+/// K ranks as K threads of one process: collectives over shared slots, so the
+/// rank logic of the tiled job (parts, ordering, index sharing, agreement) runs in
+/// ctest without mpirun.
+class InProcessRanks {
+ public:
+  explicit InProcessRanks(int size)
+      : size_(size)
+  {}
+  class Comm : public JobComm {
+   public:
+    Comm(InProcessRanks& all, int rank)
+        : all_(all)
+        , rank_(rank)
+    {}
+    int rank() const override { return rank_; }
+    int size() const override { return all_.size_; }
+    void sum(std::vector<std::uint64_t>& v) override
+    {
+      reduce(v, [](std::uint64_t a, std::uint64_t b) { return a + b; });
+    }
+    void min(std::vector<double>& v) override
+    {
+      reduce(v, [](double a, double b) { return std::min(a, b); });
+    }
+    void max(std::vector<double>& v) override
+    {
+      reduce(v, [](double a, double b) { return std::max(a, b); });
+    }
+    void broadcast(std::string& bytes, int root) override
+    {
+      if (rank_ == root)
+        all_.text_ = bytes;
+      barrier();
+      bytes = all_.text_;
+      barrier();
+    }
+    void barrier() override { all_.wait(); }
+
+   private:
+    template <typename T, typename Op>
+    void reduce(std::vector<T>& v, Op op)
+    {
+      std::vector<std::vector<T>>& slots = all_.slots<T>();
+      {
+        const std::lock_guard<std::mutex> lock(all_.mutex_);
+        slots.resize(static_cast<std::size_t>(all_.size_));
+        slots[static_cast<std::size_t>(rank_)] = v;
+      }
+      barrier();
+      for (int r = 0; r < all_.size_; ++r)
+        if (r != rank_)
+          for (std::size_t k = 0; k < v.size(); ++k)
+            v[k] = op(v[k], slots[static_cast<std::size_t>(r)][k]);
+      barrier();
+    }
+    InProcessRanks& all_;
+    int rank_;
+  };
+
+ private:
+  void wait()
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const std::uint64_t generation = generation_;
+    if (++arrived_ == size_) {
+      arrived_ = 0;
+      ++generation_;
+      cv_.notify_all();
+      return;
+    }
+    cv_.wait(lock, [&] { return generation_ != generation; });
+  }
+  template <typename T>
+  std::vector<std::vector<T>>& slots();
+
+  int size_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  int arrived_ = 0;
+  std::uint64_t generation_ = 0;
+  std::string text_;
+  std::vector<std::vector<std::uint64_t>> u64_;
+  std::vector<std::vector<double>> f64_;
+};
+template <>
+std::vector<std::vector<std::uint64_t>>& InProcessRanks::slots<std::uint64_t>()
+{
+  return u64_;
+}
+template <>
+std::vector<std::vector<double>>& InProcessRanks::slots<double>()
+{
+  return f64_;
 }
 
 class TiledMeshTest : public TempFolderTest {
@@ -105,6 +203,56 @@ TEST_P(TiledEqualsInMemory, SameBytesForEveryTiling)
     EXPECT_TRUE(slurp(path) == expected)
         << "tiled file differs from the in-memory file";
     EXPECT_EQ(entriesIn(root_), 2u) << "temporary files left behind";
+  }
+}
+
+TEST_P(TiledEqualsInMemory, SameBytesForEveryThreadAndRankCount)
+{
+  const std::size_t n = GetParam() == Distribution::CIRCLE ? 500 : 4000;
+  const std::vector<double> xyz = generatePoints(GetParam(), n, 12);
+  const std::string reference = (root_ / "memory.ply").string();
+  const Status memory = writeInMemory(xyz, reference);
+  const std::string expected = memory.ok() ? slurp(reference) : std::string();
+  // Five sources, so that ranks read different inputs (the parts must join in order).
+  PointInputs inputs;
+  inputs.count = 5;
+  inputs.read = [&](std::size_t k, const PointSink& sink) {
+    const std::size_t points = xyz.size() / 3;
+    const std::size_t a = points * k / 5, b = points * (k + 1) / 5;
+    return b > a ? sink(&xyz[3 * a], b - a) : Status::success();
+  };
+  for (const auto& [ranks, threads] :
+       std::vector<std::pair<int, unsigned>>{{1, 3}, {2, 1}, {3, 2}}) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks, " + std::to_string(threads) +
+                 " threads");
+    const std::string path = (root_ / "tiled.ply").string();
+    InProcessRanks all(ranks);
+    std::vector<Status> status(static_cast<std::size_t>(ranks));
+    std::vector<std::thread> team;
+    for (int r = 0; r < ranks; ++r)
+      team.emplace_back([&, r] {
+        InProcessRanks::Comm comm(all, r);
+        TiledMeshOptions options;
+        options.temp_parent = root_.string();
+        options.tile_level = 2;
+        options.block_level = 5;
+        options.threads = threads;
+        TiledMeshReport report;
+        status[static_cast<std::size_t>(r)] =
+            runTiledMesh(inputs, options, path, MeshWriteOptions{}, report, comm);
+      });
+    for (std::thread& t : team)
+      t.join();
+    for (const Status& s : status) {
+      ASSERT_EQ(s.ok(), memory.ok()) << s.toString();
+      if (!s.ok()) {
+        EXPECT_EQ(s.code, memory.code);
+      }
+    }
+    if (memory.ok()) {
+      EXPECT_TRUE(slurp(path) == expected) << "differs from the in-memory file";
+    }
+    EXPECT_EQ(entriesIn(root_), memory.ok() ? 2u : 0u) << "temporary files left behind";
   }
 }
 

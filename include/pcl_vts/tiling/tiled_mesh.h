@@ -9,6 +9,7 @@
 #include <pcl_vts/core/vts_pipeline.h>
 #include <pcl_vts/io/mesh_writer.h>
 #include <pcl_vts/tiling/export.h>
+#include <pcl_vts/tiling/job_comm.h>
 #include <pcl_vts/tiling/tile_frame.h>
 
 #include <cstdint>
@@ -35,6 +36,14 @@ PCL_VTS_TILING_EXPORT void canonicalMesh(TriangleMesh& mesh,
 using PointSink = std::function<Status(const double* xyz, std::size_t n)>;
 using PointFeed = std::function<Status(const PointSink& sink)>;
 
+/// The inputs of a job as `count` sources (files) read one at a time, in order. With
+/// several ranks, rank r reads a contiguous range after rank r-1's, so the ranks in
+/// order see the points in input order (the duplicate rules depend on it).
+struct PointInputs {
+  std::size_t count = 0;
+  std::function<Status(std::size_t source, const PointSink& sink)> read;
+};
+
 struct TiledProgress {
   const char* phase = ""; ///< "scanning", "bucketing", "ordering", "meshing", "writing"
   std::uint64_t done = 0;
@@ -49,6 +58,9 @@ struct TiledMeshOptions {
   std::string temp_parent = ".";
   /// Memory the job may use; sets the tile size (about 1/400 of it in points).
   std::uint64_t memory_limit = std::uint64_t{1} << 30;
+  /// Tiles meshed at once on this rank (0 = all hardware threads); the memory limit
+  /// is shared between them. The output is the same for every value.
+  unsigned threads = 1;
   /// Testing knobs: quadtree levels of tiles and blocks (-1 = from memory_limit).
   int tile_level = -1;
   int block_level = -1;
@@ -70,7 +82,18 @@ struct TiledMeshReport {
   MeshWriteInfo written;
 };
 
-/// Meshes every point of `feed` and writes the mesh to `output` (atomically).
+/// Meshes every point of `inputs` and writes the mesh to `output` (atomically, by
+/// rank 0). Every rank of `comm` calls it with the same arguments; the temporary
+/// folder must then be shared by all ranks (a cluster file system). The report holds
+/// totals over all ranks; every rank returns the same status (a failing rank's error
+/// names it).
+PCL_VTS_TILING_EXPORT Status runTiledMesh(const PointInputs& inputs,
+                                          const TiledMeshOptions& options,
+                                          const std::string& output,
+                                          const MeshWriteOptions& write_options,
+                                          TiledMeshReport& report, JobComm& comm);
+
+/// One process, one input stream.
 PCL_VTS_TILING_EXPORT Status runTiledMesh(const PointFeed& feed,
                                           const TiledMeshOptions& options,
                                           const std::string& output,

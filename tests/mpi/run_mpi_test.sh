@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# pcd_to_mesh_mpi on 1, 2 and 3 ranks writes the bytes of the one-process run, and a
+# rank that meets a corrupt input makes every rank fail with one clear error, leaving
+# no output and no temporary file. Usage: run_mpi_test.sh PCD_TO_MESH PCD_TO_MESH_MPI WORK
+set -euo pipefail
+single=$1 mpi=$2 work=$3
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+# mpirun as root (CI containers) and more ranks than cores.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# Five inputs with duplicates across them, clustered and uniform parts, UTM offsets.
+for k in 0 1 2 3 4; do
+  awk -v k="$k" 'BEGIN { srand(7 + k); for (i = 0; i < 6000; ++i) {
+      if (i % 3 == 0) { x = 500000 + 200 * k + 50 * rand(); y = 4100000 + 50 * rand() }
+      else { x = 500000 + 1000 * rand(); y = 4100000 + 1000 * rand() }
+      if (i % 50 == 0) { x = 500000 + 10 * (i % 7); y = 4100000 + 10 * (i % 11) }
+      printf "%.3f %.3f %.3f\n", x, y, 100 * rand() } }' > "in$k.xyz"
+done
+inputs=(in0.xyz in1.xyz in2.xyz in3.xyz in4.xyz)
+"$single" "${inputs[@]}" memory.ply --no-trim --no-fill --quiet || fail "single-process run"
+for ranks in 1 2 3; do
+  mpirun -np "$ranks" "$mpi" "${inputs[@]}" "mpi$ranks.ply" --no-trim --no-fill \
+    --threads 1 --temp-dir . > "out$ranks.txt" 2> "err$ranks.txt" ||
+    fail "$ranks ranks: exit $? $(cat "err$ranks.txt")"
+  cmp -s memory.ply "mpi$ranks.ply" || fail "$ranks ranks: the mesh differs from one process"
+  grep -q "$ranks MPI ranks" "out$ranks.txt" || [ "$ranks" = 1 ] || fail "no rank count in summary"
+done
+
+# A corrupt input read by the last rank: every rank stops, rank 0 reports it once.
+printf '1 2 3\n4 five 6\n' > in4.xyz
+set +e
+mpirun -np 3 "$mpi" "${inputs[@]}" bad.ply --no-trim --no-fill --threads 1 --temp-dir . \
+  > out_bad.txt 2> err_bad.txt
+rc=$?
+set -e
+[ "$rc" -ne 0 ] || fail "a corrupt input on one rank did not fail the job"
+grep -q "in4.xyz" err_bad.txt || fail "the error does not name the file: $(cat err_bad.txt)"
+[ "$(grep -c 'pcd_to_mesh: error' err_bad.txt)" = 1 ] || fail "not one error line: $(cat err_bad.txt)"
+[ ! -e bad.ply ] || fail "a partial output was left"
+leftovers=$(ls -A | grep '^\.pcl_vts-' || true)
+[ -z "$leftovers" ] || fail "temporary files left: $leftovers"
+echo "mpi: 1, 2, 3 ranks identical to one process; a failing rank fails the job cleanly"
