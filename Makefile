@@ -9,7 +9,7 @@ BENCH_MAX_N ?= 1000000
 PACKAGE_BUILD_DIR ?= build-package
 PREFIX ?= /usr/local
 
-.PHONY: all deps configure build test demo bench compare install package format clean
+.PHONY: all deps configure build test demo bench bench-scale compare install package format clean
 
 all: build
 
@@ -39,6 +39,16 @@ bench: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target compare_methods || \
 	  echo "bench: compare_methods could not be built: no GP3/Poisson rows"
 	@bash tools/bench/run_bench.sh $(BUILD_DIR) $(BENCH_MAX_N)
+
+# docs/scaling.md §5 table: synthetic LiDAR tiles (tools/bench/make_lidar_tiles.cpp)
+# meshed in memory and tiled under SCALE_LIMIT; SCALE_N points (space-separated list).
+# Needs about 110 B/point of disk in SCALE_WORK.
+SCALE_N ?= 10000000
+SCALE_LIMIT ?= 2G
+SCALE_WORK ?= $(BUILD_DIR)/scale
+bench-scale: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target make_lidar_tiles pcd_to_mesh
+	@bash tools/bench/run_scale.sh $(BUILD_DIR) $(SCALE_WORK) $(SCALE_LIMIT) $(SCALE_N)
 
 # docs/comparison.md and docs/img/compare/: VTS against GP3, Poisson and Ball-Pivoting
 # (tools/compare/run_compare.sh, about 15 minutes on 2 cores). Builds only what it runs.

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# make bench-scale: pcd_to_mesh on synthetic LiDAR tiles of N points (make_lidar_tiles),
+# in memory where it fits and tiled under --memory-limit, with wall time, points per
+# minute, peak RSS and temporary disk, and a byte comparison of the two meshes.
+# Usage: run_scale.sh BUILD_DIR WORK_DIR LIMIT N...   (e.g. build /tmp/scale 2G 10000000)
+# Disk: about 28 B/point of LAS input, 24 B/point of temporary files, 60 B/point of mesh.
+set -euo pipefail
+build=$1 work=$2 limit=$3
+shift 3
+mkdir -p "$work"
+echo "| points | path | wall (s) | Mpoints/min | peak RSS (MiB) | temp (MiB) | same bytes |"
+echo "|---:|---|---:|---:|---:|---:|---|"
+for n in "$@"; do
+  data="$work/tiles_$n"
+  if [ ! -d "$data" ]; then
+    mkdir -p "$data"
+    "$build/tools/bench/make_lidar_tiles" "$data" "$n" >/dev/null
+  fi
+  run() { # label, output, extra options...
+    local label=$1 out=$2
+    shift 2
+    /usr/bin/time -f "%e %M" -o "$work/time.txt" "$build/pcd_to_mesh" "$data" "$out" \
+      --classes 2 --no-trim --no-fill --temp-dir "$work" "$@" > "$work/log.txt" 2>&1 || {
+      echo "| $n | $label | failed: $(tail -1 "$work/log.txt") |"
+      return 1
+    }
+    read -r wall rss < "$work/time.txt"
+    local temp
+    temp=$(grep -o '[0-9]* MiB of temporary files' "$work/log.txt" | cut -d' ' -f1 || true)
+    echo "$wall $rss ${temp:--}"
+  }
+  memory_bytes=$((n * 240))
+  same="-"
+  if [ "$memory_bytes" -lt $((16 * 1024 * 1024 * 1024)) ]; then
+    if m=$(run memory "$work/memory.ply" --memory-limit 20G); then
+      read -r wall rss temp <<< "$m"
+      echo "| $n | in memory | $wall | $(awk -v n="$n" -v t="$wall" 'BEGIN{printf "%.1f", n/1e6/(t/60)}') | $((rss / 1024)) | - | |"
+    fi
+  fi
+  if t=$(run tiled "$work/tiled.ply" --memory-limit "$limit"); then
+    read -r wall rss temp <<< "$t"
+    [ -f "$work/memory.ply" ] && { cmp -s "$work/memory.ply" "$work/tiled.ply" && same=yes || same=NO; }
+    echo "| $n | tiled, --memory-limit $limit | $wall | $(awk -v n="$n" -v t="$wall" 'BEGIN{printf "%.1f", n/1e6/(t/60)}') | $((rss / 1024)) | $temp | $same |"
+  fi
+  rm -f "$work/memory.ply" "$work/tiled.ply"
+done
