@@ -1,4 +1,4 @@
-# `cmake --install build --prefix P`: headers, the module libraries, pcd_to_mesh, the
+# `cmake --install build --prefix P`: headers, the module libraries, the tools, the
 # CMake package (find_package(pcl_vts [COMPONENTS <module>...])) and one pkg-config file
 # per module. Everything is found relative to P: the package by @PACKAGE_INIT@ and the
 # exported targets' _IMPORT_PREFIX, the .pc files by ${pcfiledir}, the libraries by
@@ -23,13 +23,15 @@ install(TARGETS ${PCL_VTS_MODULES} EXPORT pcl_vtsTargets
 # generated export headers.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/pcl_vts ${PROJECT_BINARY_DIR}/include/pcl_vts
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT Development)
-if(TARGET pcd_to_mesh)
-  install(TARGETS pcd_to_mesh RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
-  if(TARGET pcd_to_mesh_mpi)
-    install(TARGETS pcd_to_mesh_mpi RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
-            COMPONENT Runtime)
+# The user tools: every executable the top-level CMakeLists.txt declares (pcd_to_mesh
+# and its siblings; compare_methods, benchmarks and tests live in subfolders).
+get_property(PCL_VTS_TOP_TARGETS DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTY BUILDSYSTEM_TARGETS)
+foreach(target IN LISTS PCL_VTS_TOP_TARGETS)
+  get_target_property(type ${target} TYPE)
+  if(type STREQUAL "EXECUTABLE")
+    install(TARGETS ${target} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
   endif()
-endif()
+endforeach()
 install(EXPORT pcl_vtsTargets NAMESPACE pcl_vts:: FILE pcl_vtsTargets.cmake
         DESTINATION ${PCL_VTS_CMAKE_INSTALL_DIR} COMPONENT Development)
 
