@@ -1,8 +1,8 @@
 // Trim -> fill, timed and checked. See reconstruct_surface.h.
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/core/reconstruct_surface.h>
+#include <pcl_vts/core/stopwatch.h>
 
-#include <chrono>
 #include <string>
 
 namespace pcl_vts {
@@ -18,16 +18,6 @@ Status validateReconstructionOptions(const ReconstructionOptions& options)
     return validateFillOptions(options.fill_options);
   return Status::success();
 }
-
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
-}
-
-} // namespace
 
 Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& options,
                           ReconstructionDiagnostics& diagnostics)
@@ -51,16 +41,16 @@ Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& optio
                                std::to_string(mesh.vertexCount()) + " vertices)");
   diagnostics.triangles_in = mesh.triangleCount();
   if (options.trim) {
-    const auto start = std::chrono::steady_clock::now();
+    const Stopwatch watch;
     status = trimOutwardTriangles(mesh, options.trim_options, diagnostics.trim);
-    diagnostics.seconds_trim = secondsSince(start);
+    diagnostics.seconds_trim = watch.seconds();
     if (!status.ok())
       return status;
   }
   if (options.fill) {
-    const auto start = std::chrono::steady_clock::now();
+    const Stopwatch watch;
     status = fillHoles(mesh, options.fill_options, diagnostics.fill);
-    diagnostics.seconds_fill = secondsSince(start);
+    diagnostics.seconds_fill = watch.seconds();
     if (!status.ok())
       return status;
   } else {

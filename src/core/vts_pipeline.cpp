@@ -5,10 +5,10 @@
 #include <pcl_vts/core/grid_triangulator.h>
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/core/parallel_for.h>
+#include <pcl_vts/core/stopwatch.h>
 #include <pcl_vts/core/vts_pipeline.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 namespace pcl_vts {
@@ -18,13 +18,6 @@ namespace {
 constexpr double MAX_ABS_COORDINATE = 1e60;
 // Below this extent cell sizes and circle bounds would underflow.
 constexpr double MIN_EXTENT = 1e-80;
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start)
-{
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 /// Drops points with a non-finite coordinate; rejects magnitudes the grid cannot hold.
 Status conditionInput(const double* xyz, std::size_t n, std::vector<Point2>& xy,
@@ -144,7 +137,7 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     return Status::error(StatusCode::INVALID_PARAMETER, "null point array");
 
   // Grid: condition, bucket, merge duplicates.
-  auto start = Clock::now();
+  Stopwatch watch;
   std::vector<Point2> xy;
   std::vector<double> z;
   std::vector<std::uint32_t> source;
@@ -202,24 +195,24 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   }
   CellPyramid pyramid;
   buildCellPyramid(grid, pyramid);
-  diag.seconds_grid = secondsSince(start);
+  diag.seconds_grid = watch.seconds();
 
-  start = Clock::now();
+  watch.restart();
   const std::vector<VertexId> hull_candidates = gridHullCandidates(grid);
   if (Status s = convexHull(grid.points, result.hull, &hull_candidates); !s.ok()) {
     result.input_to_vertex.clear();
     return s;
   }
   diag.hull_vertices = result.hull.size();
-  diag.seconds_hull = secondsSince(start);
+  diag.seconds_hull = watch.seconds();
 
-  start = Clock::now();
+  watch.restart();
   TriangleMesh& mesh = result.mesh;
   SearchStats stats;
   Status grown =
       triangulateGrid(grid, pyramid, subdivision, result.hull, mesh.triangles,
                       mesh.halfedges, stats, threads, options.strip_columns);
-  diag.seconds_triangulate = secondsSince(start);
+  diag.seconds_triangulate = watch.seconds();
   diag.local_searches = stats.local;
   diag.widened_searches = stats.widened;
   diag.cells_visited = stats.cells_visited;

@@ -1,3 +1,4 @@
+#include <pcl_vts/core/stopwatch.h>
 #include <pcl_vts/preprocess_cloud.h>
 
 #include <pcl/filters/grid_minimum.h>
@@ -7,19 +8,11 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <numeric>
 
 namespace pcl_vts {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 std::size_t count(const std::vector<double>& xyz)
 {
@@ -140,10 +133,10 @@ Status preprocessCloud(std::vector<double>& xyz, const PreprocessOptions& option
     return Status::success();
   const auto step = [&](const char* name, auto&& apply) {
     PreprocessStep st{name, count(xyz), 0, 0.0};
-    const auto start = Clock::now();
+    const Stopwatch watch;
     apply();
     st.after = count(xyz);
-    st.ms = msSince(start);
+    st.ms = watch.milliseconds();
     steps.push_back(st);
     return st.after > 0;
   };

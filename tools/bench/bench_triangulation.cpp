@@ -12,6 +12,7 @@
 // Both methods get the same points: VTS merges identical XY positions itself (its
 // duplicate rule, timed), CGAL's insertion keeps the first vertex at an XY position
 // (timed too); "distinct" lets the two vertex counts be compared.
+#include <pcl_vts/core/stopwatch.h>
 #include <pcl_vts/core/vts_pipeline.h>
 #include <pcl_vts/io/point_cloud_loader.h>
 
@@ -19,7 +20,6 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Projection_traits_xy_3.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -192,7 +192,7 @@ int loadFile(int argc, char** argv, Measure& m, std::vector<double>& xyz)
       return usage(argv[0]);
     }
   }
-  const auto start = std::chrono::steady_clock::now();
+  const pcl_vts::Stopwatch watch;
   pcl_vts::CloudDescription description;
   const pcl_vts::Status status =
       pcl_vts::loadPointCloud(path, options, xyz, description);
@@ -201,8 +201,7 @@ int loadFile(int argc, char** argv, Measure& m, std::vector<double>& xyz)
                  status.toString().c_str());
     return 2;
   }
-  m.load_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  m.load_seconds = watch.seconds();
   m.n = xyz.size() / 3;
   return 0;
 }
@@ -251,7 +250,7 @@ int main(int argc, char** argv)
   ::malloc_trim(0);
   const double baseline = statusMiB("VmRSS:");
   const bool peak_reset = resetPeakRss();
-  const auto start = std::chrono::steady_clock::now();
+  const pcl_vts::Stopwatch watch;
   std::size_t triangles = 0, distinct = 0;
   std::string stages;
   if (m.method == "vts") {
@@ -285,8 +284,7 @@ int main(int argc, char** argv)
     triangles = dt.number_of_faces();
     distinct = dt.number_of_vertices();
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = watch.seconds();
   const double peak = statusMiB("VmHWM:");
   char load[96] = "";
   if (m.load_seconds >= 0.0)

@@ -2,6 +2,8 @@
 // so that a kill at the time limit also reaches anything it started.
 #include "child_process.h"
 
+#include <pcl_vts/core/stopwatch.h>
+
 #include <cerrno>
 #include <chrono>
 #include <climits>
@@ -40,7 +42,7 @@ ChildOutcome runChild(const std::vector<std::string>& argv, double time_limit_se
     outcome.failure = "cannot open log " + log_path + ": " + std::strerror(errno);
     return outcome;
   }
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   const pid_t pid = ::fork();
   if (pid < 0) {
     ::close(log);
@@ -68,8 +70,7 @@ ChildOutcome runChild(const std::vector<std::string>& argv, double time_limit_se
     const pid_t done = ::wait4(pid, &status, WNOHANG, &usage);
     if (done == pid)
       break;
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double elapsed = watch.seconds();
     if (done < 0 && errno != EINTR) {
       outcome.failure = std::string("wait4: ") + std::strerror(errno);
       return outcome;
@@ -82,8 +83,7 @@ ChildOutcome runChild(const std::vector<std::string>& argv, double time_limit_se
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(outcome.timed_out ? 1 : 10));
   }
-  outcome.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  outcome.wall_seconds = watch.seconds();
   outcome.peak_rss_kib = usage.ru_maxrss;
   if (outcome.timed_out) {
     char text[64];

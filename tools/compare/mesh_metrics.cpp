@@ -3,8 +3,9 @@
 #include "surface_samples.h"
 #include "triangle_grid.h"
 
+#include <pcl_vts/core/stopwatch.h>
+
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <limits>
 
@@ -14,16 +15,15 @@ namespace compare {
 MeshMetrics computeMeshMetrics(const CompareMesh& mesh, const PointReference& input,
                                const MetricsOptions& options)
 {
-  const auto start = std::chrono::steady_clock::now();
-  auto lap_start = start;
+  const Stopwatch total;
+  Stopwatch step;
   MeshMetrics m;
   auto lap = [&](const char* what) {
-    const auto now = std::chrono::steady_clock::now();
     char text[64];
     std::snprintf(text, sizeof(text), "%s%s %.1f s", m.timing.empty() ? "" : ", ", what,
-                  std::chrono::duration<double>(now - lap_start).count());
+                  step.seconds());
     m.timing += text;
-    lap_start = now;
+    step.restart();
   };
   const PointSet& points = input.points();
   m.topology = countTopology(mesh);
@@ -60,8 +60,7 @@ MeshMetrics computeMeshMetrics(const CompareMesh& mesh, const PointReference& in
     m.hausdorff_truth = std::max(m.mesh_to_truth.max, m.truth_to_mesh.max);
     lap("truth");
   }
-  m.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  m.seconds = total.seconds();
   return m;
 }
 

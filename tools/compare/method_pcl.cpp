@@ -2,6 +2,8 @@
 // one translation unit: they are the slow part of the build.
 #include "methods.h"
 
+#include <pcl_vts/core/stopwatch.h>
+
 #include <pcl/common/io.h>
 #include <pcl/conversions.h>
 #include <pcl/features/normal_3d.h>
@@ -9,18 +11,11 @@
 #include <pcl/surface/gp3.h>
 #include <pcl/surface/poisson.h>
 
-#include <chrono>
 #include <sstream>
 
 namespace pcl_vts {
 namespace compare {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 std::string number(double value)
 {
@@ -41,7 +36,7 @@ pcl::PointCloud<pcl::PointNormal>::Ptr estimateNormals(const PointSet& points, i
     (*cloud)[i] = pcl::PointXYZ(static_cast<float>(points.xyz[3 * i]),
                                 static_cast<float>(points.xyz[3 * i + 1]),
                                 static_cast<float>(points.xyz[3 * i + 2]));
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
   pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
   estimation.setInputCloud(cloud);
@@ -61,7 +56,7 @@ pcl::PointCloud<pcl::PointNormal>::Ptr estimateNormals(const PointSet& points, i
       p.normal_z = -p.normal_z;
     }
   }
-  seconds = secondsSince(start);
+  seconds = watch.seconds();
   return result;
 }
 
@@ -96,9 +91,9 @@ Status runGp3(const PointSet& points, const MethodParameters& parameters,
   gp3.setInputCloud(cloud);
   gp3.setSearchMethod(tree);
   pcl::PolygonMesh out;
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   gp3.reconstruct(out);
-  report.seconds = secondsSince(start);
+  report.seconds = watch.seconds();
   report.parameters = "search radius " + number(radius) + " (8 x spacing), mu " +
                       number(parameters.gp3_mu) + ", max neighbours " +
                       std::to_string(parameters.gp3_max_neighbours) +
@@ -123,9 +118,9 @@ Status runPoisson(const MethodParameters& parameters,
   poisson.setThreads(1);
   poisson.setInputCloud(cloud);
   pcl::PolygonMesh out;
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   poisson.reconstruct(out);
-  report.seconds = secondsSince(start);
+  report.seconds = watch.seconds();
   report.parameters = "depth " + std::to_string(depth) +
                       ", degree 2, point weight 4, scale 1.1, samples per node 1, 1 "
                       "thread; normals k = " +

@@ -2,9 +2,8 @@
 // one thread like the other methods.
 #include "methods.h"
 
+#include <pcl_vts/core/stopwatch.h>
 #include <pcl_vts/core/vts_pipeline.h>
-
-#include <chrono>
 
 namespace pcl_vts {
 namespace compare {
@@ -17,10 +16,9 @@ Status runVtsMethod(const std::string& name, const PointSet& points, CompareMesh
   options.reconstruction =
       name == "vts-raw" ? noPostPasses() : ReconstructionOptions{}; // trim + fill
   VtsResult result;
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   Status status = runVtsPipeline(points.xyz.data(), points.size(), options, result);
-  report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = watch.seconds();
   if (!status.ok())
     return status;
   const TriangleMesh& tm = result.mesh;
