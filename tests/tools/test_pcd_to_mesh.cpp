@@ -1760,5 +1760,44 @@ TEST_F(PcdToMesh, ATemporaryFolderThatIsFullFailsCleanly)
   expectFailure(r, 4, "--temp-dir", before);
 }
 
+/// Peak RSS in KiB of the last command run with timed (GNU time's %M).
+std::size_t peakKiB(const fs::path& file)
+{
+  return static_cast<std::size_t>(std::strtoull(readText(file).c_str(), nullptr, 10));
+}
+
+TEST_F(PcdToMesh, TiledRunStaysWithinTheMemoryLimit)
+{
+  if (std::system("test -x /usr/bin/time") != 0)
+    GTEST_SKIP() << "GNU time (Debian package time) is not installed";
+  // 2e6 points in 8 LAS files of 250000 (a LiDAR delivery in miniature).
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<std::string> args;
+  for (int k = 0; k < 8; ++k) {
+    std::vector<Xyz> points(250000);
+    for (Xyz& p : points)
+      p = {500000.0 + 1000.0 * (k % 4) + 1000.0 * u(rng),
+           4100000.0 + 1000.0 * (k / 4) + 1000.0 * u(rng), 100.0 + 10.0 * u(rng)};
+    args.push_back("t" + std::to_string(k) + ".las");
+    writeBytes(work(args.back()),
+               lasFile(points, {}, 0.01, {500000.0, 4100000.0, 0.0}));
+  }
+  const std::string timed =
+      "/usr/bin/time -f %M -o " + shellQuote((root_ / "logs" / "rss").string());
+  // The process alone (PCL's and VTK's libraries mapped): not the job's memory.
+  ASSERT_EQ(run({"--help"}, timed).exit_code, 0);
+  const std::size_t baseline = peakKiB(root_ / "logs" / "rss");
+  args.insert(args.end(), {"out.ply", "--no-trim", "--no-fill", "--memory-limit", "64M",
+                           "--threads", "2", "--temp-dir", "."});
+  const CliResult r = run(args, timed);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Meshing tiled"), std::string::npos) << r.out;
+  const std::size_t peak = peakKiB(root_ / "logs" / "rss");
+  EXPECT_LT(peak - std::min(peak, baseline), 64u * 1024u)
+      << "peak " << peak << " KiB, the process alone " << baseline << " KiB";
+  EXPECT_EQ(summaryValue(r.out, "points read"), 2000000u);
+}
+
 } // namespace
 } // namespace pcl_vts

@@ -29,7 +29,7 @@ for n in "$@"; do
     temp=$(grep -o '[0-9]* MiB of temporary files' "$work/log.txt" | cut -d' ' -f1 || true)
     echo "$wall $rss ${temp:--}"
   }
-  memory_bytes=$((n * 240))
+  memory_bytes=$((n * 320))
   same="-"
   if [ "$memory_bytes" -lt $((16 * 1024 * 1024 * 1024)) ]; then
     if m=$(run memory "$work/memory.ply" --memory-limit 20G); then
