@@ -65,6 +65,7 @@ struct CliOptions {
   std::uint64_t memory_limit = 0; ///< bytes; default: half the physical memory
   std::string temp_dir;           ///< default: the output's folder
   int tile_level = -1;            ///< testing knob: force the tiled path
+  std::string tile_output;        ///< --tile-output: one mesh per tile + index.csv
   pcl_vts::VtsOptions vts;
   pcl_vts::CloudLoadOptions load;
   pcl_vts::PreprocessOptions preprocess;
@@ -172,6 +173,11 @@ void printHelp()
       "  --temp-dir DIR      folder for the tiled path's temporary files, removed at\n"
       "                      the end, on error and on Ctrl-C (default: the output's\n"
       "                      folder)\n"
+      "  --tile-output DIR   also write one mesh per tile into DIR (which must "
+      "exist):\n"
+      "                      tile_C_R.ply with the triangles the tile owns and the\n"
+      "                      vertices they use (seams shared exactly), and index.csv\n"
+      "                      (tile bounds, counts, file names); runs tiled\n"
       "  --tile-level L      testing: force the tiled path with 4^L tiles, L in 0..10\n"
       "  --quiet             print nothing but errors (default: print a summary)\n"
       "\n"
@@ -297,7 +303,7 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
         name == "--max-hole-area" || name == "--threads" || name == "--crop" ||
         name == "--voxel" || name == "--grid-min" || name == "--outliers" ||
         name == "--png" || name == "--png-width" || name == "--memory-limit" ||
-        name == "--temp-dir" || name == "--tile-level";
+        name == "--temp-dir" || name == "--tile-level" || name == "--tile-output";
     if (inline_value && !takes_value) {
       error = "option '" + name + "' takes no value";
       return false;
@@ -426,6 +432,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
       }
     } else if (name == "--temp-dir")
       opt.temp_dir = value;
+    else if (name == "--tile-output")
+      opt.tile_output = value;
     else if (name == "--tile-level") {
       char* end = nullptr;
       const long level = std::strtol(value.c_str(), &end, 10);
@@ -739,18 +747,27 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
     return out.fail(EXIT_USAGE,
                     "trimming and hole filling do not run on MPI ranks yet: "
                     "add --no-trim --no-fill");
-  if (opt.tile_level < 0 && (!opt.no_trim || !opt.no_fill))
+  if (opt.tile_level < 0 && opt.tile_output.empty() && (!opt.no_trim || !opt.no_fill))
     return out.fail(EXIT_USAGE,
                     why + ", and trimming and hole filling do not run tiled "
                           "yet: add --no-trim --no-fill, or raise --memory-limit");
   if (!opt.no_trim || !opt.no_fill)
-    return out.fail(EXIT_USAGE, "--tile-level needs --no-trim --no-fill: trimming and "
-                                "hole filling do not run tiled yet");
-  if (opt.preprocess.any() || !opt.png.empty())
     return out.fail(EXIT_USAGE,
-                    (opt.tile_level < 0 ? why : "--tile-level") +
-                        std::string(": preprocessing and --png run in memory "
-                                    "only"));
+                    "--tile-level and --tile-output need --no-trim --no-fill: "
+                    "trimming and hole filling do not run tiled yet");
+  if (!opt.tile_output.empty()) {
+    struct stat st {};
+    if (::stat(opt.tile_output.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) ||
+        ::access(opt.tile_output.c_str(), W_OK) != 0)
+      return out.fail(EXIT_OUTPUT, "--tile-output '" + opt.tile_output +
+                                       "' is not a writable folder");
+  }
+  if (opt.preprocess.any() || !opt.png.empty())
+    return out.fail(
+        EXIT_USAGE,
+        (opt.tile_level < 0 && opt.tile_output.empty() ? why : "a tiled run") +
+            std::string(": preprocessing and --png run in memory "
+                        "only"));
   pcl_vts::CloudDescription input;
   bool input_failed = false;
   std::vector<std::uint8_t> described(opt.inputs.size(), 0);
@@ -776,6 +793,7 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   options.memory_limit = opt.memory_limit;
   options.tile_level = opt.tile_level;
   options.threads = opt.vts.threads;
+  options.tile_output = opt.tile_output;
   ProgressLine progress(opt.quiet || g_silent);
   options.progress = [&](const pcl_vts::TiledProgress& p) { progress.update(p); };
   pcl_vts::MeshWriteOptions write_options;
@@ -882,7 +900,7 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
   auto start = Clock::now();
   std::vector<double> xyz;
   pcl_vts::CloudDescription input;
-  bool tiled = opt.tile_level >= 0 || comm.size() > 1;
+  bool tiled = opt.tile_level >= 0 || comm.size() > 1 || !opt.tile_output.empty();
   for (std::size_t f = 0; f < opt.inputs.size() && !tiled; ++f) {
     std::vector<double> part;
     pcl_vts::CloudDescription one;

@@ -4,6 +4,7 @@
 #include "temp_folder.h"
 #include "tile_triangulation.h"
 
+#include <pcl_vts/core/atomic_file.h>
 #include <pcl_vts/tiling/tiled_mesh.h>
 
 #include <algorithm>
@@ -186,6 +187,110 @@ class TileResultsMesh : public MeshSource {
   std::uint64_t nv_ = 0, nt_ = 0;
   bool exact_ = true;
 };
+
+/// A tile's result file read whole.
+struct TileMeshData {
+  std::vector<double> xyz;
+  std::vector<std::uint32_t> triangles;
+};
+
+Status readTileResult(const std::string& path, TileMeshData& data)
+{
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr)
+    return Status::error(StatusCode::IO_ERROR, ioFailure("open", path, errno));
+  std::uint64_t header[3] = {0, 0, 0};
+  bool ok = std::fread(header, sizeof(header), 1, file) == 1;
+  if (ok) {
+    data.xyz.resize(3 * header[0]);
+    data.triangles.resize(3 * header[1]);
+    ok = std::fread(data.xyz.data(), sizeof(double), data.xyz.size(), file) ==
+             data.xyz.size() &&
+         std::fread(data.triangles.data(), sizeof(std::uint32_t), data.triangles.size(),
+                    file) == data.triangles.size();
+  }
+  std::fclose(file);
+  if (!ok)
+    return Status::error(StatusCode::IO_ERROR, "cannot read back '" + path +
+                                                   "': shorter than its header says");
+  return Status::success();
+}
+
+/// Where every vertex id lives: the tiles with points, their first ids.
+struct VertexOwners {
+  std::vector<std::uint32_t> tiles;
+  std::vector<std::uint64_t>
+      first; ///< first id of each tile, plus the total at the end
+  std::size_t tileOf(std::uint64_t id) const
+  {
+    return static_cast<std::size_t>(std::upper_bound(first.begin(), first.end(), id) -
+                                    first.begin()) -
+           1;
+  }
+};
+
+/// Writes tile k's mesh (its owned triangles, every vertex they use and its own
+/// vertices, ids renumbered in global order) and returns its index line.
+Status writeTileMesh(const std::string& folder, const std::string& out_folder,
+                     const TileFrame& frame, int tile_level, const VertexOwners& owners,
+                     std::size_t k, std::string& index_line)
+{
+  const std::uint32_t tile = owners.tiles[k];
+  TileMeshData own;
+  if (Status s = readTileResult(resultPath(folder, tile), own); !s.ok())
+    return s;
+  std::vector<std::uint64_t> ids;
+  for (std::uint64_t v = owners.first[k]; v < owners.first[k + 1]; ++v)
+    ids.push_back(v);
+  for (std::uint32_t v : own.triangles)
+    if (v < owners.first[k] || v >= owners.first[k + 1])
+      ids.push_back(v);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  TriangleMesh mesh;
+  mesh.xy.resize(ids.size());
+  mesh.z.resize(ids.size());
+  std::size_t neighbour = SIZE_MAX;
+  TileMeshData other;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const std::size_t owner = owners.tileOf(ids[i]);
+    const TileMeshData* data = &own;
+    if (owner != k) {
+      if (owner != neighbour) {
+        if (Status s = readTileResult(resultPath(folder, owners.tiles[owner]), other);
+            !s.ok())
+          return s;
+        neighbour = owner;
+      }
+      data = &other;
+    }
+    const std::size_t at = 3 * static_cast<std::size_t>(ids[i] - owners.first[owner]);
+    mesh.xy[i] = {data->xyz[at], data->xyz[at + 1]};
+    mesh.z[i] = data->xyz[at + 2];
+  }
+  mesh.triangles.reserve(own.triangles.size());
+  for (std::uint32_t v : own.triangles)
+    mesh.triangles.push_back(static_cast<VertexId>(
+        std::lower_bound(ids.begin(), ids.end(), std::uint64_t{v}) - ids.begin()));
+  const std::uint32_t column = gatherBits(tile), row = gatherBits(tile >> 1);
+  const std::string name =
+      "tile_" + std::to_string(column) + "_" + std::to_string(row) + ".ply";
+  MeshWriteOptions options;
+  options.comment = "pcl_vts tile " + std::to_string(column) + " " +
+                    std::to_string(row) + " of level " + std::to_string(tile_level) +
+                    ": its triangles of the global Delaunay triangulation";
+  if (Status s = writeMesh(out_folder + "/" + name, mesh, options); !s.ok())
+    return s;
+  const double cell = frame.side / static_cast<double>(1u << tile_level);
+  char line[512];
+  std::snprintf(line, sizeof(line), "%u,%u,%u,%.17g,%.17g,%.17g,%.17g,%zu,%zu,%s\n",
+                tile, column, row, frame.min_x + column * cell,
+                frame.min_y + row * cell, frame.min_x + (column + 1) * cell,
+                frame.min_y + (row + 1) * cell, mesh.vertexCount(),
+                mesh.triangleCount(), name.c_str());
+  index_line = line;
+  return Status::success();
+}
 
 /// Every rank learns whether any failed; the first failing rank's error wins.
 Status agree(JobComm& comm, const Status& mine)
@@ -526,7 +631,42 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   report.max_rounds = static_cast<unsigned>(largest[1]);
   report.seconds_mesh = secondsSince(start);
 
-  // 7. Rank 0 writes the file, atomically, from the result files in tile order.
+  // 7. Tile meshes (each rank its own tiles), then rank 0's index.
+  if (!options.tile_output.empty()) {
+    progress("writing tiles", 0, 0);
+    VertexOwners owners;
+    owners.tiles = occupied_tiles;
+    const int shift = 2 * (block_level - tile_level);
+    for (std::uint32_t t : occupied_tiles)
+      owners.first.push_back(first_vertex[std::size_t{t} << shift]);
+    owners.first.push_back(first_vertex.back());
+    std::vector<std::string> lines(occupied_tiles.size());
+    for (std::size_t k = static_cast<std::size_t>(rank);
+         k < occupied_tiles.size() && status.ok(); k += static_cast<std::size_t>(ranks))
+      status = writeTileMesh(folder, options.tile_output, frame, tile_level, owners, k,
+                             lines[k]);
+    if (!(status = agree(comm, status)).ok())
+      return status;
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      std::string line = lines[k];
+      comm.broadcast(line, static_cast<int>(k % static_cast<std::size_t>(ranks)));
+      lines[k] = line;
+    }
+    if (rank == 0) {
+      AtomicFile index(options.tile_output + "/index.csv");
+      status = index.open();
+      if (status.ok()) {
+        index.write("tile,column,row,x0,y0,x1,y1,vertices,triangles,file\n");
+        for (const std::string& line : lines)
+          index.write(line);
+        status = index.commit();
+      }
+    }
+    if (!(status = agree(comm, status)).ok())
+      return status;
+  }
+
+  // 8. Rank 0 writes the file, atomically, from the result files in tile order.
   start = Clock::now();
   progress("writing", 0, 0);
   if (rank == 0) {

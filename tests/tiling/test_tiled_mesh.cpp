@@ -9,13 +9,17 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <condition_variable>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <mutex>
 #include <numeric>
+#include <sstream>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <thread>
@@ -261,6 +265,109 @@ INSTANTIATE_TEST_SUITE_P(AllGenerators, TiledEqualsInMemory,
                          [](const auto& param_info) {
                            return distributionName(param_info.param);
                          });
+
+/// A binary little-endian PLY as written by writeMesh: float or double x y z, faces.
+bool readBinaryPly(const std::string& path, TriangleMesh& mesh)
+{
+  const std::string bytes = slurp(path);
+  const std::size_t end = bytes.find("end_header\n");
+  if (end == std::string::npos)
+    return false;
+  std::istringstream header(bytes.substr(0, end));
+  std::size_t nv = 0, nf = 0;
+  bool dbl = false;
+  for (std::string line; std::getline(header, line);) {
+    std::sscanf(line.c_str(), "element vertex %zu", &nv);
+    std::sscanf(line.c_str(), "element face %zu", &nf);
+    if (line == "property double x")
+      dbl = true;
+  }
+  const char* p = bytes.data() + end + 11;
+  const std::size_t item = dbl ? 8 : 4;
+  if (bytes.size() != end + 11 + nv * 3 * item + nf * 13)
+    return false;
+  mesh = TriangleMesh{};
+  for (std::size_t v = 0; v < nv; ++v) {
+    double c[3];
+    for (double& value : c) {
+      if (dbl) {
+        std::memcpy(&value, p, 8);
+      } else {
+        float f;
+        std::memcpy(&f, p, 4);
+        value = f;
+      }
+      p += item;
+    }
+    mesh.xy.push_back({c[0], c[1]});
+    mesh.z.push_back(c[2]);
+  }
+  for (std::size_t f = 0; f < nf; ++f) {
+    std::int32_t t[3];
+    std::memcpy(t, p + 1, 12);
+    p += 13;
+    for (std::int32_t v : t)
+      mesh.triangles.push_back(static_cast<VertexId>(v));
+  }
+  return true;
+}
+
+TEST_F(TiledMeshTest, TileMeshesAndIndexCoverTheMeshOnceWithSharedSeams)
+{
+  const std::vector<double> xyz = generatePoints(Distribution::BIG_VOIDS, 5000, 17);
+  const std::filesystem::path tiles = root_ / "tiles";
+  std::filesystem::create_directory(tiles);
+  TiledMeshOptions options;
+  options.temp_parent = root_.string();
+  options.tile_level = 2;
+  options.block_level = 5;
+  options.tile_output = tiles.string();
+  TiledMeshReport report;
+  const std::string path = (root_ / "all.ply").string();
+  ASSERT_TRUE(
+      runTiledMesh(feedOf(xyz), options, path, MeshWriteOptions{}, report).ok());
+  TriangleMesh all;
+  ASSERT_TRUE(readBinaryPly(path, all));
+  // Each triangle of the whole mesh, by its corners' coordinates, exactly once.
+  using Corner = std::pair<double, double>;
+  std::map<std::array<Corner, 3>, int> seen;
+  const auto key = [](const TriangleMesh& m, std::size_t t) {
+    std::array<Corner, 3> k;
+    for (int c = 0; c < 3; ++c)
+      k[static_cast<std::size_t>(c)] = {
+          m.xy[m.triangles[3 * t + static_cast<std::size_t>(c)]].x,
+          m.xy[m.triangles[3 * t + static_cast<std::size_t>(c)]].y};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  for (std::size_t t = 0; t < all.triangleCount(); ++t)
+    seen[key(all, t)] = 0;
+  std::ifstream index((tiles / "index.csv").string());
+  std::string line;
+  ASSERT_TRUE(std::getline(index, line));
+  EXPECT_EQ(line, "tile,column,row,x0,y0,x1,y1,vertices,triangles,file");
+  std::size_t files = 0, triangles = 0;
+  while (std::getline(index, line)) {
+    ++files;
+    const std::string name = line.substr(line.rfind(',') + 1);
+    std::size_t nt = 0;
+    const std::size_t comma = line.rfind(',', line.rfind(',') - 1);
+    nt = std::stoul(line.substr(comma + 1));
+    TriangleMesh tile;
+    ASSERT_TRUE(readBinaryPly((tiles / name).string(), tile)) << name;
+    ASSERT_EQ(tile.triangleCount(), nt) << name;
+    triangles += nt;
+    for (std::size_t t = 0; t < tile.triangleCount(); ++t) {
+      auto it = seen.find(key(tile, t));
+      ASSERT_NE(it, seen.end()) << name << ": a triangle the whole mesh does not have";
+      ++it->second;
+    }
+  }
+  EXPECT_EQ(files, report.tiles);
+  EXPECT_EQ(triangles, all.triangleCount());
+  for (const auto& entry : seen)
+    ASSERT_EQ(entry.second, 1) << "a triangle in " << entry.second << " tile meshes";
+}
 
 TEST_F(TiledMeshTest, MatchesTheCgalOracle)
 {

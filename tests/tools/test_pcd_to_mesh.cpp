@@ -1748,6 +1748,28 @@ TEST_F(PcdToMesh, AJobAboveTheMemoryLimitRunsTiledOrSaysWhatItNeeds)
   EXPECT_TRUE(readText(work("tiled.ply")) == readText(work("memory.ply")));
 }
 
+TEST_F(PcdToMesh, TileOutputWritesOneMeshPerTileAndAnIndex)
+{
+  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(8000, 6), 2, work_);
+  fs::create_directory(work("tiles"));
+  const CliResult r = runDelaunay(
+      {names[0], names[1], "all.ply", "--tile-output", "tiles", "--tile-level", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string index = readText(work("tiles/index.csv"));
+  const std::size_t lines =
+      static_cast<std::size_t>(std::count(index.begin(), index.end(), '\n'));
+  EXPECT_EQ(lines, summaryValue(r.out, "tiles") + 1) << index; // + the header
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(work("tiles")))
+    files += entry.path().extension() == ".ply";
+  EXPECT_EQ(files + 1, lines);
+  const auto before = workFiles();
+  expectFailure(runDelaunay({names[0], "x.ply", "--tile-output", "missing"}), 4,
+                "missing", before);
+  expectFailure(run({names[0], "x.ply", "--tile-output", "tiles"}), 1,
+                "--no-trim --no-fill", before);
+}
+
 TEST_F(PcdToMesh, ATemporaryFolderThatIsFullFailsCleanly)
 {
   const std::vector<std::string> names =

@@ -61,6 +61,11 @@ struct TiledMeshOptions {
   /// Tiles meshed at once on this rank (0 = all hardware threads); the memory limit
   /// is shared between them. The output is the same for every value.
   unsigned threads = 1;
+  /// Also write one mesh per tile into this folder (must exist): tile_<c>_<r>.ply
+  /// with the triangles the tile owns and every vertex they use (so neighbouring
+  /// tiles share their seam vertices exactly), and index.csv (tile bounds, counts,
+  /// file names). Empty = no tile meshes.
+  std::string tile_output;
   /// Testing knobs: quadtree levels of tiles and blocks (-1 = from memory_limit).
   int tile_level = -1;
   int block_level = -1;
