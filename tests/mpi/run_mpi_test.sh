@@ -17,15 +17,27 @@ for k in 0 1 2 3 4; do
       if (i % 50 == 0) { x = 500000 + 10 * (i % 7); y = 4100000 + 10 * (i % 11) }
       printf "%.3f %.3f %.3f\n", x, y, 100 * rand() } }' > "in$k.xyz"
 done
+# An exact integer grid (cocircular everywhere) with a void, in two files.
+awk 'BEGIN { for (y = 0; y < 120; ++y) for (x = 0; x < 120; ++x) {
+    if ((x - 60) * (x - 60) + (y - 50) * (y - 50) < 400) continue
+    printf "%d %d %d\n", x, y, (x * 7 + y * 3) % 11 > (y < 60 ? "grid0.xyz" : "grid1.xyz") } }'
+
+compare() { # name, inputs...: 1, 2, 3 ranks against one process
+  local name=$1
+  shift
+  "$single" "$@" "$name.ply" --no-trim --no-fill --quiet || fail "$name: single-process run"
+  for ranks in 1 2 3; do
+    mpirun -np "$ranks" "$mpi" "$@" "$name.mpi$ranks.ply" --no-trim --no-fill \
+      --threads 1 --temp-dir . > "out$ranks.txt" 2> "err$ranks.txt" ||
+      fail "$name, $ranks ranks: exit $? $(cat "err$ranks.txt")"
+    cmp -s "$name.ply" "$name.mpi$ranks.ply" ||
+      fail "$name, $ranks ranks: the mesh differs from one process"
+    grep -q "$ranks MPI ranks" "out$ranks.txt" || [ "$ranks" = 1 ] || fail "no rank count"
+  done
+}
 inputs=(in0.xyz in1.xyz in2.xyz in3.xyz in4.xyz)
-"$single" "${inputs[@]}" memory.ply --no-trim --no-fill --quiet || fail "single-process run"
-for ranks in 1 2 3; do
-  mpirun -np "$ranks" "$mpi" "${inputs[@]}" "mpi$ranks.ply" --no-trim --no-fill \
-    --threads 1 --temp-dir . > "out$ranks.txt" 2> "err$ranks.txt" ||
-    fail "$ranks ranks: exit $? $(cat "err$ranks.txt")"
-  cmp -s memory.ply "mpi$ranks.ply" || fail "$ranks ranks: the mesh differs from one process"
-  grep -q "$ranks MPI ranks" "out$ranks.txt" || [ "$ranks" = 1 ] || fail "no rank count in summary"
-done
+compare mixed "${inputs[@]}"
+compare grid grid0.xyz grid1.xyz
 
 # A corrupt input read by the last rank: every rank stops, rank 0 reports it once.
 printf '1 2 3\n4 five 6\n' > in4.xyz
@@ -40,4 +52,36 @@ grep -q "in4.xyz" err_bad.txt || fail "the error does not name the file: $(cat e
 [ ! -e bad.ply ] || fail "a partial output was left"
 leftovers=$(ls -A | grep '^\.pcl_vts-' || true)
 [ -z "$leftovers" ] || fail "temporary files left: $leftovers"
-echo "mpi: 1, 2, 3 ranks identical to one process; a failing rank fails the job cleanly"
+
+# A rank killed mid-run: mpirun stops the job (no hang), no output, no temporary file.
+awk 'BEGIN { srand(3); for (i = 0; i < 400000; ++i)
+    printf "%.3f %.3f %.3f\n", 1000 * rand(), 1000 * rand(), rand() }' > big.xyz
+mpirun -np 2 "$mpi" big.xyz big.xyz killed.ply --no-trim --no-fill --threads 1 \
+  --temp-dir . --tile-level 3 > out_killed.txt 2> err_killed.txt &
+job=$!
+victim=""
+for _ in $(seq 1 200); do # find rank 1 once it runs (its environment names its rank)
+  for pid in $(pgrep -f "pcl_vts|pcd_to_mesh_mpi" || true); do
+    if tr '\0' '\n' < "/proc/$pid/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then
+      victim=$pid
+    fi
+  done
+  [ -n "$victim" ] && break
+  sleep 0.05
+done
+[ -n "$victim" ] || fail "rank 1 never appeared"
+sleep 0.3
+kill -9 "$victim" 2>/dev/null || true
+set +e
+timeout 120 tail --pid="$job" -f /dev/null
+waited=$?
+wait "$job"
+rc=$?
+set -e
+[ "$waited" -eq 0 ] || fail "the job hung after a rank was killed"
+[ "$rc" -ne 0 ] || fail "a killed rank did not fail the job"
+[ ! -e killed.ply ] || fail "a killed rank left an output"
+sleep 0.5
+leftovers=$(ls -A | grep '^\.pcl_vts-' || true)
+[ -z "$leftovers" ] || fail "temporary files left after a killed rank: $leftovers"
+echo "mpi: 1, 2, 3 ranks identical to one process on mixed and grid inputs; a failing and a killed rank fail the job cleanly"
