@@ -839,12 +839,15 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
       report.tile_level, report.block_level, mib(report.temp_bytes).c_str());
   out.line(
       "  triangulate  [done, %.1f ms : %llu triangles, %.2f points loaded per point, "
-      "largest tile %llu points, at most %u rounds]\n",
+      "largest tile %llu points, %.2f rounds per tile (at most %u)]\n",
       1e3 * report.seconds_mesh, static_cast<unsigned long long>(report.triangles),
       static_cast<double>(report.points_loaded) /
           static_cast<double>(
               std::max<std::uint64_t>(1, report.points - report.non_finite_dropped)),
-      static_cast<unsigned long long>(report.max_tile_points), report.max_rounds);
+      static_cast<unsigned long long>(report.max_tile_points),
+      static_cast<double>(report.rounds) /
+          static_cast<double>(std::max<std::uint64_t>(1, report.tiles)),
+      report.max_rounds);
   out.line("  trim         [off : --no-trim]\n");
   out.line("  fill         [off : --no-fill]\n");
   out.line("  write        [done, %.1f ms : %s, %llu bytes]\n",

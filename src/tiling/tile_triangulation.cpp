@@ -54,15 +54,23 @@ void load(std::vector<std::uint32_t>& more, std::vector<std::uint32_t>& loaded,
 /// Unknown blocks that the stars of the tile's vertices (and their hull edges) meet.
 void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in_tile,
                    const KnownSpace& space, const LoadedBlocks& flags,
-                   std::vector<std::uint32_t>& hits)
+                   double block_side, std::vector<std::uint32_t>& hits)
 {
   const std::size_t nt = mesh.triangleCount();
   for (std::size_t t = 0; t < nt; ++t) {
     const VertexId* v = &mesh.triangles[3 * t];
     if (!in_tile[v[0]] && !in_tile[v[1]] && !in_tile[v[2]])
       continue;
-    space.unknownInDisk(safeCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]),
-                        flags, hits);
+    SafeDisk disk = safeCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]);
+    const std::size_t before = hits.size();
+    space.unknownInDisk(disk, flags, hits);
+    if (hits.size() != before && !disk.unbounded) {
+      // Not proven: the points that will settle it lie around this disk, so load a
+      // wider disk now (by up to three blocks) rather than one ring per round.
+      hits.resize(before);
+      disk.radius += std::min(disk.radius, 3 * block_side);
+      space.unknownInDisk(disk, flags, hits);
+    }
     for (int k = 0; k < 3; ++k) {
       const std::size_t e = 3 * t + static_cast<std::size_t>(k);
       const VertexId a = mesh.triangles[e],
@@ -129,7 +137,7 @@ Status triangulateTile(const TileContext& context, std::uint32_t tile,
       code[v] = frame.code(m.xy[v]);
       in_tile[v] = TileFrame::nodeOf(code[v], tile_level) == tile;
     }
-    unprovenStars(m, in_tile, space, flags, more);
+    unprovenStars(m, in_tile, space, flags, frame.side / (1u << block_level), more);
     if (more.empty())
       break;
     load(more, loaded, flags);

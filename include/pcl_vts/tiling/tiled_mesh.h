@@ -56,7 +56,8 @@ struct TiledMeshOptions {
   VtsOptions vts;
   /// Parent of the job's temporary folder (created and removed by the job).
   std::string temp_parent = ".";
-  /// Memory the job may use; sets the tile size (about 1/400 of it in points).
+  /// Memory the job may use; sets the tile size (about 1/400 of it in points per
+  /// thread, at most 5e5 points).
   std::uint64_t memory_limit = std::uint64_t{1} << 30;
   /// Tiles meshed at once on this rank (0 = all hardware threads); the memory limit
   /// is shared between them. The output is the same for every value.
@@ -81,6 +82,7 @@ struct TiledMeshReport {
   std::uint64_t points_loaded = 0;   ///< sum over tiles of the points of the last round
   std::uint64_t max_tile_points = 0; ///< the largest last round (memory driver)
   unsigned max_rounds = 0;           ///< most triangulations one tile needed
+  std::uint64_t rounds = 0;          ///< triangulations run, all tiles together
   std::uint64_t temp_bytes = 0;
   int tile_level = 0, block_level = 0;
   double seconds_scan = 0, seconds_bucket = 0, seconds_mesh = 0, seconds_write = 0;
