@@ -1,5 +1,6 @@
 // Tile files and their block index (block_store.h).
 #include "block_store.h"
+#include "global_hull.h"
 
 #include <pcl_vts/tiling/job_comm.h>
 
@@ -234,7 +235,11 @@ Status BlockStore::orderTile(std::uint32_t tile)
     block_distinct_[block] =
         static_cast<std::uint64_t>(std::unique(xy.begin(), xy.end()) - xy.begin());
     block_bounds_[block] = box;
+    // Only a block's hull vertices can be vertices of the global hull.
+    const std::vector<Point2> block_hull = hullOfSorted(xy);
+    hull_.insert(hull_.end(), block_hull.begin(), block_hull.end());
   }
+  hull_ = hullOf(std::move(hull_));
   return Status::success();
 }
 
@@ -255,6 +260,20 @@ void BlockStore::shareIndex(JobComm& comm)
   comm.max(high);
   for (std::size_t b = 0; b < block_bounds_.size(); ++b)
     block_bounds_[b] = Rect{low[2 * b], low[2 * b + 1], high[2 * b], high[2 * b + 1]};
+  // Every rank's hull, to every rank: the hull of their union is the global hull.
+  std::vector<Point2> all;
+  for (int root = 0; root < comm.size(); ++root) {
+    std::string bytes;
+    if (root == comm.rank())
+      bytes.assign(reinterpret_cast<const char*>(hull_.data()),
+                   hull_.size() * sizeof(Point2));
+    comm.broadcast(bytes, root);
+    const std::size_t n = bytes.size() / sizeof(Point2);
+    const std::size_t old = all.size();
+    all.resize(old + n);
+    std::memcpy(all.data() + old, bytes.data(), n * sizeof(Point2));
+  }
+  hull_ = hullOf(std::move(all));
 }
 
 std::uint64_t BlockStore::tilePoints(std::uint32_t tile) const

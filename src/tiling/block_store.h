@@ -48,6 +48,8 @@ class BlockStore {
   const std::vector<std::uint64_t>& blockDistinct() const { return block_distinct_; }
   const std::vector<Rect>& blockBounds() const { return block_bounds_; }
   std::uint64_t bytesOnDisk() const;
+  /// The convex hull of every point (after shareIndex), CCW, no collinear vertices.
+  const std::vector<Point2>& globalHull() const { return hull_; }
 
  private:
   std::string tilePath(std::uint32_t tile) const;
@@ -68,6 +70,7 @@ class BlockStore {
   std::vector<std::uint64_t>
       block_start_; ///< first point of the block in its tile file
   std::vector<Rect> block_bounds_;
+  std::vector<Point2> hull_;     ///< of the tiles this rank ordered, then of all
   mutable std::vector<int> fds_; ///< opened on first read (under fd_mutex_)
   mutable std::mutex fd_mutex_;
 };

@@ -36,9 +36,31 @@ SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& c)
   return disk;
 }
 
+/// Distance from p to a convex polygon (0 inside); +inf for an empty polygon.
+static double distanceToPolygon(const std::vector<Point2>& polygon, const Point2& p)
+{
+  if (polygon.empty())
+    return HUGE_VAL;
+  bool inside = polygon.size() >= 3;
+  double best = HUGE_VAL;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Point2& a = polygon[i];
+    const Point2& b = polygon[(i + 1) % polygon.size()];
+    const double ex = b.x - a.x, ey = b.y - a.y;
+    if (ex * (p.y - a.y) - ey * (p.x - a.x) < 0)
+      inside = false;
+    const double length2 = ex * ex + ey * ey;
+    double t = length2 > 0 ? ((p.x - a.x) * ex + (p.y - a.y) * ey) / length2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    const double dx = a.x + t * ex - p.x, dy = a.y + t * ey - p.y;
+    best = std::min(best, std::sqrt(dx * dx + dy * dy));
+  }
+  return inside ? 0.0 : best;
+}
+
 KnownSpace::KnownSpace(const TileFrame& frame, int level,
                        const std::vector<std::uint64_t>& occupied,
-                       const std::vector<Rect>& bounds)
+                       const std::vector<Rect>& bounds, const std::vector<Point2>& hull)
     : frame_(frame)
     , level_(level)
     , counts_(static_cast<std::size_t>(level) + 1)
@@ -47,6 +69,17 @@ KnownSpace::KnownSpace(const TileFrame& frame, int level,
   counts_[level].resize(occupied.size());
   for (std::size_t b = 0; b < occupied.size(); ++b)
     counts_[level][b] = occupied[b] != 0;
+  // Boxes along the hull: what they keep inside it. The margin (far above the
+  // rounding of the clipping, far below any point spacing) keeps points on the hull
+  // strictly inside the float polygon.
+  const double margin =
+      1e-9 * (frame.side + std::fabs(frame.min_x) + std::fabs(frame.min_y));
+  for (std::size_t b = 0; b < occupied.size(); ++b)
+    if (occupied[b] != 0) {
+      ClippedBox c = clipBox(hull, bounds[b], margin);
+      if (!c.inside)
+        clipped_.emplace(static_cast<std::uint32_t>(b), std::move(c));
+    }
   for (int l = level - 1; l >= 0; --l) {
     counts_[l].assign(std::size_t{1} << (2 * l), 0);
     for (std::size_t n = 0; n < counts_[l + 1].size(); ++n)
@@ -62,7 +95,7 @@ void KnownSpace::collect(int level, std::uint32_t node, const MeetsNode& meets_n
   if (counts_[level][node] == 0)
     return;
   if (level == level_) {
-    if (!loaded[node] && meets_block(bounds_[node]))
+    if (!loaded[node] && meets_block(node))
       hits.push_back(node);
     return;
   }
@@ -83,7 +116,15 @@ void KnownSpace::unknownInDisk(const SafeDisk& disk, const LoadedBlocks& loaded,
     const double dy = std::max({r.y0 - disk.center.y, 0.0, disk.center.y - r.y1});
     return dx * dx + dy * dy <= r2;
   };
-  collect(0, 0, meets, meets, loaded, hits);
+  const auto meets_block = [&](std::uint32_t block) {
+    if (!meets(bounds_[block]))
+      return false;
+    const auto clipped = clipped_.find(block);
+    if (clipped == clipped_.end() || disk.unbounded)
+      return true;
+    return distanceToPolygon(clipped->second.polygon, disk.center) <= disk.radius;
+  };
+  collect(0, 0, meets, meets_block, loaded, hits);
 }
 
 void KnownSpace::unknownRightOf(const Point2& a, const Point2& b,
@@ -107,7 +148,16 @@ void KnownSpace::unknownRightOf(const Point2& a, const Point2& b,
   };
   // A block's box corners are extreme points: if any of its points is strictly
   // right of the line, a corner is. Decided exactly (collinear points keep the edge).
-  const auto meets_block = [&](const Rect& r) {
+  const auto meets_block = [&](std::uint32_t block) {
+    const auto clipped = clipped_.find(block);
+    if (clipped != clipped_.end()) {
+      // Exact points spanning the box's part inside the hull.
+      for (const Point2& p : clipped->second.spanning)
+        if (orient2d(a, b, p) == Sign::NEGATIVE)
+          return true;
+      return false;
+    }
+    const Rect& r = bounds_[block];
     const double xs[2] = {r.x0, r.x1}, ys[2] = {r.y0, r.y1};
     for (double x : xs)
       for (double y : ys)

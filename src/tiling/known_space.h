@@ -4,10 +4,13 @@
 // a hull edge of the loaded points is final once the open half-plane beyond it meets
 // none. This one rule decides halo growth (docs/scaling.md).
 #pragma once
+#include "global_hull.h"
+
 #include <pcl_vts/core/point2.h>
 #include <pcl_vts/tiling/tile_frame.h>
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 namespace pcl_vts {
@@ -31,9 +34,10 @@ class KnownSpace {
  public:
   /// occupied[block] = points in that block (Morton-numbered blocks of `level`);
   /// bounds[block] = the exact bounding box of its points (any value when empty).
+  /// hull = the convex hull of all points (nothing lies outside it).
   KnownSpace(const TileFrame& frame, int level,
              const std::vector<std::uint64_t>& occupied,
-             const std::vector<Rect>& bounds);
+             const std::vector<Rect>& bounds, const std::vector<Point2>& hull);
 
   int level() const { return level_; }
   std::size_t blockCount() const { return counts_[level_].size(); }
@@ -62,6 +66,8 @@ class KnownSpace {
   /// counts_[l][node]: occupied blocks under that node of level l.
   std::vector<std::vector<std::uint32_t>> counts_;
   const std::vector<Rect>& bounds_;
+  /// Blocks whose point box reaches beyond the hull: the part inside it.
+  std::unordered_map<std::uint32_t, ClippedBox> clipped_;
 };
 
 } // namespace pcl_vts

@@ -489,6 +489,24 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   tile_level = std::min(tile_level, block_level);
   report.tile_level = tile_level;
   report.block_level = block_level;
+  {
+    // The least this job can run in: the block index (counts, offsets, boxes, the
+    // pyramid, each worker's flags), a bucket buffer per tile, and each worker
+    // meshing a tile of the smallest size (1e4 points at ~400 B with its halo).
+    const double blocks = std::ldexp(1.0, 2 * block_level);
+    const double minimum = blocks * (62.0 + workers) +
+                           std::ldexp(1.0, 2 * tile_level) * 1536.0 + workers * 4e6;
+    if (static_cast<double>(options.memory_limit) < minimum)
+      return Status::error(
+          StatusCode::INVALID_PARAMETER,
+          "--memory-limit " + std::to_string(options.memory_limit >> 20) +
+              " MiB is below the " +
+              std::to_string(static_cast<std::uint64_t>(minimum) >> 20) +
+              " MiB this job needs at least (" + std::to_string(workers) +
+              " tiles of 10000 points meshed at once, an index of " +
+              std::to_string(static_cast<std::uint64_t>(blocks)) +
+              " blocks): raise it, or lower --threads");
+  }
 
   // 3. One temporary folder (rank 0 makes it, every rank writes into it).
   start = Clock::now();
@@ -575,7 +593,8 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
       occupied_tiles.push_back(t);
     }
   report.tiles = occupied_tiles.size();
-  const KnownSpace space(frame, block_level, store.blockPoints(), store.blockBounds());
+  const KnownSpace space(frame, block_level, store.blockPoints(), store.blockBounds(),
+                         store.globalHull());
   TileContext context;
   context.frame = &frame;
   context.store = &store;

@@ -1735,13 +1735,13 @@ TEST_F(PcdToMesh, TiledRunWritesTheInMemoryBytesAndLeavesNoTemporaryFile)
 
 TEST_F(PcdToMesh, AJobAboveTheMemoryLimitRunsTiledOrSaysWhatItNeeds)
 {
-  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(6000, 3), 2, work_);
+  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(60000, 3), 2, work_);
   const auto before = workFiles();
-  // 6000 points need about 1.4 MB in memory: a 1M limit sends the job to the tiles.
-  expectFailure(run({names[0], names[1], "out.ply", "--memory-limit", "1M"}), 1,
+  // 60000 points need about 19 MB in memory: a 12M limit sends the job to the tiles.
+  expectFailure(run({names[0], names[1], "out.ply", "--memory-limit", "12M"}), 1,
                 "--no-trim --no-fill", before);
   const CliResult tiled =
-      runDelaunay({names[0], names[1], "tiled.ply", "--memory-limit", "1M"});
+      runDelaunay({names[0], names[1], "tiled.ply", "--memory-limit", "12M"});
   ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
   EXPECT_NE(tiled.out.find("Meshing tiled"), std::string::npos) << tiled.out;
   ASSERT_EQ(runDelaunay({names[0], names[1], "memory.ply"}).exit_code, 0);
@@ -1768,6 +1768,58 @@ TEST_F(PcdToMesh, TileOutputWritesOneMeshPerTileAndAnIndex)
                 "missing", before);
   expectFailure(run({names[0], "x.ply", "--tile-output", "tiles"}), 1,
                 "--no-trim --no-fill", before);
+}
+
+TEST_F(PcdToMesh, TiledRunsOfTheSharedRealFilesWriteTheInMemoryBytes)
+{
+  if (!fs::exists(SHARED_DATA + "/las"))
+    GTEST_SKIP() << "shared data not found at " << SHARED_DATA;
+  // Real LiDAR (UTM and feet, a collinear scan pattern, classes) and DEMs (exact
+  // grids with NODATA holes): the tiled triangulation at 16 and 256 tiles equals the
+  // in-memory one byte for byte.
+  for (const char* rel :
+       {"las/pdal/autzen_trim.las", "las/from_laz/lidR_Topography.las", "las/pdal/4_6_crop.las",
+        "las/liblas/certainty3d-color-utm-feet-navd88.las", "las/pdal/mvk-thin.las",
+        "dem/landlab/hugo_site.asc", "dem/topotoolbox/exampleDEM_orkhon.asc",
+        "dem/landlab/west_bijou_gully.asc"}) {
+    SCOPED_TRACE(rel);
+    const std::string path = SHARED_DATA + "/" + rel;
+    const CliResult memory = runDelaunay({path, "memory.ply"});
+    ASSERT_EQ(memory.exit_code, 0) << memory.err;
+    for (const std::string level : {"2", "4"}) {
+      const CliResult tiled =
+          runDelaunay({path, "tiled.ply", "--tile-level", level, "--temp-dir", "."});
+      ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
+      EXPECT_TRUE(readText(work("tiled.ply")) == readText(work("memory.ply")))
+          << "tile level " << level;
+    }
+  }
+}
+
+TEST_F(PcdToMesh, CtrlCDuringATiledRunLeavesNoTemporaryFileAndNoOutput)
+{
+  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(400000, 9), 4, work_);
+  const auto before = workFiles();
+  // SIGINT half a second in: bucketing or meshing, both hold temporary files.
+  std::string command = "cd " + shellQuote(work_.string()) + " && (" +
+                        shellQuote(PCL_VTS_PCD_TO_MESH);
+  for (const std::string& name : names)
+    command += " " + name;
+  command += " out.ply --no-trim --no-fill --tile-level 4 --threads 1 --temp-dir . "
+             "> /dev/null 2>&1 & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; echo $? > " +
+             shellQuote((root_ / "logs" / "rc").string()) + ")";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  const int rc = std::atoi(readText(root_ / "logs" / "rc").c_str());
+  EXPECT_EQ(rc, 128 + SIGINT) << "the run should end by the signal";
+  EXPECT_EQ(workFiles(), before) << "temporary files or a partial output left behind";
+}
+
+TEST_F(PcdToMesh, AMemoryLimitBelowWhatATileNeedsNamesTheMinimum)
+{
+  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(3000, 2), 1, work_);
+  const auto before = workFiles();
+  expectFailure(runDelaunay({names[0], "out.ply", "--memory-limit", "1M"}), 1, "at least",
+                before);
 }
 
 TEST_F(PcdToMesh, ATemporaryFolderThatIsFullFailsCleanly)
