@@ -42,6 +42,8 @@ class KnownSpace {
   int level() const { return level_; }
   std::size_t blockCount() const { return counts_[level_].size(); }
   bool occupied(std::uint32_t block) const { return counts_[level_][block] != 0; }
+  /// The exact box of the block's points.
+  const Rect& bounds(std::uint32_t block) const { return bounds_[block]; }
 
   /// Appends to `hits` every occupied, unloaded block the disk may meet
   /// (each at most once per call; duplicates across calls are the caller's).

@@ -86,8 +86,12 @@ Status TempFolder::create(const std::string& parent)
   std::memset(&action, 0, sizeof(action));
   action.sa_handler = onSignal;
   sigemptyset(&action.sa_mask);
-  for (int k = 0; k < 3; ++k)
-    ::sigaction(SIGNALS[k], &action, &g_previous[k]);
+  for (int k = 0; k < 3; ++k) {
+    ::sigaction(SIGNALS[k], nullptr, &g_previous[k]);
+    // A signal ignored on entry (nohup, a shell's background job) stays ignored.
+    if (g_previous[k].sa_handler != SIG_IGN)
+      ::sigaction(SIGNALS[k], &action, nullptr);
+  }
   g_active = 1;
   return Status::success();
 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <numeric>
 
 namespace pcl_vts {
@@ -51,6 +52,52 @@ void load(std::vector<std::uint32_t>& more, std::vector<std::uint32_t>& loaded,
   more.clear();
 }
 
+/// Distance from a box to the segment a-b, from below (centre distance less the
+/// half diagonal): a ranking, not a test.
+double roughDistance(const Rect& box, const Point2& a, const Point2& b)
+{
+  const Point2 c{0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1)};
+  const double ex = b.x - a.x, ey = b.y - a.y, length2 = ex * ex + ey * ey;
+  const double t =
+      length2 > 0
+          ? std::clamp(((c.x - a.x) * ex + (c.y - a.y) * ey) / length2, 0.0, 1.0)
+          : 0.0;
+  const double dx = a.x + t * ex - c.x, dy = a.y + t * ey - c.y;
+  return std::sqrt(dx * dx + dy * dy) -
+         0.5 * std::hypot(box.x1 - box.x0, box.y1 - box.y0);
+}
+
+/// Unknown blocks with points beyond the hull edge a -> b, but only those near it:
+/// along a nearly straight data boundary the line reaches points kilometres away,
+/// while the triangles that replace the edge are decided by the nearest. Progress
+/// is kept (the nearest block always comes); the next round checks again.
+void nearestRightOf(const KnownSpace& space, const Point2& a, const Point2& b,
+                    const LoadedBlocks& flags, double block_side,
+                    std::vector<std::uint32_t>& hits)
+{
+  std::vector<std::uint32_t> all;
+  space.unknownRightOf(a, b, flags, all);
+  if (all.empty())
+    return;
+  const double reach = 4.0 * std::max(std::hypot(b.x - a.x, b.y - a.y), block_side);
+  double nearest = HUGE_VAL;
+  std::uint32_t nearest_block = all.front();
+  bool any = false;
+  for (std::uint32_t block : all) {
+    const double d = roughDistance(space.bounds(block), a, b);
+    if (d <= reach) {
+      hits.push_back(block);
+      any = true;
+    }
+    if (d < nearest) {
+      nearest = d;
+      nearest_block = block;
+    }
+  }
+  if (!any)
+    hits.push_back(nearest_block);
+}
+
 /// Unknown blocks that the stars of the tile's vertices (and their hull edges) meet.
 void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in_tile,
                    const KnownSpace& space, const LoadedBlocks& flags,
@@ -76,7 +123,7 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
       const VertexId a = mesh.triangles[e],
                      b = mesh.triangles[nextHalfedge(static_cast<HalfedgeId>(e))];
       if (mesh.halfedges[e] == INVALID_ID && (in_tile[a] || in_tile[b]))
-        space.unknownRightOf(mesh.xy[a], mesh.xy[b], flags, hits);
+        nearestRightOf(space, mesh.xy[a], mesh.xy[b], flags, block_side, hits);
     }
   }
 }

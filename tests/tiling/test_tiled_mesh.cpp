@@ -19,6 +19,7 @@
 #include <map>
 #include <mutex>
 #include <numeric>
+#include <random>
 #include <sstream>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -495,6 +496,25 @@ TEST_F(TiledMeshTest, ATemporaryFolderThatCannotBeCreatedIsAClearError)
   EXPECT_NE(s.message.find("temporary folder"), std::string::npos) << s.message;
 }
 
+TEST_F(TiledMeshTest, TilesOnAStraightDataBoundaryLoadAStripOfItNotEverything)
+{
+  // LiDAR quantised to 1 cm inside a square: along the hull's straight sides the
+  // Delaunay triangles are long slivers whose circumdisks are huge; deciding them
+  // needs the points in a thin strip along the side (inherent), but no more: the
+  // global hull makes everything beyond the side known empty.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> xyz;
+  for (int i = 0; i < 200000; ++i)
+    xyz.insert(xyz.end(), {500000.0 + std::round(100000.0 * u(rng)) / 100.0,
+                           4100000.0 + std::round(100000.0 * u(rng)) / 100.0, u(rng)});
+  TiledMeshReport report;
+  ASSERT_TRUE(writeTiled(xyz, (root_ / "t.ply").string(), 3, 7, report).ok());
+  EXPECT_EQ(report.tiles, 64u);
+  EXPECT_LT(report.max_tile_points, 200000u / 8) << "a tile loaded 8 tiles' worth";
+  EXPECT_LT(report.points_loaded, 5 * 200000u / 2);
+}
+
 TEST_F(TiledMeshTest, HalosStaySmallOnUniformData)
 {
   const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 40000, 8);
@@ -503,7 +523,7 @@ TEST_F(TiledMeshTest, HalosStaySmallOnUniformData)
   EXPECT_EQ(report.tiles, 16u);
   // Each tile loads its own quarter of a quarter plus a ring of blocks.
   EXPECT_LT(report.points_loaded, 2 * xyz.size() / 3);
-  EXPECT_LE(report.max_rounds, 3u);
+  EXPECT_LE(report.max_rounds, 6u); // hull edges are settled by the nearest blocks first
 }
 
 } // namespace
