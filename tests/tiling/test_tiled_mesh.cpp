@@ -523,7 +523,8 @@ TEST_F(TiledMeshTest, HalosStaySmallOnUniformData)
   EXPECT_EQ(report.tiles, 16u);
   // Each tile loads its own quarter of a quarter plus a ring of blocks.
   EXPECT_LT(report.points_loaded, 2 * xyz.size() / 3);
-  EXPECT_LE(report.max_rounds, 6u); // hull edges are settled by the nearest blocks first
+  EXPECT_LE(report.max_rounds,
+            6u); // hull edges are settled by the nearest blocks first
 }
 
 } // namespace
