@@ -1735,7 +1735,8 @@ TEST_F(PcdToMesh, TiledRunWritesTheInMemoryBytesAndLeavesNoTemporaryFile)
 
 TEST_F(PcdToMesh, AJobAboveTheMemoryLimitRunsTiledOrSaysWhatItNeeds)
 {
-  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(60000, 3), 2, work_);
+  const std::vector<std::string> names =
+      splitIntoXyzFiles(utmCloud(60000, 3), 2, work_);
   const auto before = workFiles();
   // 60000 points need about 19 MB in memory: a 12M limit sends the job to the tiles.
   expectFailure(run({names[0], names[1], "out.ply", "--memory-limit", "12M"}), 1,
@@ -1778,10 +1779,10 @@ TEST_F(PcdToMesh, TiledRunsOfTheSharedRealFilesWriteTheInMemoryBytes)
   // grids with NODATA holes): the tiled triangulation at 16 and 256 tiles equals the
   // in-memory one byte for byte.
   for (const char* rel :
-       {"las/pdal/autzen_trim.las", "las/from_laz/lidR_Topography.las", "las/pdal/4_6_crop.las",
-        "las/liblas/certainty3d-color-utm-feet-navd88.las", "las/pdal/mvk-thin.las",
-        "dem/landlab/hugo_site.asc", "dem/topotoolbox/exampleDEM_orkhon.asc",
-        "dem/landlab/west_bijou_gully.asc"}) {
+       {"las/pdal/autzen_trim.las", "las/from_laz/lidR_Topography.las",
+        "las/pdal/4_6_crop.las", "las/liblas/certainty3d-color-utm-feet-navd88.las",
+        "las/pdal/mvk-thin.las", "dem/landlab/hugo_site.asc",
+        "dem/topotoolbox/exampleDEM_orkhon.asc", "dem/landlab/west_bijou_gully.asc"}) {
     SCOPED_TRACE(rel);
     const std::string path = SHARED_DATA + "/" + rel;
     const CliResult memory = runDelaunay({path, "memory.ply"});
@@ -1798,18 +1799,20 @@ TEST_F(PcdToMesh, TiledRunsOfTheSharedRealFilesWriteTheInMemoryBytes)
 
 TEST_F(PcdToMesh, SigtermDuringATiledRunLeavesNoTemporaryFileAndNoOutput)
 {
-  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(400000, 9), 4, work_);
+  const std::vector<std::string> names =
+      splitIntoXyzFiles(utmCloud(400000, 9), 4, work_);
   const auto before = workFiles();
   // SIGTERM half a second in: bucketing or meshing, both hold temporary files. (Ctrl-C
   // is SIGINT, handled the same way; a shell starts background jobs with SIGINT
   // ignored, and the tool respects an ignored signal, so the test sends SIGTERM.)
-  std::string command = "cd " + shellQuote(work_.string()) + " && (" +
-                        shellQuote(PCL_VTS_PCD_TO_MESH);
+  std::string command =
+      "cd " + shellQuote(work_.string()) + " && (" + shellQuote(PCL_VTS_PCD_TO_MESH);
   for (const std::string& name : names)
     command += " " + name;
-  command += " out.ply --no-trim --no-fill --tile-level 4 --threads 1 --temp-dir . "
-             "> /dev/null 2>&1 & pid=$!; sleep 0.5; kill -TERM $pid; wait $pid; echo $? > " +
-             shellQuote((root_ / "logs" / "rc").string()) + ")";
+  command +=
+      " out.ply --no-trim --no-fill --tile-level 4 --threads 1 --temp-dir . "
+      "> /dev/null 2>&1 & pid=$!; sleep 0.5; kill -TERM $pid; wait $pid; echo $? > " +
+      shellQuote((root_ / "logs" / "rc").string()) + ")";
   ASSERT_EQ(std::system(command.c_str()), 0);
   const int rc = std::atoi(readText(root_ / "logs" / "rc").c_str());
   EXPECT_EQ(rc, 128 + SIGTERM) << "the run should end by the signal";
@@ -1819,10 +1822,11 @@ TEST_F(PcdToMesh, SigtermDuringATiledRunLeavesNoTemporaryFileAndNoOutput)
 TEST_F(PcdToMesh, AMemoryLimitBelowWhatATileNeedsNamesTheMinimum)
 {
   // 20000 points need ~6 MB in memory: above 1M, so tiled, and below its minimum.
-  const std::vector<std::string> names = splitIntoXyzFiles(utmCloud(20000, 2), 1, work_);
+  const std::vector<std::string> names =
+      splitIntoXyzFiles(utmCloud(20000, 2), 1, work_);
   const auto before = workFiles();
-  expectFailure(runDelaunay({names[0], "out.ply", "--memory-limit", "1M"}), 1, "at least",
-                before);
+  expectFailure(runDelaunay({names[0], "out.ply", "--memory-limit", "1M"}), 1,
+                "at least", before);
 }
 
 TEST_F(PcdToMesh, ATemporaryFolderThatIsFullFailsCleanly)
