@@ -707,34 +707,53 @@ class ProgressLine {
     if (quiet_)
       return;
     const auto now = std::chrono::steady_clock::now();
+    if (p.phase != current_) { // phases are string literals: one pointer each
+      current_ = p.phase;
+      phase_start_ = now;
+    }
     const double since = std::chrono::duration<double>(now - last_).count();
     // Quiet for the first seconds (short runs print nothing), then a steady pace.
-    if (since < (tty_ ? 0.5 : 5.0) && (p.phase == phase_ || !shown_))
+    if (since < (tty_ ? 0.5 : 5.0) && (p.phase == shown_phase_ || !shown_))
       return;
     last_ = now;
-    phase_ = p.phase;
+    shown_phase_ = p.phase;
     shown_ = true;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
-    char text[160];
-    if (p.total > 0)
-      std::snprintf(text, sizeof(text), "%s %llu / %llu (%.0f%%), %.0f s", p.phase,
-                    static_cast<unsigned long long>(p.done),
-                    static_cast<unsigned long long>(p.total),
-                    100.0 * static_cast<double>(p.done) / static_cast<double>(p.total),
-                    elapsed);
-    else if (p.done > 0)
+    const double in_phase = std::chrono::duration<double>(now - phase_start_).count();
+    char text[200];
+    if (p.total > 0) {
+      const double done = static_cast<double>(p.done) / static_cast<double>(p.total);
+      char bar[24] = "";
+      if (tty_) { // [=======>            ]
+        const int filled = static_cast<int>(20 * std::min(1.0, done));
+        for (int k = 0; k < 20; ++k)
+          bar[k] = k < filled ? '=' : k == filled ? '>' : ' ';
+        bar[20] = 0;
+      }
+      char left[48] = "";
+      if (p.done > 0 && p.done < p.total)
+        std::snprintf(left, sizeof(left), ", %.0f s left in this phase",
+                      in_phase * (1.0 - done) / done);
+      std::snprintf(
+          text, sizeof(text), "%s%s%s %llu / %llu (%.0f%%), %.0f s%s", p.phase,
+          tty_ ? " [" : "", tty_ ? (std::string(bar) + "]").c_str() : "",
+          static_cast<unsigned long long>(p.done),
+          static_cast<unsigned long long>(p.total), 100.0 * done, elapsed, left);
+    } else if (p.done > 0) {
       std::snprintf(text, sizeof(text), "%s %llu points, %.0f s", p.phase,
                     static_cast<unsigned long long>(p.done), elapsed);
-    else
+    } else {
       std::snprintf(text, sizeof(text), "%s, %.0f s", p.phase, elapsed);
-    std::fprintf(stderr, tty_ ? "\rpcd_to_mesh: %-70s" : "pcd_to_mesh: %s\n", text);
+    }
+    std::fprintf(stderr, tty_ ? "\rpcd_to_mesh: %-100s" : "pcd_to_mesh: %s\n", text);
     std::fflush(stderr);
   }
 
  private:
   bool quiet_, tty_, shown_ = false;
-  std::chrono::steady_clock::time_point start_, last_;
-  const char* phase_ = "";
+  std::chrono::steady_clock::time_point start_, last_, phase_start_;
+  const char* shown_phase_ = "";
+  const char* current_ = "";
 };
 
 /// The tiled path (tiled_mesh.h): inputs streamed twice, the mesh streamed out.
