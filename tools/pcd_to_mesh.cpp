@@ -793,18 +793,29 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   pcl_vts::PointInputs inputs;
   inputs.count = opt.inputs.size();
   inputs.read = [&](std::size_t f, const pcl_vts::PointSink& sink) {
-    std::vector<double> xyz;
+    // Streamed: a LAS file of any size passes through a chunk of a million points.
     pcl_vts::CloudDescription one;
-    bool skipped = false;
-    pcl_vts::Status s = loadInput(opt, f, xyz, one, skipped);
-    if (!s.ok()) {
+    bool sink_failed = false;
+    pcl_vts::Status s = pcl_vts::streamPointCloud(
+        opt.inputs[f], opt.load, std::size_t{1} << 20,
+        [&](const double* xyz, std::size_t n) {
+          pcl_vts::Status t = sink(xyz, n);
+          sink_failed = !t.ok();
+          return t;
+        },
+        one);
+    const bool skipped =
+        s.code == pcl_vts::StatusCode::EMPTY_INPUT && opt.inputs.size() > 1;
+    if (sink_failed)
+      return s;
+    if (!s.ok() && !skipped) {
       input_failed = true;
       return pcl_vts::Status::error(s.code, readFailure(s));
     }
     if (!described[f]) // read twice: scan, then bucket
       addDescription(opt, f, one, skipped, input);
     described[f] = 1;
-    return sink(xyz.data(), xyz.size() / 3);
+    return pcl_vts::Status::success();
   };
   pcl_vts::TiledMeshOptions options;
   options.vts = opt.vts;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <sys/mman.h>
 
 namespace pcl_vts {
 namespace {
@@ -111,9 +112,27 @@ std::string classList(const std::vector<std::uint8_t>& classes)
   return s;
 }
 
+/// Where kept points go: the whole array (sink == nullptr), or chunks handed to a
+/// sink, with the mapped pages behind the reader released when `release` is set.
+struct LasOutput {
+  const LasChunkSink* sink = nullptr;
+  std::size_t chunk_points = 0;
+  bool release = false;
+};
+
+/// Grows info's bounds by the points of xyz.
+void growBounds(const std::vector<double>& xyz, LasInfo& info)
+{
+  for (std::size_t i = 0; i < xyz.size(); i += 3)
+    for (int a = 0; a < 3; ++a) {
+      info.min[a] = std::min(info.min[a], xyz[i + a]);
+      info.max[a] = std::max(info.max[a], xyz[i + a]);
+    }
+}
+
 Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::string& name,
                     const LasReadOptions& options, std::vector<double>& xyz,
-                    LasInfo& info)
+                    LasInfo& info, const LasOutput& output = LasOutput())
 {
   if (size == 0)
     return ioError(name, "the file is empty (0 bytes)");
@@ -204,9 +223,36 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
   const bool extended = info.point_format >= 6;
   // count * record_length <= size: the reservation is bounded by the file.
   xyz.clear();
-  xyz.reserve(3 * static_cast<std::size_t>(count));
+  xyz.reserve(output.sink ? 3 * output.chunk_points
+                          : 3 * static_cast<std::size_t>(count));
+  for (int a = 0; a < 3; ++a) {
+    info.min[a] = std::numeric_limits<double>::infinity();
+    info.max[a] = -std::numeric_limits<double>::infinity();
+  }
+  std::uint64_t kept = 0;
+  const std::uint8_t* released = data;
+  const auto handOver = [&](const std::uint8_t* consumed) {
+    growBounds(xyz, info);
+    kept += xyz.size() / 3;
+    const Status s =
+        xyz.empty() ? Status::success() : (*output.sink)(xyz.data(), xyz.size() / 3);
+    xyz.clear();
+    if (output.release) { // whole pages already read: drop them from memory
+      const std::uintptr_t page = 4096;
+      const auto end = reinterpret_cast<std::uintptr_t>(consumed) & ~(page - 1);
+      const auto begin =
+          (reinterpret_cast<std::uintptr_t>(released) + page - 1) & ~(page - 1);
+      if (end > begin)
+        ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+      released = consumed;
+    }
+    return s;
+  };
   const std::uint8_t* record = data + info.offset_to_points;
   for (std::uint64_t i = 0; i < count; ++i, record += info.record_length) {
+    if (output.sink && xyz.size() >= 3 * output.chunk_points)
+      if (Status s = handOver(record); !s.ok())
+        return s;
     const std::uint8_t returns = record[14];
     const unsigned return_number = extended ? (returns & 0x0F) : (returns & 0x07);
     const unsigned number_of_returns = extended ? (returns >> 4) : ((returns >> 3) & 7);
@@ -223,7 +269,14 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
                     info.offset[a]);
   }
   info.points_read = count;
-  info.points_kept = xyz.size() / 3;
+  if (output.sink) {
+    if (Status s = handOver(record); !s.ok())
+      return s;
+  } else {
+    growBounds(xyz, info);
+    kept = xyz.size() / 3;
+  }
+  info.points_kept = kept;
   if (info.points_kept == 0) {
     std::string present;
     for (int c = 0; c < 256; ++c)
@@ -241,15 +294,6 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
                              " points passes the filter (" + filter +
                              "); classes present: " + present);
   }
-  for (int a = 0; a < 3; ++a) {
-    info.min[a] = std::numeric_limits<double>::infinity();
-    info.max[a] = -std::numeric_limits<double>::infinity();
-  }
-  for (std::size_t i = 0; i < xyz.size(); i += 3)
-    for (int a = 0; a < 3; ++a) {
-      info.min[a] = std::min(info.min[a], xyz[i + a]);
-      info.max[a] = std::max(info.max[a], xyz[i + a]);
-    }
   return Status::success();
 }
 
@@ -295,6 +339,23 @@ Status parseLasCloud(const std::uint8_t* data, std::size_t size,
   return guardedParse(name, xyz, info, [&] {
     return parseLasImpl(data, size, name, options, xyz, info);
   });
+}
+
+Status readLasCloudChunks(const std::string& path, const LasReadOptions& options,
+                          std::size_t chunk_points, const LasChunkSink& sink,
+                          LasInfo& info)
+{
+  std::vector<double> chunk;
+  LasOutput output;
+  output.sink = &sink;
+  output.chunk_points = std::max<std::size_t>(chunk_points, 1);
+  output.release = true;
+  return readMappedFile(
+      path, chunk, info, [&](const std::uint8_t* data, std::size_t size) {
+        return guardedParse(path, chunk, info, [&] {
+          return parseLasImpl(data, size, path, options, chunk, info, output);
+        });
+      });
 }
 
 Status readLasCloud(const std::string& path, const LasReadOptions& options,

@@ -117,6 +117,37 @@ bool cloudFileFormatFromContent(const std::uint8_t* data, std::size_t size,
   return true;
 }
 
+/// The summary's words for a LAS file.
+static void describeLas(const LasInfo& info, const CloudLoadOptions& options,
+                        CloudDescription& d)
+{
+  d.points_read = static_cast<std::size_t>(info.points_read);
+  d.points_kept = static_cast<std::size_t>(info.points_kept);
+  d.details = std::to_string(info.version_major) + "." +
+              std::to_string(info.version_minor) + ", point format " +
+              std::to_string(info.point_format) + ", " +
+              std::to_string(info.record_length) + "-byte records";
+  std::string classes;
+  for (int c = 0; c < 256; ++c)
+    if (info.class_counts[c] != 0)
+      classes += (classes.empty() ? "" : ", ") + std::to_string(c) + ": " +
+                 std::to_string(info.class_counts[c]);
+  d.notes.push_back("classes in file: " + classes);
+  d.notes.push_back("scale " + fmt(info.scale[0]) + " " + fmt(info.scale[1]) + " " +
+                    fmt(info.scale[2]) + ", offset " + fmt(info.offset[0]) + " " +
+                    fmt(info.offset[1]) + " " + fmt(info.offset[2]));
+  if (!options.classes.empty() || options.returns != LasReturnFilter::ALL) {
+    std::string filter;
+    for (std::uint8_t c : options.classes)
+      filter += (filter.empty() ? "classes " : ",") + std::to_string(c);
+    if (options.returns != LasReturnFilter::ALL)
+      filter += std::string(filter.empty() ? "" : ", ") +
+                lasReturnFilterName(options.returns) + " returns";
+    d.notes.push_back("filter " + filter + ": " + std::to_string(d.points_kept) +
+                      " of " + std::to_string(d.points_read) + " points kept");
+  }
+}
+
 Status parseClassList(const std::string& text, std::vector<std::uint8_t>& classes)
 {
   classes.clear();
@@ -191,31 +222,7 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
     s = readLasCloud(path, las, xyz, info);
     if (!s.ok())
       return s;
-    d.points_read = static_cast<std::size_t>(info.points_read);
-    d.points_kept = static_cast<std::size_t>(info.points_kept);
-    d.details = std::to_string(info.version_major) + "." +
-                std::to_string(info.version_minor) + ", point format " +
-                std::to_string(info.point_format) + ", " +
-                std::to_string(info.record_length) + "-byte records";
-    std::string classes;
-    for (int c = 0; c < 256; ++c)
-      if (info.class_counts[c] != 0)
-        classes += (classes.empty() ? "" : ", ") + std::to_string(c) + ": " +
-                   std::to_string(info.class_counts[c]);
-    d.notes.push_back("classes in file: " + classes);
-    d.notes.push_back("scale " + fmt(info.scale[0]) + " " + fmt(info.scale[1]) + " " +
-                      fmt(info.scale[2]) + ", offset " + fmt(info.offset[0]) + " " +
-                      fmt(info.offset[1]) + " " + fmt(info.offset[2]));
-    if (!options.classes.empty() || options.returns != LasReturnFilter::ALL) {
-      std::string filter;
-      for (std::uint8_t c : options.classes)
-        filter += (filter.empty() ? "classes " : ",") + std::to_string(c);
-      if (options.returns != LasReturnFilter::ALL)
-        filter += std::string(filter.empty() ? "" : ", ") +
-                  lasReturnFilterName(options.returns) + " returns";
-      d.notes.push_back("filter " + filter + ": " + std::to_string(d.points_kept) +
-                        " of " + std::to_string(d.points_read) + " points kept");
-    }
+    describeLas(info, options, d);
     break;
   }
   case CloudFileFormat::ASC: {
@@ -276,6 +283,30 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
   }
   }
   return Status::success();
+}
+
+Status streamPointCloud(const std::string& path, const CloudLoadOptions& options,
+                        std::size_t chunk_points, const PointChunkSink& sink,
+                        CloudDescription& description)
+{
+  CloudFileFormat format;
+  if (cloudFileFormatFromExtension(path, format) && format == CloudFileFormat::LAS) {
+    description = CloudDescription();
+    description.format = CloudFileFormat::LAS;
+    LasReadOptions las;
+    las.classes = options.classes;
+    las.returns = options.returns;
+    LasInfo info;
+    if (Status s = readLasCloudChunks(path, las, chunk_points, sink, info); !s.ok())
+      return s;
+    describeLas(info, options, description);
+    return Status::success();
+  }
+  // The other readers parse whole files; they are hand over in one piece.
+  std::vector<double> xyz;
+  if (Status s = loadPointCloud(path, options, xyz, description); !s.ok())
+    return s;
+  return sink(xyz.data(), xyz.size() / 3);
 }
 
 } // namespace pcl_vts

@@ -508,5 +508,55 @@ TEST(LasReaderSharedData, Format8FullByteClass65AndExtraBytes)
   EXPECT_GT(info.points_kept, 0u);
   EXPECT_EQ(info.points_kept, info.class_counts[65]);
 }
+TEST(LasReaderSharedData, ChunkedReadingGivesTheSamePointsInTheSameOrder)
+{
+  const std::string path =
+      std::string(PCL_VTS_SHARED_DATA_DIR) + "/las/pdal/autzen_trim.las";
+  if (!fs::exists(path))
+    GTEST_SKIP() << "shared data not found at " << path;
+  for (const std::vector<std::uint8_t>& classes :
+       std::vector<std::vector<std::uint8_t>>{{}, {2}}) {
+    LasReadOptions options;
+    options.classes = classes;
+    std::vector<double> whole;
+    LasInfo whole_info;
+    ASSERT_TRUE(pcl_vts::readLasCloud(path, options, whole, whole_info).ok());
+    for (std::size_t chunk : {std::size_t{1}, std::size_t{777}, std::size_t{1} << 20}) {
+      std::vector<double> joined;
+      std::size_t calls = 0;
+      LasInfo info;
+      const pcl_vts::Status s = pcl_vts::readLasCloudChunks(
+          path, options, chunk,
+          [&](const double* xyz, std::size_t n) {
+            EXPECT_LE(n, chunk);
+            ++calls;
+            joined.insert(joined.end(), xyz, xyz + 3 * n);
+            return pcl_vts::Status::success();
+          },
+          info);
+      ASSERT_TRUE(s.ok()) << s.toString();
+      EXPECT_TRUE(joined == whole) << "chunk " << chunk;
+      EXPECT_EQ(calls, (whole.size() / 3 + chunk - 1) / chunk);
+      EXPECT_EQ(info.points_kept, whole_info.points_kept);
+      EXPECT_EQ(info.min, whole_info.min);
+      EXPECT_EQ(info.max, whole_info.max);
+      EXPECT_EQ(info.class_counts, whole_info.class_counts);
+    }
+  }
+  // A sink's error stops the read and comes back.
+  std::size_t calls = 0;
+  LasInfo info;
+  const pcl_vts::Status s = pcl_vts::readLasCloudChunks(
+      path, LasReadOptions{}, 1000,
+      [&](const double*, std::size_t) {
+        return ++calls == 3
+                   ? pcl_vts::Status::error(pcl_vts::StatusCode::IO_ERROR, "disk full")
+                   : pcl_vts::Status::success();
+      },
+      info);
+  EXPECT_EQ(s.code, StatusCode::IO_ERROR);
+  EXPECT_EQ(s.message, "disk full");
+  EXPECT_EQ(calls, 3u);
+}
 
 } // namespace

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -74,6 +75,18 @@ struct PCL_VTS_IO_EXPORT LasInfo {
 PCL_VTS_IO_EXPORT Status readLasCloud(const std::string& path,
                                       const LasReadOptions& options,
                                       std::vector<double>& xyz, LasInfo& info);
+
+/// Receives kept points, xyz triples in file order, a chunk at a time.
+using LasChunkSink = std::function<Status(const double* xyz, std::size_t n)>;
+
+/// Same as readLasCloud, but the kept points go to `sink` in chunks of at most
+/// chunk_points instead of one array, and the file's pages are released behind the
+/// reader: memory stays bounded by the chunk whatever the file's size. A sink error
+/// stops the read and is returned. EMPTY_INPUT (with nothing sent) as readLasCloud.
+PCL_VTS_IO_EXPORT Status readLasCloudChunks(const std::string& path,
+                                            const LasReadOptions& options,
+                                            std::size_t chunk_points,
+                                            const LasChunkSink& sink, LasInfo& info);
 
 /// Same, on bytes in memory; name is used in messages only.
 PCL_VTS_IO_EXPORT Status parseLasCloud(const std::uint8_t* data, std::size_t size,

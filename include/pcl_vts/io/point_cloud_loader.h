@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -65,5 +66,18 @@ PCL_VTS_IO_EXPORT Status loadPointCloud(const std::string& path,
                                         const CloudLoadOptions& options,
                                         std::vector<double>& xyz,
                                         CloudDescription& description);
+
+/// Receives points, xyz triples in file order, a chunk at a time.
+using PointChunkSink = std::function<Status(const double* xyz, std::size_t n)>;
+
+/// Reads path like loadPointCloud, but hands the kept points to `sink`: LAS chunk by
+/// chunk (at most chunk_points each, the file's pages released behind the reader, so
+/// memory stays bounded whatever the file's size); the other formats in one piece
+/// after reading the file whole. A sink error stops the read and is returned.
+PCL_VTS_IO_EXPORT Status streamPointCloud(const std::string& path,
+                                          const CloudLoadOptions& options,
+                                          std::size_t chunk_points,
+                                          const PointChunkSink& sink,
+                                          CloudDescription& description);
 
 } // namespace pcl_vts
