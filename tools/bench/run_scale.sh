@@ -43,4 +43,18 @@ for n in "$@"; do
     echo "| $n | tiled, --memory-limit $limit | $wall | $(awk -v n="$n" -v t="$wall" 'BEGIN{printf "%.1f", n/1e6/(t/60)}') | $((rss / 1024)) | $temp | $same |"
   fi
   rm -f "$work/memory.ply" "$work/tiled.ply"
+  # MPI (issue 13): 1 and 2 ranks of one thread each, when pcd_to_mesh_mpi was built.
+  if [ -x "$build/pcd_to_mesh_mpi" ] && command -v mpirun > /dev/null; then
+    for ranks in 1 2; do
+      /usr/bin/time -f "%e %M" -o "$work/time.txt" env OMPI_ALLOW_RUN_AS_ROOT=1 \
+        OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np "$ranks" \
+        "$build/pcd_to_mesh_mpi" "$data" "$work/mpi$ranks.ply" --classes 2 --no-trim \
+        --no-fill --threads 1 --memory-limit "$limit" --temp-dir "$work" > "$work/log.txt" 2>&1 ||
+        { echo "| $n | mpi, $ranks ranks | failed |"; continue; }
+      read -r wall rss < "$work/time.txt"
+      echo "| $n | mpi, $ranks rank(s) x 1 thread | $wall | $(awk -v n="$n" -v t="$wall" 'BEGIN{printf "%.1f", n/1e6/(t/60)}') | $((rss / 1024)) (mpirun's largest child) | - | - |"
+    done
+    cmp -s "$work/mpi1.ply" "$work/mpi2.ply" && echo "(1 and 2 ranks: same bytes)" || echo "(1 and 2 ranks: DIFFERENT)"
+    rm -f "$work/mpi1.ply" "$work/mpi2.ply"
+  fi
 done
