@@ -1126,6 +1126,12 @@ int main(int argc, char** argv)
 #ifdef PCL_VTS_MPI_TOOL
   // Every rank parses the same arguments and runs the same tiled job; rank 0 speaks.
   const pcl_vts::MpiSession mpi(&argc, &argv);
+  if (!mpi.threadsSupported()) {
+    std::fprintf(stderr,
+                 "pcd_to_mesh: error: this MPI library cannot serialize calls from "
+                 "threads (MPI_THREAD_SERIALIZED)\n");
+    return EXIT_INTERNAL;
+  }
   pcl_vts::MpiComm comm;
   g_silent = comm.rank() != 0;
 #else

@@ -27,6 +27,45 @@ MpiComm::MpiComm()
 {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  MPI_Win* window = new MPI_Win;
+  const MPI_Aint bytes = rank_ == 0 ? sizeof(std::uint64_t) : 0;
+  MPI_Win_allocate(bytes, sizeof(std::uint64_t), MPI_INFO_NULL, MPI_COMM_WORLD,
+                   &counter_, window);
+  window_ = window;
+  if (rank_ == 0)
+    *counter_ = 0;
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+MpiComm::~MpiComm()
+{
+  auto* window = static_cast<MPI_Win*>(window_);
+  MPI_Win_free(window);
+  delete window;
+}
+
+void MpiComm::startTasks()
+{
+  MPI_Barrier(MPI_COMM_WORLD); // nobody still counts the last round
+  auto* window = static_cast<MPI_Win*>(window_);
+  if (rank_ == 0) {
+    MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, *window);
+    *counter_ = 0;
+    MPI_Win_unlock(0, *window);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+std::uint64_t MpiComm::nextTask()
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  auto* window = static_cast<MPI_Win*>(window_);
+  const std::uint64_t one = 1;
+  std::uint64_t value = 0;
+  MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, *window);
+  MPI_Fetch_and_op(&one, &value, MPI_UINT64_T, 0, 0, MPI_SUM, *window);
+  MPI_Win_unlock(0, *window);
+  return value;
 }
 
 void MpiComm::sum(std::vector<std::uint64_t>& values)
@@ -62,7 +101,9 @@ void MpiComm::barrier()
 
 MpiSession::MpiSession(int* argc, char*** argv)
 {
-  MPI_Init(argc, argv);
+  int provided = 0;
+  MPI_Init_thread(argc, argv, MPI_THREAD_SERIALIZED, &provided);
+  threads_supported_ = provided >= MPI_THREAD_SERIALIZED;
 }
 
 MpiSession::~MpiSession()

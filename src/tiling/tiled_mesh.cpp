@@ -581,17 +581,15 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
                          "fewer than 3 distinct XY positions (" +
                              std::to_string(report.vertices) + ")");
 
-  // 6. Tiles: the k-th tile with points goes to rank k mod ranks, and there to the
-  //    next free worker. Each writes its result file; nothing depends on who meshed.
+  // 6. Tiles: each worker of each rank takes the next tile of the shared counter, so
+  //    ranks that finish early take more (tiles are unequal on real data). Each
+  //    writes its result file; nothing depends on who meshed what.
   start = Clock::now();
-  std::vector<std::uint32_t> occupied_tiles, mine;
+  std::vector<std::uint32_t> occupied_tiles, mine; // mine: meshed here
   for (std::uint32_t t = 0; t < tiles; ++t)
-    if (store.tilePoints(t) != 0) {
-      if (occupied_tiles.size() % static_cast<std::size_t>(ranks) ==
-          static_cast<std::size_t>(rank))
-        mine.push_back(t);
+    if (store.tilePoints(t) != 0)
       occupied_tiles.push_back(t);
-    }
+  comm.startTasks();
   report.tiles = occupied_tiles.size();
   const KnownSpace space(frame, block_level, store.blockPoints(), store.blockBounds(),
                          store.globalHull());
@@ -601,14 +599,12 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   context.space = &space;
   context.block_first_vertex = &first_vertex;
   context.options = options.vts;
-  workers =
-      std::max(1u, std::min<unsigned>(workers, static_cast<unsigned>(mine.size())));
+  workers = std::max(
+      1u, std::min<unsigned>(workers, static_cast<unsigned>(occupied_tiles.size())));
   context.options.threads = std::max(
       1u, (options.threads != 0 ? options.threads
                                 : std::max(1u, std::thread::hardware_concurrency())) /
               workers);
-  std::atomic<std::size_t> next{0};
-  std::atomic<std::uint64_t> done{0};
   std::mutex mutex;
   Status failure;
   std::vector<std::uint64_t> stats = {0, 0, 0}; // points loaded, largest tile, rounds
@@ -617,29 +613,31 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     LoadedBlocks flags(space.blockCount(), 0);
     TileResult tile;
     for (;;) {
-      const std::size_t k = next.fetch_add(1);
-      if (k >= mine.size())
-        return;
       {
         const std::lock_guard<std::mutex> lock(mutex);
         if (!failure.ok())
           return;
       }
-      Status s = triangulateTile(context, mine[k], flags, tile);
+      const std::uint64_t k = comm.nextTask();
+      if (k >= occupied_tiles.size())
+        return;
+      const std::uint32_t t = occupied_tiles[static_cast<std::size_t>(k)];
+      Status s = triangulateTile(context, t, flags, tile);
       if (s.ok())
-        s = writeTileResult(resultPath(folder, mine[k]), tile);
+        s = writeTileResult(resultPath(folder, t), tile);
       const std::lock_guard<std::mutex> lock(mutex);
       if (!s.ok()) {
         if (failure.ok())
-          failure = Status::error(s.code,
-                                  "tile " + std::to_string(mine[k]) + ": " + s.message);
+          failure =
+              Status::error(s.code, "tile " + std::to_string(t) + ": " + s.message);
         return;
       }
+      mine.push_back(static_cast<std::uint32_t>(k));
       stats[0] += tile.points_loaded;
       stats[1] = std::max(stats[1], tile.points_loaded);
       max_rounds = std::max(max_rounds, tile.rounds);
       stats[2] += tile.rounds;
-      progress("meshing", done.fetch_add(1) + 1, mine.size());
+      progress("meshing", k + 1, occupied_tiles.size());
     }
   };
   std::vector<std::thread> pool;
@@ -670,17 +668,26 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     for (std::uint32_t t : occupied_tiles)
       owners.first.push_back(first_vertex[std::size_t{t} << shift]);
     owners.first.push_back(first_vertex.back());
+    // Each rank writes the tiles it meshed; their index lines, "k line", go to all.
     std::vector<std::string> lines(occupied_tiles.size());
-    for (std::size_t k = static_cast<std::size_t>(rank);
-         k < occupied_tiles.size() && status.ok(); k += static_cast<std::size_t>(ranks))
-      status = writeTileMesh(folder, options.tile_output, frame, tile_level, owners, k,
-                             lines[k]);
+    std::string my_lines;
+    for (std::size_t i = 0; i < mine.size() && status.ok(); ++i) {
+      std::string line;
+      status = writeTileMesh(folder, options.tile_output, frame, tile_level, owners,
+                             mine[i], line);
+      my_lines += std::to_string(mine[i]) + " " + line;
+    }
     if (!(status = agree(comm, status)).ok())
       return status;
-    for (std::size_t k = 0; k < lines.size(); ++k) {
-      std::string line = lines[k];
-      comm.broadcast(line, static_cast<int>(k % static_cast<std::size_t>(ranks)));
-      lines[k] = line;
+    for (int root = 0; root < ranks; ++root) {
+      std::string bytes = my_lines;
+      comm.broadcast(bytes, root);
+      for (std::size_t at = 0; at < bytes.size();) {
+        const std::size_t gap = bytes.find(' ', at), end = bytes.find('\n', at);
+        lines[std::stoul(bytes.substr(at, gap - at))] =
+            bytes.substr(gap + 1, end - gap);
+        at = end + 1;
+      }
     }
     if (rank == 0) {
       AtomicFile index(options.tile_output + "/index.csv");

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <cstring>
@@ -86,6 +87,14 @@ class InProcessRanks {
       barrier();
     }
     void barrier() override { all_.wait(); }
+    void startTasks() override
+    {
+      barrier();
+      if (rank_ == 0)
+        all_.next_ = 0;
+      barrier();
+    }
+    std::uint64_t nextTask() override { return all_.next_.fetch_add(1); }
 
    private:
     template <typename T, typename Op>
@@ -130,6 +139,7 @@ class InProcessRanks {
   int arrived_ = 0;
   std::uint64_t generation_ = 0;
   std::string text_;
+  std::atomic<std::uint64_t> next_{0};
   std::vector<std::vector<std::uint64_t>> u64_;
   std::vector<std::vector<double>> f64_;
 };
@@ -226,8 +236,12 @@ TEST_P(TiledEqualsInMemory, SameBytesForEveryThreadAndRankCount)
     const std::size_t a = points * k / 5, b = points * (k + 1) / 5;
     return b > a ? sink(&xyz[3 * a], b - a) : Status::success();
   };
+  std::string first_index; // --tile-output's index: the same for every rank count
   for (const auto& [ranks, threads] :
        std::vector<std::pair<int, unsigned>>{{1, 3}, {2, 1}, {3, 2}}) {
+    const std::filesystem::path tiles = root_ / "tiles";
+    std::filesystem::remove_all(tiles);
+    std::filesystem::create_directory(tiles);
     SCOPED_TRACE(std::to_string(ranks) + " ranks, " + std::to_string(threads) +
                  " threads");
     const std::string path = (root_ / "tiled.ply").string();
@@ -242,6 +256,7 @@ TEST_P(TiledEqualsInMemory, SameBytesForEveryThreadAndRankCount)
         options.tile_level = 2;
         options.block_level = 5;
         options.threads = threads;
+        options.tile_output = tiles.string();
         TiledMeshReport report;
         status[static_cast<std::size_t>(r)] =
             runTiledMesh(inputs, options, path, MeshWriteOptions{}, report, comm);
@@ -256,7 +271,12 @@ TEST_P(TiledEqualsInMemory, SameBytesForEveryThreadAndRankCount)
     }
     if (memory.ok()) {
       EXPECT_TRUE(slurp(path) == expected) << "differs from the in-memory file";
+      const std::string index = slurp((tiles / "index.csv").string());
+      if (first_index.empty())
+        first_index = index;
+      EXPECT_EQ(index, first_index) << "the tile index depends on the ranks";
     }
+    std::filesystem::remove_all(tiles);
     EXPECT_EQ(entriesIn(root_), memory.ok() ? 2u : 0u) << "temporary files left behind";
   }
 }

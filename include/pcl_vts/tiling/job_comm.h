@@ -5,6 +5,7 @@
 #pragma once
 #include <pcl_vts/tiling/export.h>
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -23,6 +24,12 @@ class PCL_VTS_TILING_EXPORT JobComm {
   /// Root's bytes to every rank.
   virtual void broadcast(std::string& bytes, int root) = 0;
   virtual void barrier() = 0;
+  /// Collective: the shared task counter starts again from 0.
+  virtual void startTasks() = 0;
+  /// The next value of a counter shared by every rank and thread (0, 1, 2, ...):
+  /// tiles go to whoever asks next, so a rank that finishes early takes more.
+  /// Thread-safe.
+  virtual std::uint64_t nextTask() = 0;
 };
 
 /// A job of one process: every collective is the identity.
@@ -35,6 +42,11 @@ class PCL_VTS_TILING_EXPORT LocalComm : public JobComm {
   void max(std::vector<double>&) override {}
   void broadcast(std::string&, int) override {}
   void barrier() override {}
+  void startTasks() override { next_ = 0; }
+  std::uint64_t nextTask() override { return next_.fetch_add(1); }
+
+ private:
+  std::atomic<std::uint64_t> next_{0};
 };
 
 } // namespace pcl_vts
