@@ -4,6 +4,7 @@
 // "[done, ...]" line per stage; but every option is validated, each failure class has
 // its own exit code and one stderr line, and the output appears only when complete
 // (mesh_writer.h). --png draws the final mesh (mesh_picture.h).
+#include "gis_cli.h"
 #include "input_list.h"
 
 #ifdef PCL_VTS_MPI_TOOL
@@ -78,6 +79,7 @@ struct CliOptions {
   bool png_width_given = false;
   bool quiet = false;
   bool help = false;
+  pcl_vts::tools::GisCli gis; ///< --dem, --contours, --crs (gis_cli.h)
 };
 
 void printHelp()
@@ -197,6 +199,7 @@ void printHelp()
       DEFAULT_CELL_SIZE, DEFAULT_DUPLICATES, pcl_vts::TrimOptions{}.trim_factor,
       MIN_PNG_WIDTH, MAX_PNG_WIDTH, DEFAULT_PNG_WIDTH,
       (std::to_string(pcl_vts::tools::physicalMemoryBytes() / 2 >> 20) + "M").c_str());
+  pcl_vts::tools::printGisHelp();
 }
 
 /// Strict: the whole text is one finite number >= 0 (PCL's parse_argument is not).
@@ -303,7 +306,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
         name == "--max-hole-area" || name == "--threads" || name == "--crop" ||
         name == "--voxel" || name == "--grid-min" || name == "--outliers" ||
         name == "--png" || name == "--png-width" || name == "--memory-limit" ||
-        name == "--temp-dir" || name == "--tile-level" || name == "--tile-output";
+        name == "--temp-dir" || name == "--tile-level" || name == "--tile-output" ||
+        pcl_vts::tools::gisOptionTakesValue(name);
     if (inline_value && !takes_value) {
       error = "option '" + name + "' takes no value";
       return false;
@@ -442,6 +446,9 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
         return false;
       }
       opt.tile_level = static_cast<int>(level);
+    } else if (pcl_vts::tools::isGisOption(name)) {
+      if (!opt.gis.parse(name, value, error))
+        return false;
     } else {
       error = "unknown option '" + arg + "'";
       return false;
@@ -781,6 +788,11 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
       return out.fail(EXIT_OUTPUT, "--tile-output '" + opt.tile_output +
                                        "' is not a writable folder");
   }
+  if (opt.gis.anyProduct())
+    return out.fail(EXIT_USAGE, (opt.tile_level < 0 && opt.tile_output.empty()
+                                     ? why
+                                     : std::string("a tiled run")) +
+                                    ": --dem and --contours run in memory only");
   if (opt.preprocess.any() || !opt.png.empty())
     return out.fail(
         EXIT_USAGE,
@@ -923,6 +935,8 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
     return out.fail(EXIT_USAGE, s.message);
   if (pcl_vts::Status s = pcl_vts::validateOptions(opt.vts); !s.ok())
     return out.fail(EXIT_USAGE, s.message);
+  if (pcl_vts::Status s = opt.gis.validate(); !s.ok())
+    return out.fail(EXIT_USAGE, s.message);
   if (const int rc = checkOutputPath(opt.output, out); rc != 0)
     return rc;
   if (!opt.png.empty())
@@ -934,6 +948,7 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
   std::vector<double> xyz;
   pcl_vts::CloudDescription input;
   bool tiled = opt.tile_level >= 0 || comm.size() > 1 || !opt.tile_output.empty();
+  std::vector<std::pair<std::string, std::string>> crs_of; // (file, CRS): gis_cli.h
   for (std::size_t f = 0; f < opt.inputs.size() && !tiled; ++f) {
     std::vector<double> part;
     pcl_vts::CloudDescription one;
@@ -941,6 +956,7 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
     if (pcl_vts::Status s = loadInput(opt, f, part, one, skipped); !s.ok())
       return out.fail(exitCodeFor(s.code), readFailure(s));
     addDescription(opt, f, one, skipped, input);
+    crs_of.emplace_back(opt.inputs[f], one.crs);
     if (xyz.empty())
       xyz.swap(part);
     else
@@ -958,6 +974,8 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
   }
   if (xyz.empty())
     return out.fail(EXIT_DATA, "input unusable: EMPTY_INPUT: no point in " + opt.input);
+  if (pcl_vts::Status s = opt.gis.resolveCrs(crs_of); !s.ok())
+    return out.fail(EXIT_INPUT, s.message);
   const double ms_read = msSince(start);
   out.done(ms_read, std::to_string(input.points_read) + " points, " +
                         pcl_vts::cloudFileFormatName(input.format) + " " +
@@ -1044,6 +1062,8 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
       std::string("pcl_vts pcd_to_mesh: ") +
       (opt.no_trim && opt.no_fill ? "Delaunay triangulation of " : "surface mesh of ") +
       opt.input;
+  if (!opt.gis.crs().empty()) // the full WKT goes to the .prj sidecar
+    write_options.comment += "; crs: " + opt.gis.crsName();
   pcl_vts::MeshWriteInfo written;
   if (pcl_vts::Status s =
           pcl_vts::writeMesh(opt.output, result.mesh, write_options, &written);
@@ -1080,9 +1100,19 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
              size + ", top and oblique views, " + std::to_string(bytes) + " bytes");
   }
 
+  std::vector<std::string> gis_lines; // --dem, --contours, the .prj (gis_cli.h)
+  if (pcl_vts::Status s = opt.gis.write(result.mesh, opt.output, gis_lines); !s.ok())
+    return out.fail(s.code == pcl_vts::StatusCode::IO_ERROR ? EXIT_OUTPUT
+                                                            : EXIT_INTERNAL,
+                    s.message);
+  for (const std::string& line : gis_lines)
+    out.line("GIS: %s\n", line.c_str());
+
   out.line("Summary\n");
   out.line("  %-20s %zu\n", "points read", input.points_read);
   out.line("  %-20s %zu\n", "points kept", input.points_kept);
+  if (!opt.gis.crs().empty())
+    out.line("  %-20s %s\n", "coordinate system", opt.gis.crsName().c_str());
   if (opt.preprocess.any())
     out.line("  %-20s %zu (%.1f ms)\n", "after preprocessing", n_points, ms_preprocess);
   out.line("  %-20s %zu\n", "non-finite dropped", d.non_finite_dropped);

@@ -51,6 +51,12 @@ struct CloudDescription {
   std::string details;
   /// Extra facts worth a summary line each ("1734 NODATA cells skipped").
   std::vector<std::string> notes;
+  /// The coordinate system the file declares, as found: a WKT (LAS OGC WKT record,
+  /// GeoTIFF, a .prj beside the file) or "EPSG:n" (LAS GeoTIFF keys); empty when
+  /// none. Not validated here (no GDAL in io's API): pcl_vts::gis parses it.
+  std::string crs;
+  /// Where crs came from: "LAS WKT VLR", "LAS GeoKeys VLR", "GeoTIFF", "'x.prj'".
+  std::string crs_source;
 };
 
 /// Parses a classification list "2" or "2,9" (each 0-255) for CloudLoadOptions.

@@ -1,0 +1,184 @@
+// See gis_cli.h. The GDAL half compiles only with PCL_VTS_HAVE_GIS (pcl_vts::gis).
+#include "gis_cli.h"
+
+#ifdef PCL_VTS_HAVE_GIS
+#include <pcl_vts/gis/gis_outputs.h>
+
+#include <ogr_spatialref.h>
+#endif
+
+#include <cstdio>
+
+namespace pcl_vts::tools {
+
+namespace {
+const char* const VALUE_OPTIONS[] = {"--dem",      "--resolution",   "--dem-bounds",
+                                     "--hillshade", "--contours",    "--interval",
+                                     "--contour-base", "--crs"};
+} // namespace
+
+bool gisOptionTakesValue(const std::string& name)
+{
+  for (const char* o : VALUE_OPTIONS)
+    if (name == o)
+      return true;
+  return false;
+}
+
+bool isGisOption(const std::string& name)
+{
+  return gisOptionTakesValue(name) || name == "--dem-overviews";
+}
+
+void printGisHelp()
+{
+  std::printf(
+      "\nGIS outputs (written after the mesh, in its coordinate system; %s):\n"
+      "  --dem FILE.tif      DEM of the final mesh: Float32 GeoTIFF, 256x256 tiles,\n"
+      "                      DEFLATE, NODATA -9999 outside the mesh; each pixel centre\n"
+      "                      gets the linear interpolation in the triangle holding it\n"
+      "  --resolution R      DEM pixel edge in XY units (needed by --dem); pixel-is-area,\n"
+      "                      edges on multiples of R, so centres at k*R + R/2\n"
+      "  --dem-bounds X0,Y0,X1,Y1  DEM extent instead (a whole number of pixels),\n"
+      "                      e.g. a tile of a tiling scheme\n"
+      "  --dem-overviews     also build internal overviews (2x, 4x, ... averages)\n"
+      "  --hillshade FILE.png  a multidirectional hillshade of the DEM (GDAL)\n"
+      "  --contours FILE     contour lines: .gpkg (GeoPackage) or .shp (Shapefile),\n"
+      "                      one LineString per line, fields elev and closed\n"
+      "  --interval I        contour step (needed by --contours); levels k*I + base\n"
+      "  --contour-base B    (default: 0)\n"
+      "  --crs CRS           coordinate system of the input, EPSG:XXXX or WKT; sets or\n"
+      "                      overrides what the input says (LAS WKT/GeoTIFF keys,\n"
+      "                      GeoTIFF, a .prj beside the input). Meshes get a .prj\n"
+      "                      sidecar and, in PLY, a comment line\n",
+#ifdef PCL_VTS_HAVE_GIS
+      "available in this build"
+#else
+      "NOT available: this pcd_to_mesh was built without GDAL"
+#endif
+  );
+}
+
+#ifdef PCL_VTS_HAVE_GIS
+struct GisCli::Impl {
+  GisOutputOptions options;
+};
+#else
+struct GisCli::Impl {
+  std::string first; ///< first GIS option given: refused by validate()
+};
+#endif
+
+GisCli::GisCli() : impl_(new Impl) {}
+GisCli::~GisCli()
+{
+  delete impl_;
+}
+GisCli::GisCli(const GisCli& o) : impl_(new Impl(*o.impl_)), crs_(o.crs_) {}
+GisCli& GisCli::operator=(const GisCli& o)
+{
+  *impl_ = *o.impl_;
+  crs_ = o.crs_;
+  return *this;
+}
+
+#ifdef PCL_VTS_HAVE_GIS
+
+bool GisCli::parse(const std::string& name, const std::string& value, std::string& error)
+{
+  bool handled = false;
+  return parseGisOption(name, value, impl_->options, handled, error) && handled;
+}
+
+bool GisCli::anyProduct() const
+{
+  return impl_->options.any();
+}
+
+Status GisCli::validate() const
+{
+  return validateGisOptions(impl_->options);
+}
+
+Status GisCli::resolveCrs(const std::vector<std::pair<std::string, std::string>>& inputs)
+{
+  crs_.clear();
+  std::string text;
+  if (!impl_->options.crs.empty())
+    text = impl_->options.crs; // --crs wins over the files
+  else if (Status s = commonCrs(inputs, text); !s.ok())
+    return s;
+  if (!text.empty())
+    if (Status s = normalizeCrs(text, crs_); !s.ok())
+      return s;
+  return Status::success();
+}
+
+std::string GisCli::crsName() const
+{
+  if (crs_.empty())
+    return {};
+  OGRSpatialReference srs;
+  if (srs.SetFromUserInput(crs_.c_str()) != OGRERR_NONE)
+    return {};
+  const char* name = srs.GetName();
+  const char* auth = srs.GetAuthorityName(nullptr);
+  const char* code = srs.GetAuthorityCode(nullptr);
+  std::string out = name ? name : "unnamed CRS";
+  if (auth && code)
+    out += std::string(" (") + auth + ":" + code + ")";
+  return out;
+}
+
+Status GisCli::write(const TriangleMesh& mesh, const std::string& mesh_path,
+                     std::vector<std::string>& summary) const
+{
+  if (!crs_.empty()) {
+    if (Status s = writePrjSidecar(mesh_path, crs_); !s.ok())
+      return s;
+  }
+  return writeGisOutputs(mesh, crs_, impl_->options, summary);
+}
+
+#else
+
+bool GisCli::parse(const std::string& name, const std::string&, std::string&)
+{
+  if (impl_->first.empty())
+    impl_->first = name;
+  return true;
+}
+
+bool GisCli::anyProduct() const
+{
+  return false;
+}
+
+Status GisCli::validate() const
+{
+  if (impl_->first.empty())
+    return Status::success();
+  return Status::error(StatusCode::INVALID_PARAMETER,
+                       impl_->first +
+                           " needs GDAL: this pcd_to_mesh was built without it "
+                           "(Debian: libgdal-dev, then rebuild)");
+}
+
+Status GisCli::resolveCrs(const std::vector<std::pair<std::string, std::string>>&)
+{
+  return Status::success();
+}
+
+std::string GisCli::crsName() const
+{
+  return {};
+}
+
+Status GisCli::write(const TriangleMesh&, const std::string&, std::vector<std::string>&) const
+{
+  return Status::success();
+}
+
+#endif
+
+} // namespace pcl_vts::tools

@@ -1,0 +1,54 @@
+// pcd_to_mesh's GIS outputs (--dem, --contours, --crs and friends): parsing, help and
+// the one call after the final mesh, kept out of the tool's main file. Without GDAL
+// in the build the options are still recognised and refused with a clear message.
+#pragma once
+
+#include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/core/status.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pcl_vts::tools {
+
+/// True for every GIS option name; the ones taking a value.
+bool isGisOption(const std::string& name);
+bool gisOptionTakesValue(const std::string& name);
+
+/// The GIS section of --help.
+void printGisHelp();
+
+class GisCli {
+ public:
+  GisCli();
+  ~GisCli();
+  GisCli(const GisCli&);
+  GisCli& operator=(const GisCli&);
+
+  /// One option; false with error set for a bad value.
+  bool parse(const std::string& name, const std::string& value, std::string& error);
+  /// A raster or vector product is asked for.
+  bool anyProduct() const;
+  /// Checks the combination; INVALID_PARAMETER (a usage error) otherwise, also for
+  /// any GIS option in a build without GDAL.
+  Status validate() const;
+  /// The CRS of the run: --crs if given, else the inputs' common one ((file, crs)
+  /// pairs; INVALID_PARAMETER naming two files that differ). Empty when none.
+  Status resolveCrs(const std::vector<std::pair<std::string, std::string>>& inputs);
+  const std::string& crs() const { return crs_; }
+  /// A short name of the CRS for a summary or a PLY comment ("EPSG:32633", or the
+  /// WKT's name), empty when none.
+  std::string crsName() const;
+  /// Writes the products and the mesh's .prj sidecar (when a CRS is known); one
+  /// summary line each.
+  Status write(const TriangleMesh& mesh, const std::string& mesh_path,
+               std::vector<std::string>& summary) const;
+
+ private:
+  struct Impl;
+  Impl* impl_;
+  std::string crs_;
+};
+
+} // namespace pcl_vts::tools
