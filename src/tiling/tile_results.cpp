@@ -1,0 +1,242 @@
+// Tile result files and what is read back from them (tile_results.h).
+#include "tile_results.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+namespace pcl_vts {
+namespace {
+
+bool exactInFloat(double v)
+{
+  return std::fabs(v) <= std::numeric_limits<float>::max() &&
+         static_cast<double>(static_cast<float>(v)) == v;
+}
+
+std::string ioFailure(const char* what, const std::string& path, int err)
+{
+  std::string why = std::strerror(err);
+  if (err == ENOSPC || err == EDQUOT || err == EFBIG)
+    why += " (the temporary folder is full: choose another with --temp-dir)";
+  return std::string("cannot ") + what + " '" + path + "': " + why;
+}
+
+/// A tile's result file read whole.
+struct TileMeshData {
+  std::vector<double> xyz;
+  std::vector<std::uint32_t> triangles;
+};
+
+Status readTileResult(const std::string& path, TileMeshData& data)
+{
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr)
+    return Status::error(StatusCode::IO_ERROR, ioFailure("open", path, errno));
+  std::uint64_t header[3] = {0, 0, 0};
+  bool ok = std::fread(header, sizeof(header), 1, file) == 1;
+  if (ok) {
+    data.xyz.resize(3 * header[0]);
+    data.triangles.resize(3 * header[1]);
+    ok = std::fread(data.xyz.data(), sizeof(double), data.xyz.size(), file) ==
+             data.xyz.size() &&
+         std::fread(data.triangles.data(), sizeof(std::uint32_t), data.triangles.size(),
+                    file) == data.triangles.size();
+  }
+  std::fclose(file);
+  if (!ok)
+    return Status::error(StatusCode::IO_ERROR, "cannot read back '" + path +
+                                                   "': shorter than its header says");
+  return Status::success();
+}
+
+} // namespace
+
+std::string resultPath(const std::string& folder, std::uint32_t tile)
+{
+  return folder + "/result_" + std::to_string(tile) + ".bin";
+}
+
+/// One tile's output: a header (vertex count, triangle count, all float-exact), the
+/// vertices (3 doubles) and the owned triangles (3 uint32), canonical order.
+Status writeTileResult(const std::string& path, const TileResult& tile)
+{
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr)
+    return Status::error(StatusCode::IO_ERROR, ioFailure("create", path, errno));
+  bool exact = true;
+  for (double v : tile.xyz)
+    exact = exact && exactInFloat(v);
+  const std::uint64_t header[3] = {tile.xyz.size() / 3, tile.triangles.size() / 3,
+                                   exact ? 1u : 0u};
+  bool ok = std::fwrite(header, sizeof(header), 1, file) == 1;
+  ok =
+      ok && (tile.xyz.empty() || std::fwrite(tile.xyz.data(), sizeof(double),
+                                             tile.xyz.size(), file) == tile.xyz.size());
+  ok = ok && (tile.triangles.empty() ||
+              std::fwrite(tile.triangles.data(), sizeof(std::uint32_t),
+                          tile.triangles.size(), file) == tile.triangles.size());
+  const int err = errno;
+  if (std::fclose(file) != 0 || !ok)
+    return Status::error(StatusCode::IO_ERROR,
+                         ioFailure("write", path, ok ? errno : err));
+  return Status::success();
+}
+
+TileResultsMesh::TileResultsMesh(std::string folder, std::vector<std::uint32_t> tiles)
+    : folder_(std::move(folder))
+    , tiles_(std::move(tiles))
+{}
+
+Status TileResultsMesh::scan()
+{
+  nv_ = nt_ = 0;
+  exact_ = true;
+  for (std::uint32_t t : tiles_) {
+    std::uint64_t header[3];
+    if (Status s = readAt(t, 0, header, sizeof(header)); !s.ok())
+      return s;
+    nv_ += header[0];
+    nt_ += header[1];
+    exact_ = exact_ && header[2] != 0;
+  }
+  return Status::success();
+}
+
+Status TileResultsMesh::forEachVertex(const VertexVisit& visit) const
+{
+  return forEachSection(true, [&](const char* data, std::size_t count) {
+    double xyz[3];
+    for (std::size_t k = 0; k < count; ++k) {
+      std::memcpy(xyz, data + 24 * k, 24);
+      visit(xyz[0], xyz[1], xyz[2], false);
+    }
+  });
+}
+
+Status TileResultsMesh::forEachTriangle(const TriangleVisit& visit) const
+{
+  return forEachSection(false, [&](const char* data, std::size_t count) {
+    std::uint32_t t[3];
+    for (std::size_t k = 0; k < count; ++k) {
+      std::memcpy(t, data + 12 * k, 12);
+      visit(t[0], t[1], t[2]);
+    }
+  });
+}
+
+Status TileResultsMesh::readAt(std::uint32_t tile, long offset, void* data,
+                               std::size_t bytes) const
+{
+  const std::string path = resultPath(folder_, tile);
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr)
+    return Status::error(StatusCode::IO_ERROR, ioFailure("open", path, errno));
+  const bool ok = std::fseek(file, offset, SEEK_SET) == 0 &&
+                  std::fread(data, 1, bytes, file) == bytes;
+  std::fclose(file);
+  if (!ok)
+    return Status::error(StatusCode::IO_ERROR, "cannot read back '" + path +
+                                                   "': shorter than its header says");
+  return Status::success();
+}
+
+template <typename Visit>
+Status TileResultsMesh::forEachSection(bool vertices, const Visit& visit) const
+{
+  const std::size_t item = vertices ? 24 : 12;
+  std::vector<char> buffer;
+  for (std::uint32_t t : tiles_) {
+    std::uint64_t header[3];
+    if (Status s = readAt(t, 0, header, sizeof(header)); !s.ok())
+      return s;
+    const std::uint64_t count = vertices ? header[0] : header[1];
+    long offset = static_cast<long>(sizeof(header) + (vertices ? 0 : 24 * header[0]));
+    for (std::uint64_t done = 0; done < count;) {
+      const std::size_t n =
+          static_cast<std::size_t>(std::min<std::uint64_t>(count - done, 1 << 16));
+      buffer.resize(n * item);
+      if (Status s = readAt(t, offset, buffer.data(), buffer.size()); !s.ok())
+        return s;
+      visit(buffer.data(), n);
+      done += n;
+      offset += static_cast<long>(n * item);
+    }
+  }
+  return Status::success();
+}
+
+std::size_t VertexOwners::tileOf(std::uint64_t id) const
+{
+  return static_cast<std::size_t>(std::upper_bound(first.begin(), first.end(), id) -
+                                  first.begin()) -
+         1;
+}
+
+/// Writes tile k's mesh (its owned triangles, every vertex they use and its own
+/// vertices, ids renumbered in global order) and returns its index line.
+Status writeTileMesh(const std::string& folder, const std::string& out_folder,
+                     const TileFrame& frame, int tile_level, const VertexOwners& owners,
+                     std::size_t k, std::string& index_line)
+{
+  const std::uint32_t tile = owners.tiles[k];
+  TileMeshData own;
+  if (Status s = readTileResult(resultPath(folder, tile), own); !s.ok())
+    return s;
+  std::vector<std::uint64_t> ids;
+  for (std::uint64_t v = owners.first[k]; v < owners.first[k + 1]; ++v)
+    ids.push_back(v);
+  for (std::uint32_t v : own.triangles)
+    if (v < owners.first[k] || v >= owners.first[k + 1])
+      ids.push_back(v);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  TriangleMesh mesh;
+  mesh.xy.resize(ids.size());
+  mesh.z.resize(ids.size());
+  std::size_t neighbour = SIZE_MAX;
+  TileMeshData other;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const std::size_t owner = owners.tileOf(ids[i]);
+    const TileMeshData* data = &own;
+    if (owner != k) {
+      if (owner != neighbour) {
+        if (Status s = readTileResult(resultPath(folder, owners.tiles[owner]), other);
+            !s.ok())
+          return s;
+        neighbour = owner;
+      }
+      data = &other;
+    }
+    const std::size_t at = 3 * static_cast<std::size_t>(ids[i] - owners.first[owner]);
+    mesh.xy[i] = {data->xyz[at], data->xyz[at + 1]};
+    mesh.z[i] = data->xyz[at + 2];
+  }
+  mesh.triangles.reserve(own.triangles.size());
+  for (std::uint32_t v : own.triangles)
+    mesh.triangles.push_back(static_cast<VertexId>(
+        std::lower_bound(ids.begin(), ids.end(), std::uint64_t{v}) - ids.begin()));
+  const std::uint32_t column = gatherBits(tile), row = gatherBits(tile >> 1);
+  const std::string name =
+      "tile_" + std::to_string(column) + "_" + std::to_string(row) + ".ply";
+  MeshWriteOptions options;
+  options.comment = "pcl_vts tile " + std::to_string(column) + " " +
+                    std::to_string(row) + " of level " + std::to_string(tile_level) +
+                    ": its triangles of the global Delaunay triangulation";
+  if (Status s = writeMesh(out_folder + "/" + name, mesh, options); !s.ok())
+    return s;
+  const double cell = frame.side / static_cast<double>(1u << tile_level);
+  char line[512];
+  std::snprintf(line, sizeof(line), "%u,%u,%u,%.17g,%.17g,%.17g,%.17g,%zu,%zu,%s\n",
+                tile, column, row, frame.min_x + column * cell,
+                frame.min_y + row * cell, frame.min_x + (column + 1) * cell,
+                frame.min_y + (row + 1) * cell, mesh.vertexCount(),
+                mesh.triangleCount(), name.c_str());
+  index_line = line;
+  return Status::success();
+}
+
+} // namespace pcl_vts

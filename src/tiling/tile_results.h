@@ -1,0 +1,67 @@
+// Tile results on the shared temporary folder: each tile's vertices and owned
+// triangles in one file, read back in tile order as the whole mesh (a MeshSource
+// for the writer), or one tile at a time for --tile-output's per-tile meshes.
+#pragma once
+#include "tile_triangulation.h"
+
+#include <pcl_vts/core/status.h>
+#include <pcl_vts/io/mesh_writer.h>
+#include <pcl_vts/tiling/tile_frame.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl_vts {
+
+/// "<folder>/result_<tile>.bin".
+std::string resultPath(const std::string& folder, std::uint32_t tile);
+
+/// Writes one tile's result: a header (vertex count, triangle count, all float-exact),
+/// the vertices (3 doubles) and the owned triangles (3 uint32), canonical order.
+Status writeTileResult(const std::string& path, const TileResult& tile);
+
+/// The whole mesh, read back tile by tile from the result files (rank 0).
+class TileResultsMesh : public MeshSource {
+ public:
+  TileResultsMesh(std::string folder, std::vector<std::uint32_t> tiles);
+  /// Reads every header: counts and float-exactness.
+  Status scan();
+  std::uint64_t vertexCount() const override { return nv_; }
+  std::uint64_t triangleCount() const override { return nt_; }
+  bool exactInFloat() const override { return exact_; }
+  bool hasInsertedFlags() const override { return false; }
+  Status forEachVertex(const VertexVisit& visit) const override;
+  Status forEachTriangle(const TriangleVisit& visit) const override;
+
+ private:
+  Status readAt(std::uint32_t tile, long offset, void* data, std::size_t bytes) const;
+  template <typename Visit>
+  Status forEachSection(bool vertices, const Visit& visit) const;
+
+  std::string folder_;
+  std::vector<std::uint32_t> tiles_;
+  std::uint64_t nv_ = 0, nt_ = 0;
+  bool exact_ = true;
+};
+
+/// Where every vertex id lives: the tiles with points, their first ids.
+struct VertexOwners {
+  std::vector<std::uint32_t> tiles;
+  std::vector<std::uint64_t>
+      first; ///< first id of each tile, plus the total at the end
+  std::size_t tileOf(std::uint64_t id) const;
+};
+
+/// Writes tile k's mesh (its owned triangles, every vertex they use and its own
+/// vertices, ids renumbered in global order) into out_folder and returns its line of
+/// index.csv.
+Status writeTileMesh(const std::string& folder, const std::string& out_folder,
+                     const TileFrame& frame, int tile_level, const VertexOwners& owners,
+                     std::size_t k, std::string& index_line);
+
+/// index.csv's header line.
+constexpr const char* TILE_INDEX_HEADER =
+    "tile,column,row,x0,y0,x1,y1,vertices,triangles,file\n";
+
+} // namespace pcl_vts
