@@ -6,6 +6,7 @@
 #include <cstring>
 #include <dirent.h>
 #include <fcntl.h>
+#include <mutex>
 #include <sys/syscall.h>
 #include <unistd.h>
 #include <vector>
@@ -17,6 +18,8 @@ namespace {
 constexpr std::size_t PATH_CAPACITY = 4096;
 char g_folder[PATH_CAPACITY];
 volatile std::sig_atomic_t g_active = 0;
+std::mutex g_watch_mutex;
+int g_watchers = 0;
 struct sigaction g_previous[3];
 constexpr int SIGNALS[3] = {SIGINT, SIGTERM, SIGHUP};
 
@@ -81,30 +84,61 @@ Status TempFolder::create(const std::string& parent)
                                                    "': " + std::strerror(errno) +
                                                    " (choose another with --temp-dir)");
   path_ = buffer.data();
-  std::memcpy(g_folder, path_.c_str(), path_.size() + 1);
-  struct sigaction action;
-  std::memset(&action, 0, sizeof(action));
-  action.sa_handler = onSignal;
-  sigemptyset(&action.sa_mask);
-  for (int k = 0; k < 3; ++k) {
-    ::sigaction(SIGNALS[k], nullptr, &g_previous[k]);
-    // A signal ignored on entry (nohup, a shell's background job) stays ignored.
-    if (g_previous[k].sa_handler != SIG_IGN)
-      ::sigaction(SIGNALS[k], &action, nullptr);
+  owned_ = true;
+  watchSignals(path_);
+  return Status::success();
+}
+
+void TempFolder::adopt(const std::string& path)
+{
+  remove();
+  if (path.empty() || path.size() + 64 >= PATH_CAPACITY)
+    return;
+  path_ = path;
+  owned_ = false;
+  watchSignals(path_);
+}
+
+void TempFolder::watchSignals(const std::string& path)
+{
+  // Several TempFolders may watch at once (MPI ranks as threads of a test, always
+  // the same folder): the handler is installed by the first, restored by the last.
+  const std::lock_guard<std::mutex> lock(g_watch_mutex);
+  std::memcpy(g_folder, path.c_str(), path.size() + 1);
+  if (g_watchers++ == 0) {
+    struct sigaction action;
+    std::memset(&action, 0, sizeof(action));
+    action.sa_handler = onSignal;
+    sigemptyset(&action.sa_mask);
+    for (int k = 0; k < 3; ++k) {
+      ::sigaction(SIGNALS[k], nullptr, &g_previous[k]);
+      // A signal ignored on entry (nohup, a shell's background job) stays ignored.
+      if (g_previous[k].sa_handler != SIG_IGN)
+        ::sigaction(SIGNALS[k], &action, nullptr);
+    }
   }
   g_active = 1;
-  return Status::success();
+}
+
+void TempFolder::unwatchSignals()
+{
+  const std::lock_guard<std::mutex> lock(g_watch_mutex);
+  if (--g_watchers == 0) {
+    g_active = 0;
+    for (int k = 0; k < 3; ++k)
+      ::sigaction(SIGNALS[k], &g_previous[k], nullptr);
+  }
 }
 
 void TempFolder::remove()
 {
   if (path_.empty())
     return;
-  g_active = 0;
-  for (int k = 0; k < 3; ++k)
-    ::sigaction(SIGNALS[k], &g_previous[k], nullptr);
-  removeFolderSignalSafe(path_.c_str());
+  unwatchSignals();
+  if (owned_)
+    removeFolderSignalSafe(path_.c_str());
   path_.clear();
+  owned_ = false;
 }
 
 TempFolder::~TempFolder()

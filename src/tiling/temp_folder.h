@@ -18,11 +18,19 @@ class TempFolder {
   /// Creates "<parent>/.pcl_vts-XXXXXX"; IO_ERROR naming parent when it cannot.
   Status create(const std::string& parent);
   const std::string& path() const { return path_; }
-  /// Removes the folder and its files now (also done by the destructor).
+  /// Another process's folder (an MPI rank's view of rank 0's): removed by this
+  /// process only if it receives SIGINT/SIGTERM/SIGHUP, so that a job stopped while
+  /// rank 0 is busy or killed still leaves nothing behind; never by the destructor.
+  void adopt(const std::string& path);
+  /// Removes the folder and its files now (also done by the destructor), or, for an
+  /// adopted folder, stops watching it.
   void remove();
 
  private:
+  void watchSignals(const std::string& path);
+  void unwatchSignals();
   std::string path_;
+  bool owned_ = false;
 };
 
 } // namespace pcl_vts

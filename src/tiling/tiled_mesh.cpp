@@ -377,6 +377,8 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   if (!(status = agree(comm, status)).ok())
     return status;
   comm.broadcast(job.folder, 0);
+  if (job.rank != 0) // any rank that mpirun stops removes the folder too
+    temp.adopt(job.folder);
   const std::size_t tiles = std::size_t{1} << (2 * job.levels.tile);
   const std::size_t buffer_points = std::clamp<std::size_t>(
       static_cast<std::size_t>(options.memory_limit / 8 / (tiles * 24)), 64, 16384);

@@ -70,7 +70,11 @@ for _ in $(seq 1 200); do # find rank 1 once it runs (its environment names its 
   sleep 0.05
 done
 [ -n "$victim" ] || fail "rank 1 never appeared"
-sleep 0.3
+for _ in $(seq 1 400); do # wait until tiles are being meshed: the folder holds results
+  compgen -G ".pcl_vts-*/result_*" > /dev/null && break
+  sleep 0.05
+done
+compgen -G ".pcl_vts-*/result_*" > /dev/null || fail "the job never reached the tiles"
 kill -9 "$victim" 2>/dev/null || true
 set +e
 timeout 120 tail --pid="$job" -f /dev/null
