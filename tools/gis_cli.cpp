@@ -12,8 +12,8 @@
 namespace pcl_vts::tools {
 
 namespace {
-const char* const VALUE_OPTIONS[] = {"--dem",      "--resolution",   "--dem-bounds",
-                                     "--hillshade", "--contours",    "--interval",
+const char* const VALUE_OPTIONS[] = {"--dem",          "--resolution", "--dem-bounds",
+                                     "--hillshade",    "--contours",   "--interval",
                                      "--contour-base", "--crs"};
 } // namespace
 
@@ -35,9 +35,11 @@ void printGisHelp()
   std::printf(
       "\nGIS outputs (written after the mesh, in its coordinate system; %s):\n"
       "  --dem FILE.tif      DEM of the final mesh: Float32 GeoTIFF, 256x256 tiles,\n"
-      "                      DEFLATE, NODATA -9999 outside the mesh; each pixel centre\n"
+      "                      DEFLATE, NODATA -9999 outside the mesh; each pixel "
+      "centre\n"
       "                      gets the linear interpolation in the triangle holding it\n"
-      "  --resolution R      DEM pixel edge in XY units (needed by --dem); pixel-is-area,\n"
+      "  --resolution R      DEM pixel edge in XY units (needed by --dem); "
+      "pixel-is-area,\n"
       "                      edges on multiples of R, so centres at k*R + R/2\n"
       "  --dem-bounds X0,Y0,X1,Y1  DEM extent instead (a whole number of pixels),\n"
       "                      e.g. a tile of a tiling scheme\n"
@@ -47,7 +49,8 @@ void printGisHelp()
       "                      one LineString per line, fields elev and closed\n"
       "  --interval I        contour step (needed by --contours); levels k*I + base\n"
       "  --contour-base B    (default: 0)\n"
-      "  --crs CRS           coordinate system of the input, EPSG:XXXX or WKT; sets or\n"
+      "  --crs CRS           coordinate system of the input, EPSG:XXXX or WKT; sets "
+      "or\n"
       "                      overrides what the input says (LAS WKT/GeoTIFF keys,\n"
       "                      GeoTIFF, a .prj beside the input). Meshes get a .prj\n"
       "                      sidecar and, in PLY, a comment line\n",
@@ -69,12 +72,17 @@ struct GisCli::Impl {
 };
 #endif
 
-GisCli::GisCli() : impl_(new Impl) {}
+GisCli::GisCli()
+    : impl_(new Impl)
+{}
 GisCli::~GisCli()
 {
   delete impl_;
 }
-GisCli::GisCli(const GisCli& o) : impl_(new Impl(*o.impl_)), crs_(o.crs_) {}
+GisCli::GisCli(const GisCli& o)
+    : impl_(new Impl(*o.impl_))
+    , crs_(o.crs_)
+{}
 GisCli& GisCli::operator=(const GisCli& o)
 {
   *impl_ = *o.impl_;
@@ -84,7 +92,8 @@ GisCli& GisCli::operator=(const GisCli& o)
 
 #ifdef PCL_VTS_HAVE_GIS
 
-bool GisCli::parse(const std::string& name, const std::string& value, std::string& error)
+bool GisCli::parse(const std::string& name, const std::string& value,
+                   std::string& error)
 {
   bool handled = false;
   return parseGisOption(name, value, impl_->options, handled, error) && handled;
@@ -100,7 +109,8 @@ Status GisCli::validate() const
   return validateGisOptions(impl_->options);
 }
 
-Status GisCli::resolveCrs(const std::vector<std::pair<std::string, std::string>>& inputs)
+Status
+GisCli::resolveCrs(const std::vector<std::pair<std::string, std::string>>& inputs)
 {
   crs_.clear();
   std::string text;
@@ -174,7 +184,8 @@ std::string GisCli::crsName() const
   return {};
 }
 
-Status GisCli::write(const TriangleMesh&, const std::string&, std::vector<std::string>&) const
+Status GisCli::write(const TriangleMesh&, const std::string&,
+                     std::vector<std::string>&) const
 {
   return Status::success();
 }

@@ -18,7 +18,10 @@ struct Crossing {
 
 class Tracer {
  public:
-  Tracer(const TriangleMesh& mesh, double level) : mesh_(mesh), level_(level) {}
+  Tracer(const TriangleMesh& mesh, double level)
+      : mesh_(mesh)
+      , level_(level)
+  {}
 
   bool above(VertexId v) const { return mesh_.z[v] >= level_; }
 
@@ -72,8 +75,7 @@ Status traceContours(const TriangleMesh& mesh, double interval, double base,
                          "contour interval must be a positive number, not " +
                              formatValue(interval));
   const std::size_t n_tri = mesh.triangleCount();
-  if (mesh.halfedges.size() != mesh.triangles.size() ||
-      mesh.xy.size() != mesh.z.size())
+  if (mesh.halfedges.size() != mesh.triangles.size() || mesh.xy.size() != mesh.z.size())
     return Status::error(StatusCode::INVALID_PARAMETER,
                          "contours need the mesh's halfedges");
   for (VertexId v : mesh.triangles)
@@ -83,7 +85,8 @@ Status traceContours(const TriangleMesh& mesh, double interval, double base,
   // Every (level, triangle) crossing: level k crosses t when zmin < L_k <= zmax.
   std::vector<Crossing> crossings;
   for (TriangleId t = 0; t < n_tri; ++t) {
-    const double z0 = mesh.z[mesh.triangles[3 * t]], z1 = mesh.z[mesh.triangles[3 * t + 1]],
+    const double z0 = mesh.z[mesh.triangles[3 * t]],
+                 z1 = mesh.z[mesh.triangles[3 * t + 1]],
                  z2 = mesh.z[mesh.triangles[3 * t + 2]];
     const double zmin = std::min({z0, z1, z2}), zmax = std::max({z0, z1, z2});
     const double kmax = std::floor((zmax - base) / interval);
@@ -91,7 +94,8 @@ Status traceContours(const TriangleMesh& mesh, double interval, double base,
     if (std::abs(kmax) > 9e15 || std::abs(kmin) > 9e15)
       return Status::error(StatusCode::INVALID_PARAMETER,
                            "contour interval " + formatValue(interval) +
-                               " is too small for elevations up to " + formatValue(zmax));
+                               " is too small for elevations up to " +
+                               formatValue(zmax));
     // Rounding in the division is settled by the exact comparisons with L_k.
     for (std::int64_t k = static_cast<std::int64_t>(kmin) - 1;
          k <= static_cast<std::int64_t>(kmax) + 1; ++k) {
@@ -100,9 +104,10 @@ Status traceContours(const TriangleMesh& mesh, double interval, double base,
         crossings.push_back({k, t});
     }
   }
-  std::sort(crossings.begin(), crossings.end(), [](const Crossing& a, const Crossing& b) {
-    return a.level < b.level || (a.level == b.level && a.triangle < b.triangle);
-  });
+  std::sort(
+      crossings.begin(), crossings.end(), [](const Crossing& a, const Crossing& b) {
+        return a.level < b.level || (a.level == b.level && a.triangle < b.triangle);
+      });
 
   ContourStats local;
   local.segments = crossings.size();

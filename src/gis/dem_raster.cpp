@@ -91,9 +91,9 @@ Status demGridForBounds(double x0, double y0, double x1, double y1, double resol
                              formatValue(resolution) + " pixels: " + formatValue(wc) +
                              " x " + formatValue(hc));
   if (cols > MAX_SIDE || rows > MAX_SIDE)
-    return Status::error(StatusCode::COORDINATE_RANGE,
-                         "DEM of " + formatValue(cols) + " x " + formatValue(rows) +
-                             " pixels is too large");
+    return Status::error(StatusCode::COORDINATE_RANGE, "DEM of " + formatValue(cols) +
+                                                           " x " + formatValue(rows) +
+                                                           " pixels is too large");
   grid.x0 = x0;
   grid.y1 = y1;
   grid.resolution = resolution;
@@ -174,7 +174,8 @@ Status rasterizeDem(const TriangleMesh& mesh, const DemGrid& grid, float nodata,
           if (owner[i] < t)
             continue; // an earlier triangle holds this centre (a shared edge)
           const Point2 p{grid.centreX(col), py};
-          if (orient2d(a, b, p) == Sign::NEGATIVE || orient2d(b, c, p) == Sign::NEGATIVE ||
+          if (orient2d(a, b, p) == Sign::NEGATIVE ||
+              orient2d(b, c, p) == Sign::NEGATIVE ||
               orient2d(c, a, p) == Sign::NEGATIVE)
             continue;
           const double px = p.x - a.x, qy = p.y - a.y;

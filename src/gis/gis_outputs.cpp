@@ -3,21 +3,20 @@
 // helpers. Files appear whole or not at all: written to a temporary name, renamed.
 #include <pcl_vts/gis/gis_outputs.h>
 
+#include <cerrno>
+#include <cmath>
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
-#include <gdal_priv.h>
-#include <gdal_utils.h>
-#include <ogr_spatialref.h>
-#include <ogrsf_frmts.h>
-
-#include <cerrno>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <gdal_priv.h>
+#include <gdal_utils.h>
 #include <memory>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
 #include <unistd.h>
 
 namespace pcl_vts {
@@ -112,9 +111,10 @@ bool parseGisOption(const std::string& name, const std::string& value,
     std::size_t start = 0;
     for (int i = 0; i < 4; ++i) {
       const std::size_t comma = value.find(',', start);
-      const std::string item =
-          value.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-      if (!parseNumber(item, options.bounds[i]) || (i < 3) == (comma == std::string::npos)) {
+      const std::string item = value.substr(
+          start, comma == std::string::npos ? std::string::npos : comma - start);
+      if (!parseNumber(item, options.bounds[i]) ||
+          (i < 3) == (comma == std::string::npos)) {
         error = "--dem-bounds: '" + value + "' is not X0,Y0,X1,Y1";
         return false;
       }
@@ -133,9 +133,10 @@ Status validateGisOptions(const GisOutputOptions& o)
   };
   if (!o.dem.empty() && !(o.resolution > 0.0))
     return bad("--dem needs --resolution R (pixel edge in input units)");
-  if (o.dem.empty() && (o.resolution > 0.0 || o.bounds_given || o.overviews ||
-                        !o.hillshade.empty()))
-    return bad("--resolution, --dem-bounds, --dem-overviews and --hillshade need --dem");
+  if (o.dem.empty() &&
+      (o.resolution > 0.0 || o.bounds_given || o.overviews || !o.hillshade.empty()))
+    return bad(
+        "--resolution, --dem-bounds, --dem-overviews and --hillshade need --dem");
   if (!o.dem.empty() && !endsWith(o.dem, ".tif") && !endsWith(o.dem, ".tiff"))
     return bad("--dem: '" + o.dem + "' does not end in .tif or .tiff");
   if (!o.hillshade.empty() && !endsWith(o.hillshade, ".png"))
@@ -144,7 +145,8 @@ Status validateGisOptions(const GisOutputOptions& o)
     return bad("--contours needs --interval I (elevation step)");
   if (o.contours.empty() && o.interval > 0.0)
     return bad("--interval needs --contours");
-  if (!o.contours.empty() && !endsWith(o.contours, ".gpkg") && !endsWith(o.contours, ".shp"))
+  if (!o.contours.empty() && !endsWith(o.contours, ".gpkg") &&
+      !endsWith(o.contours, ".shp"))
     return bad("--contours: '" + o.contours + "' does not end in .gpkg or .shp");
   if (o.bounds_given) {
     DemGrid grid;
@@ -167,7 +169,8 @@ Status normalizeCrs(const std::string& text, std::string& wkt)
   CPLErrorReset();
   if (srs.SetFromUserInput(text.c_str()) != OGRERR_NONE)
     return Status::error(StatusCode::INVALID_PARAMETER,
-                         "'" + text.substr(0, 80) + "' is not a coordinate system GDAL knows" +
+                         "'" + text.substr(0, 80) +
+                             "' is not a coordinate system GDAL knows" +
                              lastGdalError());
   char* out = nullptr;
   const char* opts[] = {"FORMAT=WKT2_2019", "MULTILINE=NO", nullptr};
@@ -224,7 +227,8 @@ Status writePrjSidecar(const std::string& path, const std::string& wkt)
       ".prj";
   OGRSpatialReference srs;
   if (srs.SetFromUserInput(wkt.c_str()) != OGRERR_NONE)
-    return Status::error(StatusCode::INVALID_PARAMETER, "not a CRS: " + wkt.substr(0, 80));
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "not a CRS: " + wkt.substr(0, 80));
   char* out = nullptr;
   const char* opts[] = {"FORMAT=WKT1_ESRI", nullptr};
   std::string text;
@@ -235,7 +239,8 @@ Status writePrjSidecar(const std::string& path, const std::string& wkt)
     out = nullptr;
     if (srs.exportToWkt(&out) != OGRERR_NONE || !out) {
       CPLFree(out);
-      return Status::error(StatusCode::INVALID_PARAMETER, "CRS cannot be written as WKT");
+      return Status::error(StatusCode::INVALID_PARAMETER,
+                           "CRS cannot be written as WKT");
     }
     text = out;
   }
@@ -259,9 +264,9 @@ Status writeDemGeoTiff(const std::string& path, const TriangleMesh& mesh,
   if (grid.cols > 2147483647u || grid.rows > 2147483647u)
     return Status::error(StatusCode::COORDINATE_RANGE, "DEM too large for GDAL");
   const std::string tmp = tempPath(path, ".tif");
-  const char* create[] = {"TILED=YES",        "BLOCKXSIZE=256", "BLOCKYSIZE=256",
-                          "COMPRESS=DEFLATE", "PREDICTOR=3",    "BIGTIFF=IF_SAFER",
-                          nullptr};
+  const char* create[] = {
+      "TILED=YES",   "BLOCKXSIZE=256",   "BLOCKYSIZE=256", "COMPRESS=DEFLATE",
+      "PREDICTOR=3", "BIGTIFF=IF_SAFER", nullptr};
   CPLErrorReset();
   DatasetPtr ds(driver->Create(tmp.c_str(), static_cast<int>(grid.cols),
                                static_cast<int>(grid.rows), 1, GDT_Float32,
@@ -278,19 +283,21 @@ Status writeDemGeoTiff(const std::string& path, const TriangleMesh& mesh,
   ds->SetMetadataItem("AREA_OR_POINT", "Area");
   if (!wkt.empty()) {
     OGRSpatialReference srs;
-    if (srs.SetFromUserInput(wkt.c_str()) != OGRERR_NONE || ds->SetSpatialRef(&srs) != CE_None)
-      return fail(Status::error(StatusCode::INVALID_PARAMETER,
-                                "the CRS cannot be attached to the GeoTIFF" + lastGdalError()));
+    if (srs.SetFromUserInput(wkt.c_str()) != OGRERR_NONE ||
+        ds->SetSpatialRef(&srs) != CE_None)
+      return fail(
+          Status::error(StatusCode::INVALID_PARAMETER,
+                        "the CRS cannot be attached to the GeoTIFF" + lastGdalError()));
   }
   GDALRasterBand* band = ds->GetRasterBand(1);
   band->SetNoDataValue(DEM_NODATA);
   Status s = rasterizeDem(
       mesh, grid, DEM_NODATA, DEM_BLOCK,
       [&](std::size_t row0, std::size_t count, const float* values) {
-        if (band->RasterIO(GF_Write, 0, static_cast<int>(row0), static_cast<int>(grid.cols),
-                           static_cast<int>(count), const_cast<float*>(values),
+        if (band->RasterIO(GF_Write, 0, static_cast<int>(row0),
                            static_cast<int>(grid.cols), static_cast<int>(count),
-                           GDT_Float32, 0, 0) != CE_None)
+                           const_cast<float*>(values), static_cast<int>(grid.cols),
+                           static_cast<int>(count), GDT_Float32, 0, 0) != CE_None)
           return ioError("cannot write '" + path + "'");
         return Status::success();
       },
@@ -337,8 +344,8 @@ Status writeHillshade(const std::string& dem, const std::string& png)
   GDALDEMProcessingOptions* opts =
       GDALDEMProcessingOptionsNew(const_cast<char**>(argv), nullptr);
   int usage_error = 0;
-  GDALDatasetH out = GDALDEMProcessing(png.c_str(), src.get(), "hillshade", nullptr, opts,
-                                       &usage_error);
+  GDALDatasetH out = GDALDEMProcessing(png.c_str(), src.get(), "hillshade", nullptr,
+                                       opts, &usage_error);
   GDALDEMProcessingOptionsFree(opts);
   if (!out)
     return ioError("cannot write '" + png + "'");
@@ -349,17 +356,18 @@ Status writeHillshade(const std::string& dem, const std::string& png)
 
 } // namespace
 
-Status writeContourFile(const std::string& path, const TriangleMesh& mesh, double interval,
-                        double base, const std::string& wkt, ContourStats* stats)
+Status writeContourFile(const std::string& path, const TriangleMesh& mesh,
+                        double interval, double base, const std::string& wkt,
+                        ContourStats* stats)
 {
   GDALAllRegister();
   const bool shp = endsWith(path, ".shp");
   GDALDriver* driver =
       GetGDALDriverManager()->GetDriverByName(shp ? "ESRI Shapefile" : "GPKG");
   if (!driver)
-    return Status::error(StatusCode::IO_ERROR,
-                         std::string("GDAL has no ") + (shp ? "Shapefile" : "GeoPackage") +
-                             " driver");
+    return Status::error(StatusCode::IO_ERROR, std::string("GDAL has no ") +
+                                                   (shp ? "Shapefile" : "GeoPackage") +
+                                                   " driver");
   // A Shapefile is several files named after it: write it in place, no rename.
   const std::string target = shp ? path : tempPath(path, ".gpkg");
   VSIStatBufL st;
@@ -378,7 +386,8 @@ Status writeContourFile(const std::string& path, const TriangleMesh& mesh, doubl
   if (!wkt.empty()) {
     srs = std::make_unique<OGRSpatialReference>();
     if (srs->SetFromUserInput(wkt.c_str()) != OGRERR_NONE)
-      return fail(Status::error(StatusCode::INVALID_PARAMETER, "not a CRS: " + wkt.substr(0, 80)));
+      return fail(Status::error(StatusCode::INVALID_PARAMETER,
+                                "not a CRS: " + wkt.substr(0, 80)));
     srs->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
   }
   OGRLayer* layer = ds->CreateLayer("contours", srs.get(), wkbLineString, nullptr);
@@ -386,7 +395,8 @@ Status writeContourFile(const std::string& path, const TriangleMesh& mesh, doubl
     return fail(ioError("cannot create the layer of '" + path + "'"));
   OGRFieldDefn elev("elev", OFTReal);
   OGRFieldDefn closed("closed", OFTInteger);
-  if (layer->CreateField(&elev) != OGRERR_NONE || layer->CreateField(&closed) != OGRERR_NONE)
+  if (layer->CreateField(&elev) != OGRERR_NONE ||
+      layer->CreateField(&closed) != OGRERR_NONE)
     return fail(ioError("cannot create the fields of '" + path + "'"));
   const bool transactions = !shp && ds->StartTransaction() == OGRERR_NONE;
   Status s = traceContours(
@@ -425,25 +435,28 @@ Status writeContourFile(const std::string& path, const TriangleMesh& mesh, doubl
 }
 
 Status writeGisOutputs(const TriangleMesh& mesh, const std::string& wkt,
-                       const GisOutputOptions& options, std::vector<std::string>& summary)
+                       const GisOutputOptions& options,
+                       std::vector<std::string>& summary)
 {
   char line[512];
   if (!options.dem.empty()) {
     DemGrid grid;
-    Status s = options.bounds_given
-                   ? demGridForBounds(options.bounds[0], options.bounds[1], options.bounds[2],
-                                      options.bounds[3], options.resolution, grid)
-                   : demGridForMesh(mesh, options.resolution, grid);
+    Status s =
+        options.bounds_given
+            ? demGridForBounds(options.bounds[0], options.bounds[1], options.bounds[2],
+                               options.bounds[3], options.resolution, grid)
+            : demGridForMesh(mesh, options.resolution, grid);
     if (!s.ok())
       return s;
     DemRasterStats stats;
-    if (s = writeDemGeoTiff(options.dem, mesh, grid, wkt, options.overviews, &stats); !s.ok())
+    if (s = writeDemGeoTiff(options.dem, mesh, grid, wkt, options.overviews, &stats);
+        !s.ok())
       return s;
-    std::snprintf(line, sizeof line,
-                  "DEM %zu x %zu pixels of %.6g (%zu with a value), origin %.10g,%.10g%s%s",
-                  grid.cols, grid.rows, grid.resolution, stats.pixels_inside, grid.x0,
-                  grid.y1, options.overviews ? ", overviews" : "",
-                  wkt.empty() ? ", no CRS" : "");
+    std::snprintf(
+        line, sizeof line,
+        "DEM %zu x %zu pixels of %.6g (%zu with a value), origin %.10g,%.10g%s%s",
+        grid.cols, grid.rows, grid.resolution, stats.pixels_inside, grid.x0, grid.y1,
+        options.overviews ? ", overviews" : "", wkt.empty() ? ", no CRS" : "");
     summary.emplace_back(line);
     if (!options.hillshade.empty()) {
       if (s = writeHillshade(options.dem, options.hillshade); !s.ok())
@@ -467,8 +480,8 @@ Status writeGisOutputs(const TriangleMesh& mesh, const std::string& wkt,
         !s.ok())
       return s;
     std::snprintf(line, sizeof line,
-                  "%zu contour lines (%zu closed) on %zu levels every %.6g%s", stats.lines,
-                  stats.closed, stats.levels, options.interval,
+                  "%zu contour lines (%zu closed) on %zu levels every %.6g%s",
+                  stats.lines, stats.closed, stats.levels, options.interval,
                   wkt.empty() ? ", no CRS" : "");
     summary.emplace_back(line);
   }

@@ -46,7 +46,8 @@ void expectFloatClose(float got, long double exact, std::size_t col, std::size_t
 TEST(DemRaster, PlaneEqualsExactInterpolationInsideAndNodataOutside)
 {
   auto plane = [](double x, double y) { return 2.5 * x - 0.75 * y + 310.0; };
-  const TriangleMesh mesh = test::gridMesh(9, 7, 500000.37, 5200000.11, 1.3, 1.7, plane);
+  const TriangleMesh mesh =
+      test::gridMesh(9, 7, 500000.37, 5200000.11, 1.3, 1.7, plane);
   DemGrid grid;
   ASSERT_TRUE(demGridForMesh(mesh, 0.5, grid).ok());
   // Default grid: edges on multiples of R, so centres at k*R + R/2.
@@ -93,7 +94,8 @@ TEST(DemRaster, NonPlanarTinMatchesBruteForceAndBlocksDoNotMatter)
         const long double l2 = ((bx - ax) * (py - ay) - (px - ax) * (by - ay)) / det;
         if (l1 >= -1e-15L && l2 >= -1e-15L && l1 + l2 <= 1 + 1e-15L) {
           found = true;
-          z = mesh.z[ia] + l1 * (mesh.z[ib] - mesh.z[ia]) + l2 * (mesh.z[ic] - mesh.z[ia]);
+          z = mesh.z[ia] + l1 * (mesh.z[ib] - mesh.z[ia]) +
+              l2 * (mesh.z[ic] - mesh.z[ia]);
         }
       }
       const float got = v[r * grid.cols + c];
@@ -111,8 +113,8 @@ TEST(DemRaster, LShapeNodataExactlyOutsideWithCentresOnTheBoundary)
 {
   // 4x4 unit cells minus the top-right 2x2: the footprint is an L.
   auto keep = [](int i, int j) { return !(i >= 2 && j >= 2); };
-  const TriangleMesh mesh =
-      test::gridMesh(4, 4, 0.0, 0.0, 1.0, 1.0, [](double x, double y) { return x + y; }, keep);
+  const TriangleMesh mesh = test::gridMesh(
+      4, 4, 0.0, 0.0, 1.0, 1.0, [](double x, double y) { return x + y; }, keep);
   DemGrid grid;
   // Bounds shifted by R/2: centres at multiples of 0.5, many exactly on edges.
   ASSERT_TRUE(demGridForBounds(-1.25, -1.25, 5.25, 5.25, 0.5, grid).ok());

@@ -4,14 +4,13 @@
 
 #include <pcl_vts/gis/gis_outputs.h>
 
-#include <gdal_priv.h>
-#include <ogr_spatialref.h>
-#include <ogrsf_frmts.h>
-
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <fstream>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -98,16 +97,17 @@ TEST(GisOutputs, ContoursOnAPlaneAreStraightBoundaryToBoundaryAndUnique)
 {
   // z = 0.5x + 0.25y on [0,10]x[0,8]; vertices land exactly on levels too.
   const double a = 0.5, b = 0.25;
-  const TriangleMesh mesh =
-      test::gridMesh(10, 8, 0.0, 0.0, 1.0, 1.0, [&](double x, double y) { return a * x + b * y; });
+  const TriangleMesh mesh = test::gridMesh(
+      10, 8, 0.0, 0.0, 1.0, 1.0, [&](double x, double y) { return a * x + b * y; });
   std::vector<ContourLine> lines;
   ContourStats stats;
-  ASSERT_TRUE(traceContours(mesh, 0.5, 0.0,
-                            [&](const ContourLine& l) {
-                              lines.push_back(l);
-                              return Status::success();
-                            },
-                            &stats)
+  ASSERT_TRUE(traceContours(
+                  mesh, 0.5, 0.0,
+                  [&](const ContourLine& l) {
+                    lines.push_back(l);
+                    return Status::success();
+                  },
+                  &stats)
                   .ok());
   // Levels L with zmin = 0 < L <= zmax = 7: 0.5 .. 6.5 one straight line each; 7.0
   // touches only the corner vertex (10, 8): a point, not a line.
@@ -175,8 +175,8 @@ TEST(GisOutputs, ContourFileHasFeaturesElevationAndCrs)
     ContourStats stats;
     Status s = writeContourFile(path, mesh, 10.0, 0.0, wktOf("EPSG:2056"), &stats);
     ASSERT_TRUE(s.ok()) << s.toString();
-    GDALDataset* ds = static_cast<GDALDataset*>(GDALOpenEx(path.c_str(), GDAL_OF_VECTOR,
-                                                           nullptr, nullptr, nullptr));
+    GDALDataset* ds = static_cast<GDALDataset*>(
+        GDALOpenEx(path.c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr));
     ASSERT_NE(ds, nullptr) << path;
     OGRLayer* layer = ds->GetLayer(0);
     ASSERT_NE(layer, nullptr);
@@ -208,11 +208,13 @@ TEST(GisCrs, NormalizeCompareCommonAndPrj)
   EXPECT_TRUE(sameCrs(wktOf("EPSG:32633"), "EPSG:32633"));
   EXPECT_FALSE(sameCrs("EPSG:32633", "EPSG:32632"));
   std::string crs;
-  ASSERT_TRUE(commonCrs({{"a.las", "EPSG:32633"}, {"b.las", ""}, {"c.las", wktOf("EPSG:32633")}},
-                        crs)
-                  .ok());
+  ASSERT_TRUE(
+      commonCrs(
+          {{"a.las", "EPSG:32633"}, {"b.las", ""}, {"c.las", wktOf("EPSG:32633")}}, crs)
+          .ok());
   EXPECT_EQ(crs, "EPSG:32633");
-  Status s = commonCrs({{"a.las", "EPSG:32633"}, {"b.las", ""}, {"c.las", "EPSG:25833"}}, crs);
+  Status s =
+      commonCrs({{"a.las", "EPSG:32633"}, {"b.las", ""}, {"c.las", "EPSG:25833"}}, crs);
   EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER);
   EXPECT_NE(s.message.find("'a.las'"), std::string::npos);
   EXPECT_NE(s.message.find("'c.las'"), std::string::npos);

@@ -26,7 +26,8 @@ inline TriangleMesh gridMesh(int nx, int ny, double x0, double y0, double dx, do
     for (int i = 0; i < nx; ++i) {
       if (keep && !keep(i, j))
         continue;
-      const VertexId a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      const VertexId a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1),
+                     d = id(i, j + 1);
       if ((i + j) % 2 == 0)
         m.triangles.insert(m.triangles.end(), {a, b, c, a, c, d});
       else

@@ -48,9 +48,8 @@ PCL_VTS_GIS_EXPORT Status demGridForBounds(double x0, double y0, double x1, doub
 
 /// Receives rows [first_row, first_row + row_count) of values, row-major
 /// (grid.cols per row); pixels outside the mesh hold `nodata`.
-using DemBlockSink =
-    std::function<Status(std::size_t first_row, std::size_t row_count,
-                         const float* values)>;
+using DemBlockSink = std::function<Status(std::size_t first_row, std::size_t row_count,
+                                          const float* values)>;
 
 struct DemRasterStats {
   std::size_t pixels_inside = 0; ///< pixels that got a value

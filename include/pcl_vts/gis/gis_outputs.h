@@ -41,7 +41,8 @@ PCL_VTS_GIS_EXPORT bool gisOptionTakesValue(const std::string& name);
 /// Parses one of --dem, --resolution, --dem-bounds, --dem-overviews, --hillshade,
 /// --contours, --interval, --contour-base, --crs into options.
 /// \return false, with error set, for a bad value; `handled` false for another name.
-PCL_VTS_GIS_EXPORT bool parseGisOption(const std::string& name, const std::string& value,
+PCL_VTS_GIS_EXPORT bool parseGisOption(const std::string& name,
+                                       const std::string& value,
                                        GisOutputOptions& options, bool& handled,
                                        std::string& error);
 
@@ -59,30 +60,33 @@ PCL_VTS_GIS_EXPORT bool sameCrs(const std::string& a, const std::string& b);
 /// The one CRS of several inputs: (file, crs text) pairs, an empty text meaning
 /// "none given". Files without a CRS take the others'; two files whose CRSs differ
 /// are INVALID_PARAMETER naming both. Out: the common CRS, empty when none had one.
-PCL_VTS_GIS_EXPORT Status commonCrs(const std::vector<std::pair<std::string, std::string>>& inputs,
-                                    std::string& crs);
+PCL_VTS_GIS_EXPORT Status commonCrs(
+    const std::vector<std::pair<std::string, std::string>>& inputs, std::string& crs);
 
 /// Writes `wkt` (ESRI-flavoured WKT1, as GIS software expects in .prj) beside
 /// `path`: "mesh.ply" -> "mesh.prj".
-PCL_VTS_GIS_EXPORT Status writePrjSidecar(const std::string& path, const std::string& wkt);
+PCL_VTS_GIS_EXPORT Status writePrjSidecar(const std::string& path,
+                                          const std::string& wkt);
 
 /// Writes the DEM of mesh over grid: Float32, NODATA DEM_NODATA, 256x256 tiles,
 /// DEFLATE with a floating-point predictor, AREA_OR_POINT=Area, the CRS attached
 /// when wkt is not empty; rows computed and written 256 at a time.
-PCL_VTS_GIS_EXPORT Status writeDemGeoTiff(const std::string& path, const TriangleMesh& mesh,
-                                          const DemGrid& grid, const std::string& wkt,
-                                          bool overviews, DemRasterStats* stats = nullptr);
+PCL_VTS_GIS_EXPORT Status writeDemGeoTiff(const std::string& path,
+                                          const TriangleMesh& mesh, const DemGrid& grid,
+                                          const std::string& wkt, bool overviews,
+                                          DemRasterStats* stats = nullptr);
 
 /// Writes the contour lines of mesh as LineString features with a Real field
 /// "elev" (and "closed", 0/1): GeoPackage for .gpkg, ESRI Shapefile for .shp.
-PCL_VTS_GIS_EXPORT Status writeContourFile(const std::string& path, const TriangleMesh& mesh,
-                                           double interval, double base,
-                                           const std::string& wkt,
+PCL_VTS_GIS_EXPORT Status writeContourFile(const std::string& path,
+                                           const TriangleMesh& mesh, double interval,
+                                           double base, const std::string& wkt,
                                            ContourStats* stats = nullptr);
 
 /// Every product asked for in options, in the CRS wkt (options.crs already applied
 /// by the caller). One line per product for the caller's summary.
-PCL_VTS_GIS_EXPORT Status writeGisOutputs(const TriangleMesh& mesh, const std::string& wkt,
+PCL_VTS_GIS_EXPORT Status writeGisOutputs(const TriangleMesh& mesh,
+                                          const std::string& wkt,
                                           const GisOutputOptions& options,
                                           std::vector<std::string>& summary);
 
