@@ -61,6 +61,8 @@ Status readGeoTiff(const std::string& path, std::vector<double>& xyz, GeoTiffInf
   info.pixel_width = gt[1];
   info.pixel_height = gt[5];
   info.driver = GDALGetDriverShortName(GDALGetDatasetDriver(dataset));
+  if (const char* wkt = GDALGetProjectionRef(dataset))
+    info.crs_wkt = wkt;
   int has_nodata = 0;
   info.nodata = GDALGetRasterNoDataValue(band, &has_nodata);
   info.has_nodata = has_nodata != 0;

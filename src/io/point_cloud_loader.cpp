@@ -1,6 +1,7 @@
 // Extension first (users name their files), content second (for odd names); each
 // reader's info is folded into one CloudDescription so the CLI prints one shape.
 #include <pcl_vts/io/asc_grid_reader.h>
+#include <pcl_vts/io/file_crs.h>
 #include <pcl_vts/io/geotiff_reader.h>
 #include <pcl_vts/io/pcd_cloud_reader.h>
 #include <pcl_vts/io/ply_point_reader.h>
@@ -175,6 +176,22 @@ Status parseClassList(const std::string& text, std::vector<std::uint8_t>& classe
   return Status::success();
 }
 
+namespace {
+
+/// The CRS the file declares (LAS records; GeoTIFF's, already in d), else the text
+/// of a .prj beside it.
+Status describeCrs(const std::string& path, CloudDescription& d)
+{
+  if (d.format == CloudFileFormat::LAS)
+    if (Status s = readLasCrs(path, d.crs, d.crs_source); !s.ok())
+      return s;
+  if (d.crs.empty())
+    return readPrjSidecar(path, d.crs, d.crs_source);
+  return Status::success();
+}
+
+} // namespace
+
 Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
                       std::vector<double>& xyz, CloudDescription& d)
 {
@@ -279,10 +296,13 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
     d.details = info.driver + ", " + std::to_string(info.columns) + " x " +
                 std::to_string(info.rows) + " cells";
     d.notes.push_back(std::to_string(info.nodata_cells) + " NODATA cells skipped");
+    d.crs = info.crs_wkt;
+    if (!d.crs.empty())
+      d.crs_source = "GeoTIFF";
     break;
   }
   }
-  return Status::success();
+  return describeCrs(path, d);
 }
 
 Status streamPointCloud(const std::string& path, const CloudLoadOptions& options,
@@ -300,7 +320,7 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
     if (Status s = readLasCloudChunks(path, las, chunk_points, sink, info); !s.ok())
       return s;
     describeLas(info, options, description);
-    return Status::success();
+    return describeCrs(path, description);
   }
   // The other readers parse whole files; they are hand over in one piece.
   std::vector<double> xyz;

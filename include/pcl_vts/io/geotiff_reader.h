@@ -20,6 +20,7 @@ struct GeoTiffInfo {
   double nodata = 0.0;
   double pixel_width = 0.0, pixel_height = 0.0; ///< geotransform [1] and [5]
   std::string driver;                           ///< GDAL driver, e.g. "GTiff"
+  std::string crs_wkt; ///< the raster's coordinate system, empty when it has none
 };
 
 /// True when this build reads rasters through GDAL.

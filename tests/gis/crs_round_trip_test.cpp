@@ -1,0 +1,256 @@
+// CRS round trips: what a file declares (LAS WKT record, LAS GeoTIFF keys, a .prj
+// sidecar) is what the loader reports and what pcd_to_mesh writes into the DEM,
+// the contours and the mesh's .prj; --crs overrides it; inputs that disagree fail.
+#include "support/temp_folder_test.h"
+
+#include <pcl_vts/gis/gis_outputs.h>
+#include <pcl_vts/io/file_crs.h>
+#include <pcl_vts/io/point_cloud_loader.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
+#include <sstream>
+#include <sys/wait.h>
+
+#ifndef PCL_VTS_PCD_TO_MESH // a build without the tools: the CLI round trips skip
+#define PCL_VTS_PCD_TO_MESH ""
+#endif
+
+namespace pcl_vts {
+namespace {
+
+void put(std::string& b, std::size_t at, std::uint64_t v, int bytes)
+{
+  for (int k = 0; k < bytes; ++k)
+    b[at + k] = static_cast<char>((v >> (8 * k)) & 0xFF);
+}
+
+struct Vlr {
+  std::string user;
+  std::uint16_t id;
+  std::string body;
+};
+
+/// LAS 1.2, point format 0, a 6x6 grid of points z = x + y, the given VLRs.
+std::string makeLas(const std::vector<Vlr>& vlrs)
+{
+  std::string b(227, '\0');
+  std::memcpy(&b[0], "LASF", 4);
+  b[24] = 1;
+  b[25] = 2;
+  put(b, 94, 227, 2);
+  put(b, 100, vlrs.size(), 4);
+  for (const Vlr& v : vlrs) {
+    std::string h(54, '\0');
+    std::memcpy(&h[2], v.user.data(), v.user.size());
+    put(h, 18, v.id, 2);
+    put(h, 20, v.body.size(), 2);
+    b += h + v.body;
+  }
+  put(b, 96, b.size(), 4);
+  b[104] = 0;
+  put(b, 105, 20, 2);
+  put(b, 107, 36, 4);
+  const double scale = 0.01, offset = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    std::uint64_t u;
+    std::memcpy(&u, &scale, 8);
+    put(b, 131 + 8 * a, u, 8);
+    std::memcpy(&u, &offset, 8);
+    put(b, 155 + 8 * a, u, 8);
+  }
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) {
+      std::string r(20, '\0');
+      put(r, 0, static_cast<std::uint32_t>(100 * i), 4);
+      put(r, 4, static_cast<std::uint32_t>(100 * j), 4);
+      put(r, 8, static_cast<std::uint32_t>(100 * (i + j)), 4);
+      r[14] = 0x09; // return 1 of 1
+      r[15] = 2;
+      b += r;
+    }
+  return b;
+}
+
+std::string wktOf(const char* user)
+{
+  std::string wkt;
+  EXPECT_TRUE(normalizeCrs(user, wkt).ok());
+  return wkt;
+}
+
+std::string readText(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class CrsRoundTrip : public test::TempFolderTest {
+ protected:
+  std::string root() const { return root_.string(); }
+
+  /// Runs pcd_to_mesh in the temp folder; returns its exit code, stderr in err.
+  int run(const std::string& args, std::string* err = nullptr) const
+  {
+    if (std::string(PCL_VTS_PCD_TO_MESH).empty())
+      return -2;
+    const std::string log = root() + "/err.txt";
+    const std::string cmd = "cd '" + root() +
+                            "' && timeout 120 '" PCL_VTS_PCD_TO_MESH "' " + args +
+                            " > /dev/null 2> '" + log + "'";
+    const int status = std::system(cmd.c_str());
+    if (err)
+      *err = readText(log);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  /// The CRS of a raster or vector file, read back with GDAL; empty when none.
+  static std::string crsOfFile(const std::string& path)
+  {
+    GDALAllRegister();
+    GDALDataset* ds = static_cast<GDALDataset*>(GDALOpenEx(
+        path.c_str(), GDAL_OF_RASTER | GDAL_OF_VECTOR, nullptr, nullptr, nullptr));
+    if (!ds)
+      return "(cannot open)";
+    const OGRSpatialReference* srs = ds->GetRasterCount() > 0
+                                         ? ds->GetSpatialRef()
+                                         : ds->GetLayer(0)->GetSpatialRef();
+    std::string out;
+    if (srs) {
+      char* w = nullptr;
+      srs->exportToWkt(&w);
+      out = w ? w : "";
+      CPLFree(w);
+    }
+    GDALClose(ds);
+    return out;
+  }
+};
+
+TEST_F(CrsRoundTrip, LasWktRecordReachesTheDemTheContoursAndThePrj)
+{
+  const std::string wkt = wktOf("EPSG:32633");
+  const std::string las =
+      write("in.las", makeLas({{"LASF_Projection", 2112, wkt + std::string(1, '\0')}}));
+  std::string crs, source;
+  ASSERT_TRUE(readLasCrs(las, crs, source).ok());
+  EXPECT_EQ(crs, wkt);
+  EXPECT_EQ(source, "LAS OGC WKT record");
+  std::vector<double> xyz;
+  CloudDescription d;
+  ASSERT_TRUE(loadPointCloud(las, {}, xyz, d).ok());
+  EXPECT_EQ(d.crs, wkt);
+
+  std::string err;
+  ASSERT_EQ(run("in.las out.ply --dem dem.tif --resolution 0.5 --contours c.gpkg "
+                "--interval 1",
+                &err),
+            0)
+      << err;
+  EXPECT_TRUE(sameCrs(crsOfFile(root() + "/dem.tif"), "EPSG:32633"));
+  EXPECT_TRUE(sameCrs(crsOfFile(root() + "/c.gpkg"), "EPSG:32633"));
+  EXPECT_TRUE(sameCrs(readText(root() + "/out.prj"), "EPSG:32633"));
+  EXPECT_NE(
+      readText(root() + "/out.ply").find("crs: WGS 84 / UTM zone 33N (EPSG:32633)"),
+      std::string::npos);
+  // The DEM read back as input (GeoTIFF through GDAL) keeps its CRS to the mesh.
+  ASSERT_EQ(run("dem.tif back.ply", &err), 0) << err;
+  EXPECT_TRUE(sameCrs(readText(root() + "/back.prj"), "EPSG:32633"));
+}
+
+TEST_F(CrsRoundTrip, LasGeoKeysGiveTheEpsgCode)
+{
+  // GeoKeyDirectory: version 1.1.0, 3 keys; 1024 model type, 3072 projected CS.
+  std::string keys(8 * 4, '\0');
+  const std::uint16_t v[] = {1,    1, 0, 3,    1024, 0, 1, 1,
+                             3072, 0, 1, 2056, 3076, 0, 1, 9001};
+  for (int i = 0; i < 16; ++i)
+    put(keys, 2 * i, v[i], 2);
+  const std::string las =
+      write("keys.las", makeLas({{"LASF_Projection", 34735, keys}}));
+  std::string crs, source;
+  ASSERT_TRUE(readLasCrs(las, crs, source).ok());
+  EXPECT_EQ(crs, "EPSG:2056");
+  EXPECT_EQ(source, "LAS GeoTIFF keys");
+  // No record at all: no CRS. A record longer than the file: ignored, not trusted.
+  ASSERT_TRUE(readLasCrs(write("none.las", makeLas({})), crs, source).ok());
+  EXPECT_TRUE(crs.empty());
+  std::string bad = makeLas({{"LASF_Projection", 2112, "GEOGCS"}});
+  put(bad, 227 + 20, 60000, 2);
+  ASSERT_TRUE(readLasCrs(write("bad.las", bad), crs, source).ok());
+  EXPECT_TRUE(crs.empty());
+}
+
+TEST_F(CrsRoundTrip, PrjSidecarOverrideAndConflict)
+{
+  std::string xyz;
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i)
+      xyz += std::to_string(i) + " " + std::to_string(j) + " " + std::to_string(i * j) +
+             "\n";
+  write("a.xyz", xyz);
+  write("b.xyz", xyz);
+  write("a.prj", wktOf("EPSG:25832"));
+  std::vector<double> pts;
+  CloudDescription d;
+  ASSERT_TRUE(loadPointCloud(root() + "/a.xyz", {}, pts, d).ok());
+  EXPECT_TRUE(sameCrs(d.crs, "EPSG:25832"));
+  EXPECT_EQ(d.crs_source, "'" + root() + "/a.prj'");
+
+  std::string err;
+  ASSERT_EQ(run("a.xyz m.obj --dem d.tif --resolution 1", &err), 0) << err;
+  EXPECT_TRUE(sameCrs(crsOfFile(root() + "/d.tif"), "EPSG:25832"));
+  EXPECT_TRUE(sameCrs(readText(root() + "/m.prj"), "EPSG:25832"));
+  // --crs wins over the sidecar.
+  ASSERT_EQ(run("a.xyz m2.vtk --dem d2.tif --resolution 1 --crs EPSG:2056", &err), 0)
+      << err;
+  EXPECT_TRUE(sameCrs(crsOfFile(root() + "/d2.tif"), "EPSG:2056"));
+  EXPECT_TRUE(sameCrs(readText(root() + "/m2.prj"), "EPSG:2056"));
+  // No CRS anywhere: no .prj, a DEM without one.
+  ASSERT_EQ(run("b.xyz m3.ply --dem d3.tif --resolution 1", &err), 0) << err;
+  EXPECT_EQ(crsOfFile(root() + "/d3.tif"), "");
+  EXPECT_EQ(readText(root() + "/m3.prj"), "");
+  // b.xyz has none, a.xyz has one: one CRS. Then b gets a different one: an error
+  // naming both files (exit 2), unless --crs settles it.
+  ASSERT_EQ(run("a.xyz b.xyz m4.ply", &err), 0) << err;
+  write("b.prj", wktOf("EPSG:4326"));
+  EXPECT_EQ(run("a.xyz b.xyz m5.ply", &err), 2);
+  EXPECT_NE(err.find("a.xyz"), std::string::npos) << err;
+  EXPECT_NE(err.find("b.xyz"), std::string::npos) << err;
+  EXPECT_NE(err.find("different coordinate systems"), std::string::npos) << err;
+  EXPECT_EQ(run("a.xyz b.xyz m6.ply --crs EPSG:25832", &err), 0) << err;
+  // A --crs GDAL does not know is a usage error.
+  EXPECT_EQ(run("a.xyz m7.ply --crs EPSG:1", &err), 1);
+  EXPECT_NE(err.find("--crs"), std::string::npos) << err;
+}
+
+TEST_F(CrsRoundTrip, RealLasFilesDeclareTheirCrs)
+{
+  // Publishers' files (PDAL's test data): a WKT record, GeoTIFF keys, none.
+  const std::string dir = PCL_VTS_SHARED_DATA_DIR "/las/pdal/";
+  if (!std::ifstream(dir + "autzen_trim.las"))
+    GTEST_SKIP() << dir << " missing";
+  std::string crs, source, wkt;
+  ASSERT_TRUE(readLasCrs(dir + "autzen_trim.las", crs, source).ok());
+  EXPECT_EQ(source, "LAS OGC WKT record");
+  ASSERT_TRUE(normalizeCrs(crs, wkt).ok()) << crs;
+  EXPECT_NE(wkt.find("Lambert Conic Conformal"), std::string::npos)
+      << wkt.substr(0, 300);
+  ASSERT_TRUE(readLasCrs(dir + "epsg_4326.las", crs, source).ok());
+  EXPECT_EQ(crs, "EPSG:4326");
+  ASSERT_TRUE(readLasCrs(dir + "4_6_crop.las", crs, source).ok());
+  EXPECT_EQ(crs, "EPSG:2903");
+  ASSERT_TRUE(readLasCrs(dir + "simple.las", crs, source).ok());
+  EXPECT_EQ(crs, "");
+}
+
+} // namespace
+} // namespace pcl_vts
