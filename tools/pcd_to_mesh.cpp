@@ -489,7 +489,7 @@ int exitCodeFor(pcl_vts::StatusCode code)
   case StatusCode::IO_ERROR:
     return EXIT_INPUT;
   case StatusCode::EMPTY_INPUT:
-  case StatusCode::NON_FINITE:
+  case StatusCode::CAPACITY_EXCEEDED:
   case StatusCode::TOO_FEW_POINTS:
   case StatusCode::ALL_COLLINEAR:
   case StatusCode::COORDINATE_RANGE:

@@ -10,19 +10,16 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace pcl_vts {
 
 Status validateFillOptions(const FillOptions& options)
 {
-  if (!std::isfinite(options.max_hole_area) || options.max_hole_area < 0.0)
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "max_hole_area = " + formatValue(options.max_hole_area) +
-                             " must be finite and >= 0 (0 = automatic)");
-  if (!std::isfinite(options.point_spacing) || options.point_spacing < 0.0)
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "point_spacing = " + formatValue(options.point_spacing) +
-                             " must be finite and >= 0 (0 = automatic)");
+  for (const auto& [name, value] : {std::pair{"max_hole_area", options.max_hole_area},
+                                    std::pair{"point_spacing", options.point_spacing}})
+    if (Status s = checkFiniteNonNegative(name, value, " (0 = automatic)"); !s.ok())
+      return s;
   if (!(options.rim_clearance >= 0.1 && options.rim_clearance <= 1.0))
     return Status::error(StatusCode::INVALID_PARAMETER,
                          "rim_clearance = " + formatValue(options.rim_clearance) +

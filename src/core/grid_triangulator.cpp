@@ -76,6 +76,23 @@ void appendStrip(StripMesh& strip, std::vector<VertexId>& triangles,
 
 } // namespace
 
+static_assert(MAX_MESH_TRIANGLES == detail::OPEN_LIST_END / 3,
+              "the public limit follows the halfedge slot encoding");
+
+Status checkTriangleCapacity(std::size_t points, std::size_t hull_vertices)
+{
+  const std::size_t expected = 2 * points - std::min(points, hull_vertices + 2);
+  if (expected <= MAX_MESH_TRIANGLES)
+    return Status::success();
+  return Status::error(
+      StatusCode::CAPACITY_EXCEEDED,
+      std::to_string(points) + " points need " + std::to_string(expected) +
+          " triangles, beyond the limit of " + std::to_string(MAX_MESH_TRIANGLES) +
+          " (32-bit halfedge ids, about " +
+          "357.9 million points); split the "
+          "input into tiles");
+}
+
 Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
                        const CellSubdivision& subdivision,
                        const std::vector<VertexId>& hull,
@@ -85,12 +102,9 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
 {
   const std::size_t n = grid.points.size();
   const std::size_t h = hull.size();
+  if (Status s = checkTriangleCapacity(n, h); !s.ok())
+    return s;
   const std::size_t expected = 2 * n - h - 2;
-  if (expected > detail::OPEN_LIST_END / 3)
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         std::to_string(n) + " points need " +
-                             std::to_string(expected) +
-                             " triangles, beyond the 32-bit halfedge range");
   const detail::HullEdges hull_edges(n, hull);
 
   // Strips are grown independently (any thread, any order) and merged in strip

@@ -1,6 +1,7 @@
 #include <pcl_vts/core/status.h>
 
 #include <charconv>
+#include <cmath>
 
 namespace pcl_vts {
 
@@ -11,8 +12,8 @@ const char* statusCodeName(StatusCode code)
     return "OK";
   case StatusCode::EMPTY_INPUT:
     return "EMPTY_INPUT";
-  case StatusCode::NON_FINITE:
-    return "NON_FINITE";
+  case StatusCode::CAPACITY_EXCEEDED:
+    return "CAPACITY_EXCEEDED";
   case StatusCode::TOO_FEW_POINTS:
     return "TOO_FEW_POINTS";
   case StatusCode::ALL_COLLINEAR:
@@ -34,6 +35,15 @@ std::string formatValue(double value)
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
   return std::string(buffer, result.ptr);
+}
+
+Status checkFiniteNonNegative(const char* name, double value, const char* note)
+{
+  if (std::isfinite(value) && value >= 0.0)
+    return Status::success();
+  return Status::error(StatusCode::INVALID_PARAMETER,
+                       std::string(name) + " = " + formatValue(value) +
+                           " must be finite and >= 0" + note);
 }
 
 std::string Status::toString() const

@@ -275,8 +275,9 @@ class Growth {
                              "no Delaunay triangle found across interior edge " +
                                  std::to_string(x) + "-" + std::to_string(y));
       if (mesh_.owned.size() >= MAX_TRIANGLES)
-        return Status::error(StatusCode::INVALID_PARAMETER,
-                             "too many triangles for 32-bit halfedge ids");
+        return Status::error(StatusCode::CAPACITY_EXCEEDED,
+                             "more than " + std::to_string(MAX_TRIANGLES) +
+                                 " triangles: beyond the 32-bit halfedge ids");
       const HalfedgeId f = addTriangle(y, x, p);
       close(e, corner_in_strip_[1]);
       link(f, e);

@@ -16,11 +16,7 @@ Status validateTrimOptions(const TrimOptions& options)
     return Status::error(StatusCode::INVALID_PARAMETER,
                          "trim_factor = " + formatValue(options.trim_factor) +
                              " must be finite and > 1");
-  if (!std::isfinite(options.max_edge) || options.max_edge < 0.0)
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "max_edge = " + formatValue(options.max_edge) +
-                             " must be finite and >= 0 (0 = no limit)");
-  return Status::success();
+  return checkFiniteNonNegative("max_edge", options.max_edge, " (0 = no limit)");
 }
 
 namespace {

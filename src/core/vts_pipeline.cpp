@@ -96,10 +96,10 @@ std::vector<double> vertexHeights(const double* xyz, std::size_t n,
 
 Status validateOptions(const VtsOptions& options)
 {
-  if (!std::isfinite(options.cell_size) || options.cell_size < 0.0)
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "cell_size = " + formatValue(options.cell_size) +
-                             " must be finite and >= 0 (0 = automatic)");
+  if (Status s =
+          checkFiniteNonNegative("cell_size", options.cell_size, " (0 = automatic)");
+      !s.ok())
+    return s;
   switch (options.duplicate_rule) {
   case DuplicateRule::LOWEST_Z:
   case DuplicateRule::HIGHEST_Z:
@@ -130,9 +130,10 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   if (Status s = validateOptions(options); !s.ok())
     return s;
   if (n >= INVALID_ID)
-    return Status::error(StatusCode::INVALID_PARAMETER,
+    return Status::error(StatusCode::CAPACITY_EXCEEDED,
                          std::to_string(n) +
-                             " points exceed the 32-bit vertex id range");
+                             " points exceed the 32-bit vertex ids (at most " +
+                             std::to_string(INVALID_ID - 1) + " points)");
   if (n > 0 && xyz == nullptr)
     return Status::error(StatusCode::INVALID_PARAMETER, "null point array");
 

@@ -112,10 +112,10 @@ Status validatePreprocessOptions(const PreprocessOptions& o)
                formatValue(o.crop_min_y) + "," + formatValue(o.crop_max_x) + "," +
                formatValue(o.crop_max_y) +
                " must be finite with xmin < xmax and ymin < ymax");
-  if (!(std::isfinite(o.voxel) && o.voxel >= 0.0))
-    return bad("voxel = " + formatValue(o.voxel) + " must be finite and >= 0");
-  if (!(std::isfinite(o.grid_min) && o.grid_min >= 0.0))
-    return bad("grid_min = " + formatValue(o.grid_min) + " must be finite and >= 0");
+  if (Status s = checkFiniteNonNegative("voxel", o.voxel); !s.ok())
+    return s;
+  if (Status s = checkFiniteNonNegative("grid_min", o.grid_min); !s.ok())
+    return s;
   if (o.outlier_k < 0 ||
       (o.outlier_k > 0 && !(std::isfinite(o.outlier_std) && o.outlier_std > 0.0)))
     return bad("outliers k = " + std::to_string(o.outlier_k) + ", std = " +

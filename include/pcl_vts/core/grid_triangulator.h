@@ -12,9 +12,20 @@
 #include <pcl_vts/core/mediatrix_search.h>
 #include <pcl_vts/core/status.h>
 
+#include <cstddef>
 #include <vector>
 
 namespace pcl_vts {
+
+/// Most triangles one mesh can hold: 3 halfedges per triangle with 32-bit ids, the
+/// top values reserved (strip_growth.h). A Delaunay mesh of n points with h on the
+/// hull has 2n - h - 2 triangles, so about 357.9 million points fit.
+constexpr std::size_t MAX_MESH_TRIANGLES = 0x7ffffffeu / 3;
+
+/// CAPACITY_EXCEEDED, with a message naming the limit, when `points` distinct points
+/// with `hull_vertices` of them on the convex hull need more than MAX_MESH_TRIANGLES.
+PCL_VTS_CORE_EXPORT Status checkTriangleCapacity(std::size_t points,
+                                                 std::size_t hull_vertices);
 
 /// Triangulates the grid points.
 /// \param[in] grid distinct points in cell order
@@ -27,7 +38,8 @@ namespace pcl_vts {
 /// \param[in] threads threads growing strips (0 or 1: one); the output is identical
 ///            for every value
 /// \param[in] strip_columns strip width in columns, a power of two; 0 = automatic
-/// \return INTERNAL_ERROR if the region growing failed to tile the hull (a bug)
+/// \return CAPACITY_EXCEEDED (checkTriangleCapacity), INTERNAL_ERROR if the region
+///         growing failed to tile the hull (a bug)
 PCL_VTS_CORE_EXPORT Status triangulateGrid(
     const CellGrid& grid, const CellPyramid& pyramid,
     const CellSubdivision& subdivision, const std::vector<VertexId>& hull,

@@ -13,7 +13,7 @@ namespace pcl_vts {
 enum class StatusCode {
   OK = 0,
   EMPTY_INPUT,       ///< no point at all (or none left after dropping non-finite ones)
-  NON_FINITE,        ///< a value that must be finite is not (parameters)
+  CAPACITY_EXCEEDED, ///< more points or triangles than the 32-bit ids can number
   TOO_FEW_POINTS,    ///< fewer than 3 distinct XY positions
   ALL_COLLINEAR,     ///< every distinct XY position lies on one line
   COORDINATE_RANGE,  ///< coordinates too large or extent too small to grid safely
@@ -38,6 +38,13 @@ struct [[nodiscard]] Status {
 
 /// A number for a message: shortest form that reads back to the same double.
 PCL_VTS_CORE_EXPORT std::string formatValue(double value);
+
+/// The one check of a length-like parameter: OK when value is finite and >= 0, else
+/// INVALID_PARAMETER "<name> = <value> must be finite and >= 0<note>" (NaN and
+/// infinities are out of the documented range like negatives; note says what 0
+/// means, e.g. " (0 = automatic)").
+PCL_VTS_CORE_EXPORT Status checkFiniteNonNegative(const char* name, double value,
+                                                  const char* note = "");
 
 /// What happened to the input on its way to the mesh.
 struct Diagnostics {
