@@ -378,7 +378,12 @@ TEST(VtsPipelineErrors, InvalidCellSizeIsNamed)
   EXPECT_TRUE(validateOptions(options).ok());
 }
 
-TEST(VtsPipelineErrors, HugeCoordinatesAreRejectedOrTriangulated)
+// The documented decision (docs/decisions.md, "huge coordinates" and "tiny extent"):
+// |x| or |y| beyond 1e60 is COORDINATE_RANGE, naming the point; up to 1e60 the mesh is
+// built. An XY extent below 1e-80 (but not zero) is COORDINATE_RANGE; the magnitude of
+// single coordinates (subnormals included) does not matter when the extent is normal.
+
+TEST(VtsPipelineErrors, CoordinatesBeyond1e60AreRejected)
 {
   for (const double scale : {1e200, 1e300, std::numeric_limits<double>::max() / 4}) {
     SCOPED_TRACE(scale);
@@ -387,18 +392,34 @@ TEST(VtsPipelineErrors, HugeCoordinatesAreRejectedOrTriangulated)
       xyz[i] = (xyz[i] / 1000.0 - 0.5) * scale;
       xyz[i + 1] = (xyz[i + 1] / 1000.0 - 0.5) * scale;
     }
-    const PipelineRun run = runPipeline(xyz);
-    if (run.status.code == StatusCode::COORDINATE_RANGE) {
-      expectError(run, StatusCode::COORDINATE_RANGE, {"e+"});
-      continue;
-    }
-    expectValidTriangulation(xyz, run);
+    expectError(runPipeline(xyz), StatusCode::COORDINATE_RANGE,
+                {"point 0 has XY (", "beyond +-1e+60", "shift or rescale"});
   }
+}
+
+TEST(VtsPipelineErrors, CoordinatesUpTo1e60AreTriangulated)
+{
+  // Corners exactly at +-1e60: the largest accepted magnitude, a valid mesh.
+  std::vector<double> xyz = test::generatePoints(Distribution::UNIFORM, 200, 2);
+  for (std::size_t i = 0; i < xyz.size(); i += 3) {
+    xyz[i] = (xyz[i] / 1000.0 - 0.5) * 1e59;
+    xyz[i + 1] = (xyz[i + 1] / 1000.0 - 0.5) * 1e59;
+  }
+  xyz.insert(xyz.end(),
+             {-1e60, -1e60, 0, 1e60, -1e60, 0, 1e60, 1e60, 0, -1e60, 1e60, 0});
+  const PipelineRun run = runPipeline(xyz);
+  ASSERT_TRUE(run.status.ok()) << run.status.toString();
+  expectValidTriangulation(xyz, run);
+  // One ulp further on one point: rejected, and that point is named.
+  xyz[xyz.size() - 3] = std::nextafter(-1e60, -INF);
+  expectError(runPipeline(xyz), StatusCode::COORDINATE_RANGE,
+              {"point 203 has XY (", "beyond +-1e+60"});
 }
 
 TEST(VtsPipelineErrors, ExtentOfAFewUlpsAtUtmMagnitude)
 {
-  // 100 points on a 41 x 41 ulp lattice at (5.4e6, 5.4e6): duplicates and ties.
+  // 100 points on a 41 x 41 ulp lattice at (5.4e6, 5.4e6): duplicates and ties. The
+  // extent (about 4e-8) is far above 1e-80: triangulated.
   std::vector<double> xyz;
   std::mt19937_64 rng(4);
   std::uniform_int_distribution<int> ulps(0, 40);
@@ -411,17 +432,13 @@ TEST(VtsPipelineErrors, ExtentOfAFewUlpsAtUtmMagnitude)
     xyz.insert(xyz.end(), {x, y, 1.0});
   }
   const PipelineRun run = runPipeline(xyz);
-  if (run.status.code == StatusCode::COORDINATE_RANGE) {
-    EXPECT_TRUE(run.result.mesh.triangles.empty());
-    return;
-  }
+  ASSERT_TRUE(run.status.ok()) << run.status.toString();
   expectValidTriangulation(xyz, run);
 }
 
-TEST(VtsPipelineErrors, SubnormalCoordinatesAreTriangulatedOrRejected)
+TEST(VtsPipelineErrors, SubnormalExtentIsRejected)
 {
-  // Multiples of the smallest subnormal: a correct mesh or COORDINATE_RANGE, never
-  // an internal error.
+  // Multiples of the smallest subnormal: the extent is below 1e-80.
   const double tiny = std::numeric_limits<double>::denorm_min();
   std::vector<std::vector<double>> inputs = {
       {0, 0, 1, tiny, 0, 1, 0, tiny, 1},
@@ -436,11 +453,28 @@ TEST(VtsPipelineErrors, SubnormalCoordinatesAreTriangulatedOrRejected)
   inputs.push_back(cloud);
   for (std::size_t k = 0; k < inputs.size(); ++k) {
     SCOPED_TRACE("input " + std::to_string(k));
+    expectError(runPipeline(inputs[k]), StatusCode::COORDINATE_RANGE,
+                {"the XY extent", "is below 1e-80", "rescale"});
+  }
+  // Just below the limit: rejected too.
+  const double below = std::nextafter(1e-80, 0.0);
+  expectError(runPipeline({0, 0, 1, below, 0, 1, 0, below, 1}),
+              StatusCode::COORDINATE_RANGE, {"the XY extent", "is below 1e-80"});
+}
+
+TEST(VtsPipelineErrors, ExtentOf1eMinus80AndSubnormalsInANormalExtentAreTriangulated)
+{
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  const std::vector<std::vector<double>> inputs = {
+      // The smallest accepted extent.
+      {0, 0, 1, 1e-80, 0, 1, 0, 1e-80, 1, 1e-80, 1e-80, 2, 3e-81, 6e-81, 3},
+      // Subnormal coordinates among normal ones: the extent is 1.
+      {0, 0, 1, 1, 0, 1, 0, 1, 1, tiny, 3 * tiny, 2, 0.5, tiny, 3, 1, 1, 4},
+  };
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    SCOPED_TRACE("input " + std::to_string(k));
     const PipelineRun run = runPipeline(inputs[k]);
-    if (run.status.code == StatusCode::COORDINATE_RANGE) {
-      EXPECT_TRUE(run.result.mesh.triangles.empty());
-      continue;
-    }
+    ASSERT_TRUE(run.status.ok()) << run.status.toString();
     expectValidTriangulation(inputs[k], run);
   }
 }
