@@ -9,7 +9,7 @@ BENCH_MAX_N ?= 1000000
 PACKAGE_BUILD_DIR ?= build-package
 PREFIX ?= /usr/local
 
-.PHONY: all deps configure build test demo bench bench-scale compare install package format clean
+.PHONY: all deps configure build test demo bench bench-scale compare install package format clean docs-pictures
 
 all: build
 
@@ -49,6 +49,11 @@ SCALE_WORK ?= $(BUILD_DIR)/scale
 bench-scale: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target make_lidar_tiles pcd_to_mesh
 	@bash tools/bench/run_scale.sh $(BUILD_DIR) $(SCALE_WORK) $(SCALE_LIMIT) $(SCALE_N)
+
+# docs/reconstruction.md's before/after pictures into docs/img (tools/docs_pictures.cpp;
+# the shared DEMs and samp11 are skipped when ../shared/data is absent).
+docs-pictures: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target docs-pictures
 
 # docs/comparison.md and docs/img/compare/: VTS against GP3, Poisson and Ball-Pivoting
 # (tools/compare/run_compare.sh, about 15 minutes on 2 cores). Builds only what it runs.

@@ -8,7 +8,6 @@
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/hole_filling.h>
 #include <pcl_vts/outward_triangle_removal.h>
-#include <pcl_vts/picture/mesh_picture.h>
 #include <pcl_vts/vts_grid_triangulation.h>
 
 #include <pcl/PolygonMesh.h>
@@ -97,63 +96,6 @@ TEST_P(IsprsGround, DefaultsTrimAndFillIntoAValidSurface)
   EXPECT_GT(trimmed_area, 0.4 * hull_area); // samp41: ground is 29 % of the points
   EXPECT_LE(trim.getResult().vertices_lost, cloud->size() / 100);
   EXPECT_GE(filled_area, trimmed_area);
-}
-
-TEST(ReconstructionPictures, IsprsGroundSamp11)
-{
-  // Before/after pictures for docs/reconstruction.md; only with PCL_VTS_PICTURE_DIR.
-  const char* dir = std::getenv("PCL_VTS_PICTURE_DIR");
-  if (!dir)
-    GTEST_SKIP() << "set PCL_VTS_PICTURE_DIR to write the pictures";
-  const std::string path = std::string(PCL_VTS_SHARED_DATA_DIR) +
-                           "/pcd/isprs_filtertest/samp11-utm-ground.pcd";
-  if (!std::ifstream(path).good())
-    GTEST_SKIP() << "shared data file not found: " << path;
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  ASSERT_EQ(pcl::io::loadPCDFile(path, *cloud), 0);
-  pcl::VTSGridTriangulation<pcl::PointXYZ> vts;
-  vts.setInputCloud(cloud);
-  auto raw = std::make_shared<pcl::PolygonMesh>();
-  vts.reconstruct(*raw);
-  pcl::OutwardTriangleRemoval trim;
-  trim.setInputMesh(raw);
-  auto trimmed = std::make_shared<pcl::PolygonMesh>();
-  trim.process(*trimmed);
-  pcl::HoleFilling fill;
-  fill.setInputMesh(trimmed);
-  pcl::PolygonMesh filled;
-  fill.process(filled);
-  ASSERT_TRUE(fill.getLastStatus().ok());
-  const pcl_vts::TriangleMesh raw_arrays = asArrays(*raw);
-  const pcl_vts::TriangleMesh filled_arrays = asArrays(filled);
-  // Trimming keeps the order of the surviving triangles: walk both lists.
-  using pcl_vts::PictureTriangleClass;
-  pcl_vts::PictureMesh before = pcl_vts::pictureMeshOf(raw_arrays);
-  before.triangle_class.assign(
-      raw->polygons.size(), static_cast<std::uint8_t>(PictureTriangleClass::REMOVED));
-  for (std::size_t t = 0, k = 0;
-       t < raw->polygons.size() && k < trimmed->polygons.size(); ++t)
-    if (raw->polygons[t].vertices == trimmed->polygons[k].vertices) {
-      before.triangle_class[t] =
-          static_cast<std::uint8_t>(PictureTriangleClass::SURFACE);
-      ++k;
-    }
-  pcl_vts::PictureMesh after = pcl_vts::pictureMeshOf(filled_arrays);
-  after.triangle_class.assign(filled.polygons.size(),
-                              static_cast<std::uint8_t>(PictureTriangleClass::SURFACE));
-  for (std::size_t t = trimmed->polygons.size(); t < filled.polygons.size(); ++t)
-    after.triangle_class[t] = static_cast<std::uint8_t>(PictureTriangleClass::FILLED);
-  after.vertex_marks = fill.getInsertedFlags();
-  const pcl_vts::PictureFrame frame =
-      pcl_vts::unionOf(pcl_vts::pictureFrameOf(before), pcl_vts::pictureFrameOf(after));
-  pcl_vts::PictureOptions options;
-  options.width = 480;
-  EXPECT_TRUE(pcl_vts::writePng(std::string(dir) + "/samp11_before.png",
-                                pcl_vts::renderMesh(before, frame, options))
-                  .ok());
-  EXPECT_TRUE(pcl_vts::writePng(std::string(dir) + "/samp11_after.png",
-                                pcl_vts::renderMesh(after, frame, options))
-                  .ok());
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, IsprsGround,
