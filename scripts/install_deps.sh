@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake pkg-config
   dpkg-dev file         # make package: CPack's .deb (dpkg-shlibdeps, ELF detection)
   libpcl-dev            # PCL 1.13 (pulls FLANN, Boost, Eigen, VTK)
+  zlib1g-dev            # the PNG writer's deflate and CRC (also pulled by VTK)
   libcgal-dev libgmp-dev libmpfr-dev   # the Delaunay oracle in tests and benchmarks
   libgtest-dev libbenchmark-dev
   clang-format

@@ -1,35 +1,17 @@
 // writePng: truecolour PNG (IHDR, IDAT, IEND) with per-row adaptive filters, deflated
-// by png_deflate.h, written through AtomicFile (core/atomic_file.h) as meshes are.
-#include "png_deflate.h"
-
+// and checksummed by zlib (compress2, crc32_z: on every machine that has PCL, through
+// VTK), written through AtomicFile (core/atomic_file.h) as meshes are.
 #include <pcl_vts/core/atomic_file.h>
 #include <pcl_vts/picture/image.h>
 
 #include <array>
 #include <cstdlib>
 #include <string>
+#include <zlib.h>
 
 namespace pcl_vts {
 
 namespace {
-
-std::uint32_t crc32(const std::uint8_t* data, std::size_t size, std::uint32_t crc)
-{
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
-    for (std::uint32_t n = 0; n < 256; ++n) {
-      std::uint32_t c = n;
-      for (int k = 0; k < 8; ++k)
-        c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[n] = c;
-    }
-    return t;
-  }();
-  crc = ~crc;
-  for (std::size_t i = 0; i < size; ++i)
-    crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
-  return ~crc;
-}
 
 void putBigEndian(std::vector<std::uint8_t>& out, std::uint32_t value)
 {
@@ -44,7 +26,8 @@ void putChunk(std::vector<std::uint8_t>& out, const char* type,
   const std::size_t start = out.size();
   out.insert(out.end(), type, type + 4);
   out.insert(out.end(), data.begin(), data.end());
-  putBigEndian(out, crc32(out.data() + start, out.size() - start, 0));
+  putBigEndian(out, static_cast<std::uint32_t>(
+                        crc32_z(0, out.data() + start, out.size() - start)));
 }
 
 std::uint8_t paeth(int a, int b, int c)
@@ -115,7 +98,18 @@ Status writePng(const std::string& path, const Picture& picture)
                 {8, 2, 0, 0, 0}); // 8-bit RGB, deflate, filters, no interlace
   putChunk(png, "IHDR", header);
   const std::vector<std::uint8_t> raw = filteredScanlines(picture);
-  putChunk(png, "IDAT", png_detail::zlibCompress(raw.data(), raw.size()));
+  std::vector<std::uint8_t> deflated(compressBound(raw.size()));
+  uLongf deflated_size = deflated.size();
+  // Level 6: zlib's default trade of size for time.
+  if (const int z =
+          compress2(deflated.data(), &deflated_size, raw.data(), raw.size(), 6);
+      z != Z_OK)
+    return Status::error(z == Z_MEM_ERROR ? StatusCode::IO_ERROR
+                                          : StatusCode::INTERNAL_ERROR,
+                         "cannot write '" + path + "': zlib compress2 failed (" +
+                             std::to_string(z) + ")");
+  deflated.resize(deflated_size);
+  putChunk(png, "IDAT", deflated);
   putChunk(png, "IEND", {});
   return writeFileAtomically(path, png.data(), png.size());
 }

@@ -1,6 +1,6 @@
 // Pictures of 2.5D triangle meshes for people: a z-buffered software rasteriser
 // (hill shading from the north-west over a hypsometric colour ramp, top or oblique
-// view) and a truecolour PNG writer with its own deflate. PCL-free, no zlib, so
+// view) and a truecolour PNG writer (zlib's deflate, linked privately). PCL-free, so
 // tools and test binaries link it cheaply (target pcl_vts::picture). The top of the
 // module: picture types and writePng in image.h, view and frame in view.h.
 #pragma once
