@@ -150,8 +150,16 @@ void printHelp()
       "(pcl::StatisticalOutlierRemoval:\n"
       "                      mean distance to K neighbours beyond STD deviations)\n"
       "                      (default: off); preprocessing runs crop, voxel,\n"
-      "                      grid-min, outliers in this order, keeping original "
-      "points\n"
+      "                      grid-min, outliers, ground in this order, keeping\n"
+      "                      original points\n"
+      "  --ground pmf        keep only the bare-earth points found by\n"
+      "                      pcl::ProgressiveMorphologicalFilter (default: off);\n"
+      "                      its knobs, defaults for airborne LiDAR in metres:\n"
+      "                      --pmf-cell 1 (grid cell), --pmf-window 33 (largest\n"
+      "                      window, cells: wider than the widest building),\n"
+      "                      --pmf-slope 1 (rise/run), --pmf-initial 0.5 and\n"
+      "                      --pmf-max 3 (height thresholds), --pmf-base 2\n"
+      "                      (window growth); docs/ground.md\n"
       "  --threads N         threads for the triangulation, N >= 0; 0 = all cores\n"
       "                      (default: 0; the mesh is the same for every N)\n"
       "  --ascii             ASCII PLY instead of binary (default: binary; .obj and "
@@ -305,8 +313,9 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
         name == "--returns" || name == "--trim-factor" || name == "--max-edge" ||
         name == "--max-hole-area" || name == "--threads" || name == "--crop" ||
         name == "--voxel" || name == "--grid-min" || name == "--outliers" ||
-        name == "--png" || name == "--png-width" || name == "--memory-limit" ||
-        name == "--temp-dir" || name == "--tile-level" || name == "--tile-output" ||
+        name == "--ground" || name.rfind("--pmf-", 0) == 0 || name == "--png" ||
+        name == "--png-width" || name == "--memory-limit" || name == "--temp-dir" ||
+        name == "--tile-level" || name == "--tile-output" ||
         pcl_vts::tools::gisOptionTakesValue(name);
     if (inline_value && !takes_value) {
       error = "option '" + name + "' takes no value";
@@ -350,6 +359,36 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
     } else if (name == "--grid-min") {
       if (!parseNonNegative(name, value.c_str(), opt.preprocess.grid_min, error, "off"))
         return false;
+    } else if (name == "--ground") {
+      if (value != "pmf") {
+        error = "--ground: '" + value + "' is not a ground filter (pmf)";
+        return false;
+      }
+      opt.preprocess.ground_pmf = true;
+    } else if (name.rfind("--pmf-", 0) == 0) { // ProgressiveMorphologicalFilter knobs
+      pcl_vts::PreprocessOptions& p = opt.preprocess;
+      double v = 0.0;
+      double* const target = name == "--pmf-cell"      ? &p.pmf_cell
+                             : name == "--pmf-slope"   ? &p.pmf_slope
+                             : name == "--pmf-initial" ? &p.pmf_initial_distance
+                             : name == "--pmf-max"     ? &p.pmf_max_distance
+                             : name == "--pmf-base"    ? &p.pmf_base
+                             : name == "--pmf-window"  ? &v
+                                                       : nullptr;
+      if (!target) {
+        error = "unknown option '" + arg + "'";
+        return false;
+      }
+      if (!parseNonNegative(name, value.c_str(), *target, error, nullptr))
+        return false;
+      if (target == &v) {
+        if (v < 1.0 || v > 4096.0 || v != std::floor(v)) {
+          error =
+              "--pmf-window: '" + value + "' must be a whole number of cells, 1..4096";
+          return false;
+        }
+        p.pmf_max_window = static_cast<int>(v);
+      }
     } else if (name == "--crop" || name == "--outliers") {
       std::vector<double> numbers;
       if (!parseNumberList(name, value, name == "--crop" ? 4 : 2, numbers, error))
@@ -1101,12 +1140,15 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
   }
 
   std::vector<std::string> gis_lines; // --dem, --contours, the .prj (gis_cli.h)
+  start = Clock::now();
   if (pcl_vts::Status s = opt.gis.write(result.mesh, opt.output, gis_lines); !s.ok())
     return out.fail(s.code == pcl_vts::StatusCode::IO_ERROR ? EXIT_OUTPUT
                                                             : EXIT_INTERNAL,
                     s.message);
   for (const std::string& line : gis_lines)
     out.line("GIS: %s\n", line.c_str());
+  if (!gis_lines.empty())
+    out.line("GIS: written in %.1f ms\n", msSince(start));
 
   out.line("Summary\n");
   out.line("  %-20s %zu\n", "points read", input.points_read);

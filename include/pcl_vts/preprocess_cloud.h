@@ -22,13 +22,26 @@ struct PreprocessOptions {
   double grid_min = 0.0;    ///< GridMinimum resolution; 0 = off
   int outlier_k = 0;        ///< neighbours for the outlier statistics; 0 = off
   double outlier_std = 0.0; ///< standard-deviation multiplier (> 0 when k > 0)
+  /// Ground extraction, last: pcl::ProgressiveMorphologicalFilter keeps the points
+  /// it classifies as bare earth (Zhang et al. 2003). The defaults fit airborne
+  /// LiDAR of about a point per square metre in metres (docs/ground.md).
+  bool ground_pmf = false;
+  double pmf_cell = 1.0;             ///< cell size of the morphological grid
+  int pmf_max_window = 33;           ///< largest window, cells: wider than any building
+  double pmf_slope = 1.0;            ///< terrain slope (rise over run) tolerated
+  double pmf_initial_distance = 0.5; ///< height threshold of the first window
+  double pmf_max_distance = 3.0;     ///< height threshold cap
+  double pmf_base = 2.0;             ///< window growth base: 1, base, base^2, ... cells
 
-  bool any() const { return crop || voxel > 0.0 || grid_min > 0.0 || outlier_k > 0; }
+  bool any() const
+  {
+    return crop || voxel > 0.0 || grid_min > 0.0 || outlier_k > 0 || ground_pmf;
+  }
 };
 
 /// One preprocessing step as reported in the summary.
 struct PreprocessStep {
-  std::string name; ///< "crop", "voxel", "grid-min", "outliers", "non-finite"
+  std::string name; ///< "crop", "voxel", "grid-min", "outliers", "ground", "non-finite"
   std::size_t before = 0;
   std::size_t after = 0;
   double ms = 0.0;

@@ -5,6 +5,7 @@
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <pcl/segmentation/progressive_morphological_filter.h>
 
 #include <algorithm>
 #include <array>
@@ -120,6 +121,18 @@ Status validatePreprocessOptions(const PreprocessOptions& o)
       (o.outlier_k > 0 && !(std::isfinite(o.outlier_std) && o.outlier_std > 0.0)))
     return bad("outliers k = " + std::to_string(o.outlier_k) + ", std = " +
                formatValue(o.outlier_std) + ": k must be >= 0 and std finite and > 0");
+  if (o.ground_pmf &&
+      !(std::isfinite(o.pmf_cell) && o.pmf_cell > 0.0 && o.pmf_max_window >= 1 &&
+        std::isfinite(o.pmf_slope) && o.pmf_slope >= 0.0 &&
+        std::isfinite(o.pmf_initial_distance) && o.pmf_initial_distance >= 0.0 &&
+        std::isfinite(o.pmf_max_distance) && o.pmf_max_distance >= 0.0 &&
+        std::isfinite(o.pmf_base) && o.pmf_base > 1.0))
+    return bad("ground pmf: cell " + formatValue(o.pmf_cell) + ", window " +
+               std::to_string(o.pmf_max_window) + ", slope " +
+               formatValue(o.pmf_slope) + ", distances " +
+               formatValue(o.pmf_initial_distance) + "/" +
+               formatValue(o.pmf_max_distance) + ", base " + formatValue(o.pmf_base) +
+               ": cell > 0, window >= 1, slope and distances >= 0, base > 1");
   return Status::success();
 }
 
@@ -185,6 +198,21 @@ Status preprocessCloud(std::vector<double>& xyz, const PreprocessOptions& option
         keep(xyz, sortedIndices(indices));
       }))
     return empty("outliers");
+  if (options.ground_pmf && !step("ground", [&] {
+        pcl::ProgressiveMorphologicalFilter<pcl::PointXYZ> filter;
+        filter.setInputCloud(shiftedCloud(xyz));
+        filter.setCellSize(static_cast<float>(options.pmf_cell));
+        filter.setMaxWindowSize(options.pmf_max_window);
+        filter.setSlope(static_cast<float>(options.pmf_slope));
+        filter.setInitialDistance(static_cast<float>(options.pmf_initial_distance));
+        filter.setMaxDistance(static_cast<float>(options.pmf_max_distance));
+        filter.setBase(static_cast<float>(options.pmf_base));
+        filter.setExponential(true);
+        pcl::Indices ground;
+        filter.extract(ground);
+        keep(xyz, sortedIndices(ground));
+      }))
+    return empty("ground");
   return Status::success();
 }
 
