@@ -3,7 +3,10 @@
 
 #ifdef PCL_VTS_HAVE_GIS
 #include <pcl_vts/gis/gis_outputs.h>
+#include <pcl_vts/io/file_crs.h>
+#include <pcl_vts/io/point_cloud_loader.h>
 
+#include <gdal.h>
 #include <ogr_spatialref.h>
 #endif
 
@@ -109,19 +112,53 @@ Status GisCli::validate() const
   return validateGisOptions(impl_->options);
 }
 
-Status
-GisCli::resolveCrs(const std::vector<std::pair<std::string, std::string>>& inputs)
+namespace {
+
+/// What path declares: LAS records, a GeoTIFF's projection, else a .prj beside it.
+std::string declaredCrs(const std::string& path)
+{
+  std::string crs, source;
+  CloudFileFormat format = CloudFileFormat::PCD;
+  if (!cloudFileFormatFromExtension(path, format))
+    format = CloudFileFormat::PCD;
+  if (format == CloudFileFormat::LAS && !readLasCrs(path, crs, source).ok())
+    crs.clear();
+  if (format == CloudFileFormat::GEOTIFF) {
+    GDALAllRegister();
+    if (GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly)) {
+      if (const char* wkt = GDALGetProjectionRef(ds))
+        crs = wkt;
+      GDALClose(ds);
+    }
+  }
+  if (crs.empty() && !readPrjSidecar(path, crs, source).ok())
+    crs.clear();
+  return crs;
+}
+
+} // namespace
+
+Status GisCli::resolveCrs(const std::vector<std::string>& files,
+                          std::vector<std::string>& notes)
 {
   crs_.clear();
-  std::string text;
-  if (!impl_->options.crs.empty())
-    text = impl_->options.crs; // --crs wins over the files
-  else if (Status s = commonCrs(inputs, text); !s.ok())
-    return s;
-  if (!text.empty())
-    if (Status s = normalizeCrs(text, crs_); !s.ok())
-      return s;
-  return Status::success();
+  if (!impl_->options.crs.empty()) // --crs wins over the files
+    return normalizeCrs(impl_->options.crs, crs_);
+  std::vector<std::pair<std::string, std::string>> declared;
+  for (const std::string& file : files) {
+    std::string wkt;
+    const std::string text = declaredCrs(file);
+    if (text.empty())
+      continue;
+    if (Status s = normalizeCrs(text, wkt); !s.ok()) {
+      notes.push_back("'" + file +
+                      "': its coordinate system is not understood, ignored (" +
+                      s.message + ")");
+      continue;
+    }
+    declared.emplace_back(file, wkt);
+  }
+  return commonCrs(declared, crs_);
 }
 
 std::string GisCli::crsName() const
@@ -174,7 +211,7 @@ Status GisCli::validate() const
                            "(Debian: libgdal-dev, then rebuild)");
 }
 
-Status GisCli::resolveCrs(const std::vector<std::pair<std::string, std::string>>&)
+Status GisCli::resolveCrs(const std::vector<std::string>&, std::vector<std::string>&)
 {
   return Status::success();
 }

@@ -33,9 +33,13 @@ class GisCli {
   /// Checks the combination; INVALID_PARAMETER (a usage error) otherwise, also for
   /// any GIS option in a build without GDAL.
   Status validate() const;
-  /// The CRS of the run: --crs if given, else the inputs' common one ((file, crs)
-  /// pairs; INVALID_PARAMETER naming two files that differ). Empty when none.
-  Status resolveCrs(const std::vector<std::pair<std::string, std::string>>& inputs);
+  /// The CRS of the run: --crs if given, else the one the input files declare (LAS
+  /// projection records, GeoTIFF, a .prj beside the file; read before the points,
+  /// so the in-memory and the tiled paths agree). INVALID_PARAMETER naming two
+  /// files whose CRSs differ. A file's CRS that GDAL cannot parse is ignored, with a
+  /// note. Empty when none.
+  Status resolveCrs(const std::vector<std::string>& files,
+                    std::vector<std::string>& notes);
   const std::string& crs() const { return crs_; }
   /// A short name of the CRS for a summary or a PLY comment ("EPSG:32633", or the
   /// WKT's name), empty when none.

@@ -881,6 +881,8 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   write_options.ascii = opt.ascii;
   write_options.force_double = opt.force_double;
   write_options.comment = "pcl_vts pcd_to_mesh: Delaunay triangulation of " + opt.input;
+  if (!opt.gis.crs().empty()) // as the in-memory path writes it: the same bytes
+    write_options.comment += "; crs: " + opt.gis.crsName();
 
   out.begin("Meshing tiled (memory limit %s, temporary files in '%s'%s) ",
             mib(opt.memory_limit).c_str(), opt.temp_dir.c_str(),
@@ -953,6 +955,12 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   out.line("  %-20s %.1f MiB (limit %s)\n", "peak memory", peakMemoryMiB(),
            mib(opt.memory_limit).c_str());
   out.line("  %-20s %s\n", "mesh written to", opt.output.c_str());
+  std::vector<std::string> gis_lines; // the .prj beside the mesh, by rank 0 only
+  if (pcl_vts::Status w =
+          g_silent ? pcl_vts::Status::success()
+                   : opt.gis.write(pcl_vts::TriangleMesh{}, opt.output, gis_lines);
+      !w.ok())
+    return out.fail(EXIT_OUTPUT, w.message);
   std::fflush(stdout);
   return 0;
 }
@@ -976,6 +984,11 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
     return out.fail(EXIT_USAGE, s.message);
   if (pcl_vts::Status s = opt.gis.validate(); !s.ok())
     return out.fail(EXIT_USAGE, s.message);
+  std::vector<std::string> crs_notes; // the inputs' CRS (gis_cli.h), both paths
+  if (pcl_vts::Status s = opt.gis.resolveCrs(opt.inputs, crs_notes); !s.ok())
+    return out.fail(EXIT_INPUT, s.message);
+  for (const std::string& note : crs_notes)
+    out.line("%s\n", note.c_str());
   if (const int rc = checkOutputPath(opt.output, out); rc != 0)
     return rc;
   if (!opt.png.empty())
@@ -987,7 +1000,6 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
   std::vector<double> xyz;
   pcl_vts::CloudDescription input;
   bool tiled = opt.tile_level >= 0 || comm.size() > 1 || !opt.tile_output.empty();
-  std::vector<std::pair<std::string, std::string>> crs_of; // (file, CRS): gis_cli.h
   for (std::size_t f = 0; f < opt.inputs.size() && !tiled; ++f) {
     std::vector<double> part;
     pcl_vts::CloudDescription one;
@@ -995,7 +1007,6 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
     if (pcl_vts::Status s = loadInput(opt, f, part, one, skipped); !s.ok())
       return out.fail(exitCodeFor(s.code), readFailure(s));
     addDescription(opt, f, one, skipped, input);
-    crs_of.emplace_back(opt.inputs[f], one.crs);
     if (xyz.empty())
       xyz.swap(part);
     else
@@ -1013,8 +1024,6 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
   }
   if (xyz.empty())
     return out.fail(EXIT_DATA, "input unusable: EMPTY_INPUT: no point in " + opt.input);
-  if (pcl_vts::Status s = opt.gis.resolveCrs(crs_of); !s.ok())
-    return out.fail(EXIT_INPUT, s.message);
   const double ms_read = msSince(start);
   out.done(ms_read, std::to_string(input.points_read) + " points, " +
                         pcl_vts::cloudFileFormatName(input.format) + " " +

@@ -227,6 +227,14 @@ TEST_F(CrsRoundTrip, PrjSidecarOverrideAndConflict)
   EXPECT_NE(err.find("b.xyz"), std::string::npos) << err;
   EXPECT_NE(err.find("different coordinate systems"), std::string::npos) << err;
   EXPECT_EQ(run("a.xyz b.xyz m6.ply --crs EPSG:25832", &err), 0) << err;
+  // A file's CRS GDAL cannot parse (PDAL's warsaw_small.las has a WKT of "''") is
+  // ignored with a note, not an error; the tiled run writes the .prj too.
+  write("c.xyz", xyz);
+  write("c.prj", "''");
+  ASSERT_EQ(run("c.xyz m8.ply", &err), 0) << err;
+  EXPECT_EQ(readText(root() + "/m8.prj"), "");
+  ASSERT_EQ(run("a.xyz m9.ply --no-trim --no-fill --tile-level 1", &err), 0) << err;
+  EXPECT_TRUE(sameCrs(readText(root() + "/m9.prj"), "EPSG:25832"));
   // A --crs GDAL does not know is a usage error.
   EXPECT_EQ(run("a.xyz m7.ply --crs EPSG:1", &err), 1);
   EXPECT_NE(err.find("--crs"), std::string::npos) << err;
