@@ -30,6 +30,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <new>
 #include <string>
 #include <sys/resource.h>
@@ -973,8 +974,20 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
     std::string error;
     if (!pcl_vts::tools::expandInputs(opt.inputs, files, error))
       return out.fail(EXIT_INPUT, error);
-    opt.inputs = files;
-    opt.input = files.size() == 1 ? files[0] : std::to_string(files.size()) + " files";
+    // A folder holding the output from an earlier run would read it back as input.
+    std::error_code ec;
+    const std::filesystem::path output =
+        std::filesystem::weakly_canonical(opt.output, ec);
+    opt.inputs.clear();
+    for (const std::string& file : files) {
+      std::error_code file_ec;
+      if (files.size() > 1 && !ec &&
+          std::filesystem::weakly_canonical(file, file_ec) == output && !file_ec)
+        continue;
+      opt.inputs.push_back(file);
+    }
+    opt.input = opt.inputs.size() == 1 ? opt.inputs[0]
+                                       : std::to_string(opt.inputs.size()) + " files";
   }
   const auto t_total = Clock::now();
   pcl_vts::MeshFileFormat format = pcl_vts::MeshFileFormat::PLY;

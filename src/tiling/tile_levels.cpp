@@ -17,7 +17,9 @@ constexpr double BLOCK_POINTS = 512.0;
 // (docs/scaling.md §5).
 constexpr double TILE_POINTS_MAX = 5e5;
 constexpr double TILE_POINTS_MIN = 1e4;
-constexpr double BYTES_PER_TILE_POINT = 400.0; // the pipeline on a tile and its halo
+// The pipeline costs ~300 B per loaded point, and a tile loads up to twice its own
+// points (its halo, more where the density or the hull makes halos grow).
+constexpr double BYTES_PER_TILE_POINT = 800.0;
 
 /// Smallest quadtree level whose nodes hold at most `target` points on average over
 /// the part of the frame the box covers (`fill`); never above MAX_BLOCK_LEVEL.
