@@ -1740,13 +1740,13 @@ TEST_F(PcdToMesh, TiledRunWritesTheInMemoryBytesAndLeavesNoTemporaryFile)
 TEST_F(PcdToMesh, AJobAboveTheMemoryLimitRunsTiledOrSaysWhatItNeeds)
 {
   const std::vector<std::string> names =
-      splitIntoXyzFiles(utmCloud(60000, 3), 2, work_);
+      splitIntoXyzFiles(utmCloud(120000, 3), 2, work_);
   const auto before = workFiles();
-  // 60000 points need about 19 MB in memory: a 12M limit sends the job to the tiles.
-  expectFailure(run({names[0], names[1], "out.ply", "--memory-limit", "12M"}), 1,
+  // 120000 points need about 38 MB in memory: a 24M limit sends the job to the tiles.
+  expectFailure(run({names[0], names[1], "out.ply", "--memory-limit", "24M"}), 1,
                 "--no-trim --no-fill", before);
   const CliResult tiled =
-      runDelaunay({names[0], names[1], "tiled.ply", "--memory-limit", "12M"});
+      runDelaunay({names[0], names[1], "tiled.ply", "--memory-limit", "24M"});
   ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
   EXPECT_NE(tiled.out.find("Meshing tiled"), std::string::npos) << tiled.out;
   ASSERT_EQ(runDelaunay({names[0], names[1], "memory.ply"}).exit_code, 0);
