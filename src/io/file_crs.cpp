@@ -1,6 +1,8 @@
 // See file_crs.h. The LAS header is read with plain stream reads (the records sit
 // between the header and the points, or after them as 1.4 EVLRs): independent of
 // the point reader, which maps the whole file.
+#include "little_endian.h"
+
 #include <pcl_vts/io/file_crs.h>
 
 #include <cerrno>
@@ -22,21 +24,6 @@ constexpr std::uint16_t PROJECTED_CS_KEY = 3072;
 constexpr std::uint16_t GEOGRAPHIC_TYPE_KEY = 2048;
 constexpr std::uint16_t USER_DEFINED = 32767;
 constexpr std::uint64_t MAX_RECORD = 1u << 20; // a WKT is a few KiB
-
-std::uint16_t u16(const std::uint8_t* p)
-{
-  return static_cast<std::uint16_t>(p[0] | p[1] << 8);
-}
-std::uint32_t u32(const std::uint8_t* p)
-{
-  return static_cast<std::uint32_t>(u16(p)) | static_cast<std::uint32_t>(u16(p + 2))
-                                                  << 16;
-}
-std::uint64_t u64(const std::uint8_t* p)
-{
-  return static_cast<std::uint64_t>(u32(p)) | static_cast<std::uint64_t>(u32(p + 4))
-                                                  << 32;
-}
 
 std::string trimmed(const std::string& s)
 {

@@ -2,6 +2,7 @@
 // (format bits, then a bounded walk of the VLRs for the laszip record), point format
 // and record length, point count against the bytes after offset_to_points; only then
 // is anything sized by the header allocated. ASPRS LAS 1.4 R15, tables 3-4 and 7-17.
+#include "little_endian.h"
 #include "reader_guard.h"
 
 #include <pcl_vts/io/las_reader.h>
@@ -25,40 +26,6 @@ constexpr std::size_t VLR_HEADER_SIZE = 54;
 constexpr std::size_t MIN_RECORD_LENGTH[11] = {20, 28, 26, 34, 57, 63,
                                                30, 36, 38, 59, 67};
 constexpr std::uint16_t LASZIP_RECORD_ID = 22204;
-
-std::uint16_t u16(const std::uint8_t* p)
-{
-  return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
-}
-
-std::uint32_t u32(const std::uint8_t* p)
-{
-  return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
-         (static_cast<std::uint32_t>(p[2]) << 16) |
-         (static_cast<std::uint32_t>(p[3]) << 24);
-}
-
-std::uint64_t u64(const std::uint8_t* p)
-{
-  return static_cast<std::uint64_t>(u32(p)) |
-         (static_cast<std::uint64_t>(u32(p + 4)) << 32);
-}
-
-std::int32_t i32(const std::uint8_t* p)
-{
-  const std::uint32_t u = u32(p);
-  std::int32_t v;
-  std::memcpy(&v, &u, 4);
-  return v;
-}
-
-double f64(const std::uint8_t* p)
-{
-  const std::uint64_t u = u64(p);
-  double v;
-  std::memcpy(&v, &u, 8);
-  return v;
-}
 
 /// A fixed-width, NUL-padded header string, trimmed and made printable.
 std::string fixedString(const std::uint8_t* p, std::size_t n)
