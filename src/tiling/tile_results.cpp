@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
 
 namespace pcl_vts {
 namespace {
@@ -150,21 +151,29 @@ Status TileResultsMesh::forEachSection(bool vertices, const Visit& visit) const
   const std::size_t item = vertices ? 24 : 12;
   std::vector<char> buffer;
   for (std::uint32_t t : tiles_) {
+    // One open and one sequential read per tile.
+    const std::string path = resultPath(folder_, t);
+    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(
+        std::fopen(path.c_str(), "rb"), &std::fclose);
+    if (!file)
+      return Status::error(StatusCode::IO_ERROR, ioFailure("open", path, errno));
     std::uint64_t header[3];
-    if (Status s = readAt(t, 0, header, sizeof(header)); !s.ok())
-      return s;
-    const std::uint64_t count = vertices ? header[0] : header[1];
-    long offset = static_cast<long>(sizeof(header) + (vertices ? 0 : 24 * header[0]));
-    for (std::uint64_t done = 0; done < count;) {
+    bool ok = std::fread(header, sizeof(header), 1, file.get()) == 1;
+    const std::uint64_t count = ok ? (vertices ? header[0] : header[1]) : 0;
+    if (ok && !vertices)
+      ok = std::fseek(file.get(), static_cast<long>(24 * header[0]), SEEK_CUR) == 0;
+    for (std::uint64_t done = 0; ok && done < count;) {
       const std::size_t n =
           static_cast<std::size_t>(std::min<std::uint64_t>(count - done, 1 << 16));
       buffer.resize(n * item);
-      if (Status s = readAt(t, offset, buffer.data(), buffer.size()); !s.ok())
-        return s;
-      visit(buffer.data(), n);
+      ok = std::fread(buffer.data(), 1, buffer.size(), file.get()) == buffer.size();
+      if (ok)
+        visit(buffer.data(), n);
       done += n;
-      offset += static_cast<long>(n * item);
     }
+    if (!ok)
+      return Status::error(StatusCode::IO_ERROR, "cannot read back '" + path +
+                                                     "': shorter than its header says");
   }
   return Status::success();
 }
