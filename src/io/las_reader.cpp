@@ -1,9 +1,13 @@
-// LAS -> double xyz. Order matters: signature, version, header size, compression
-// (format bits, then a bounded walk of the VLRs for the laszip record), point format
-// and record length, point count against the bytes after offset_to_points; only then
-// is anything sized by the header allocated. ASPRS LAS 1.4 R15, tables 3-4 and 7-17.
+// LAS and LAZ -> double xyz. Order matters: signature, version, header size,
+// compression (format bits, then a bounded walk of the VLRs for the laszip record),
+// point format and record length, point count against the bytes after
+// offset_to_points (LAS) or the chunk table (LAZ); only then is anything sized by the
+// header allocated. ASPRS LAS 1.4 R15, tables 3-4 and 7-17; LAZ: laz/laz_stream.h.
+#include "laz/laz_stream.h"
 #include "little_endian.h"
 #include "reader_guard.h"
+
+#include <pcl_vts/core/parallel_for.h>
 
 #include <pcl_vts/io/las_reader.h>
 
@@ -45,31 +49,33 @@ Status ioError(const std::string& name, const std::string& what)
 
 Status lazError(const std::string& name, const std::string& why)
 {
-  return ioError(name, "LAZ (compressed LAS) is not supported (" + why +
-                           "); convert it first, e.g. 'pdal translate " + name +
-                           " out.las' or 'laszip -i " + name + " -o out.las'");
+  return ioError(name, "cannot decode this LAZ file: " + why);
 }
 
-/// True when a VLR inside [header_size, offset_to_points) is the laszip record. The
-/// walk stops at the first record that does not fit: VLRs are not trusted further.
-bool hasLaszipVlr(const std::uint8_t* data, std::size_t header_size,
-                  std::size_t offset_to_points, std::uint32_t vlr_count)
+/// The payload of the laszip VLR inside [header_size, offset_to_points), or nullptr.
+/// The walk stops at the first record that does not fit: VLRs are not trusted further.
+const std::uint8_t* findLaszipVlr(const std::uint8_t* data, std::size_t header_size,
+                                  std::size_t offset_to_points, std::uint32_t vlr_count,
+                                  std::size_t& length)
 {
   std::size_t at = header_size;
   for (std::uint32_t v = 0; v < vlr_count; ++v) {
     if (offset_to_points - at < VLR_HEADER_SIZE)
-      return false;
+      return nullptr;
     const std::uint8_t* vlr = data + at;
-    const std::string user_id = fixedString(vlr + 2, 16);
-    if (user_id == "laszip encoded" || u16(vlr + 18) == LASZIP_RECORD_ID)
-      return true;
-    const std::size_t length = u16(vlr + 20);
+    length = u16(vlr + 20);
     if (offset_to_points - at - VLR_HEADER_SIZE < length)
-      return false;
+      return nullptr;
+    const std::string user_id = fixedString(vlr + 2, 16);
+    if (user_id == "laszip encoded" && u16(vlr + 18) == LASZIP_RECORD_ID)
+      return vlr + VLR_HEADER_SIZE;
     at += VLR_HEADER_SIZE + length;
   }
-  return false;
+  return nullptr;
 }
+
+/// Chunks of a LAZ file at most this large are decoded at once (LASzip writes 50000).
+constexpr std::uint64_t MAX_CHUNK_POINTS = std::uint64_t{1} << 24;
 
 std::string classList(const std::vector<std::uint8_t>& classes)
 {
@@ -137,13 +143,20 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
                              std::to_string(info.offset_to_points) + " is outside [" +
                              std::to_string(info.header_size) + ", " +
                              std::to_string(size) + "] (header size, file size)");
-  // Bit 7 (and 6) of the format byte mark LAZ; the laszip VLR marks it too.
-  if ((format_byte & 0xC0) != 0)
+  // Bit 7 (and 6) of the format byte mark LAZ; the laszip VLR says how it is coded.
+  std::size_t vlr_length = 0;
+  const std::uint8_t* vlr_data =
+      findLaszipVlr(data, info.header_size, info.offset_to_points, vlr_count, vlr_length);
+  const bool compressed = (format_byte & 0xC0) != 0 || vlr_data != nullptr;
+  if (compressed && vlr_data == nullptr)
     return lazError(name, "point format byte " + std::to_string(format_byte) +
-                              " has the compression bit set");
-  if (hasLaszipVlr(data, info.header_size, info.offset_to_points, vlr_count))
-    return lazError(name, "it holds a 'laszip encoded' VLR");
-  info.point_format = format_byte;
+                              " has the compression bit set, but no 'laszip encoded' "
+                              "VLR (record 22204) says how");
+  laz::LaszipVlr laszip;
+  if (std::string why; compressed && !laz::parseLaszipVlr(vlr_data, vlr_length, laszip, why))
+    return lazError(name, why);
+  info.laz = compressed ? laszip.description() : std::string();
+  info.point_format = format_byte & 0x3F;
   if (info.point_format > 10)
     return ioError(name, "unsupported LAS point format " +
                              std::to_string(info.point_format) + " (0 to 10 are read)");
@@ -175,23 +188,38 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
   if (count == 0)
     return Status::error(StatusCode::EMPTY_INPUT,
                          "'" + name + "' holds 0 points (LAS header point count)");
-  const std::size_t available = size - info.offset_to_points;
-  if (count > available / info.record_length)
-    return ioError(name, "truncated or corrupt: header claims " +
-                             std::to_string(count) + " points of " +
-                             std::to_string(info.record_length) + " bytes, only " +
-                             std::to_string(available) + " bytes follow offset " +
-                             std::to_string(info.offset_to_points));
+  std::vector<laz::Chunk> chunks;
+  if (compressed) {
+    std::string why;
+    if (!laz::checkItems(laszip, info.point_format, info.record_length, why) ||
+        !laz::readChunkTable(data, size, info.offset_to_points, count, laszip, chunks, why))
+      return lazError(name, why);
+    for (const laz::Chunk& c : chunks)
+      if (c.points > MAX_CHUNK_POINTS)
+        return lazError(name, "a chunk of " + std::to_string(c.points) +
+                                  " points, more than the " +
+                                  std::to_string(MAX_CHUNK_POINTS) + " decoded at once");
+  } else {
+    const std::size_t available = size - info.offset_to_points;
+    if (count > available / info.record_length)
+      return ioError(name, "truncated or corrupt: header claims " + std::to_string(count) +
+                               " points of " + std::to_string(info.record_length) +
+                               " bytes, only " + std::to_string(available) +
+                               " bytes follow offset " +
+                               std::to_string(info.offset_to_points));
+  }
 
   std::array<bool, 256> keep_class{};
   keep_class.fill(options.classes.empty());
   for (std::uint8_t c : options.classes)
     keep_class[c] = true;
   const bool extended = info.point_format >= 6;
-  // count * record_length <= size: the reservation is bounded by the file.
+  // LAS: count * record_length <= size, so the reservation is bounded by the file;
+  // a LAZ count is only bounded by its chunk table, so reserve no more than size.
   xyz.clear();
   xyz.reserve(output.sink ? 3 * output.chunk_points
-                          : 3 * static_cast<std::size_t>(count));
+                          : 3 * static_cast<std::size_t>(std::min<std::uint64_t>(
+                                    count, compressed ? size : count)));
   for (int a = 0; a < 3; ++a) {
     info.min[a] = std::numeric_limits<double>::infinity();
     info.max[a] = -std::numeric_limits<double>::infinity();
@@ -215,25 +243,61 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
     }
     return s;
   };
-  const std::uint8_t* record = data + info.offset_to_points;
-  for (std::uint64_t i = 0; i < count; ++i, record += info.record_length) {
-    if (output.sink && xyz.size() >= 3 * output.chunk_points)
-      if (Status s = handOver(record); !s.ok())
-        return s;
+  const auto take = [&](const std::uint8_t* record) {
     const std::uint8_t returns = record[14];
     const unsigned return_number = extended ? (returns & 0x0F) : (returns & 0x07);
     const unsigned number_of_returns = extended ? (returns >> 4) : ((returns >> 3) & 7);
     const std::uint8_t cls = extended ? record[16] : (record[15] & 0x1F);
     ++info.class_counts[cls];
     if (!keep_class[cls])
-      continue;
+      return;
     if (options.returns == LasReturnFilter::FIRST && return_number > 1)
-      continue;
+      return;
     if (options.returns == LasReturnFilter::LAST && return_number < number_of_returns)
-      continue;
+      return;
     for (int a = 0; a < 3; ++a)
       xyz.push_back(static_cast<double>(i32(record + 4 * a)) * info.scale[a] +
                     info.offset[a]);
+  };
+  const std::uint8_t* record = data + info.offset_to_points;
+  if (!compressed) {
+    for (std::uint64_t i = 0; i < count; ++i, record += info.record_length) {
+      if (output.sink && xyz.size() >= 3 * output.chunk_points)
+        if (Status s = handOver(record); !s.ok())
+          return s;
+      take(record);
+    }
+  } else {
+    // Batches of one chunk per thread, decoded together, then taken in file order.
+    const unsigned threads = std::max(1u, options.threads);
+    std::vector<std::vector<std::uint8_t>> decoded(threads);
+    std::vector<std::string> errors(threads);
+    for (std::size_t first = 0; first < chunks.size(); first += threads) {
+      const std::size_t batch = std::min<std::size_t>(threads, chunks.size() - first);
+      runTeam(static_cast<unsigned>(batch), [&](unsigned w) {
+        try {
+          if (!laz::decodeChunk(data, chunks[first + w], laszip, info.record_length,
+                                decoded[w], errors[w]) &&
+              errors[w].empty())
+            errors[w] = "undecodable";
+        } catch (const std::bad_alloc&) {
+          errors[w] = "out of memory while decoding it";
+        }
+      });
+      for (std::size_t w = 0; w < batch; ++w) {
+        if (!errors[w].empty())
+          return lazError(name, "chunk " + std::to_string(first + w) + " of " +
+                                    std::to_string(chunks.size()) + ": " + errors[w]);
+        const std::uint8_t* r = decoded[w].data();
+        for (std::uint64_t i = 0; i < chunks[first + w].points; ++i, r += info.record_length) {
+          if (output.sink && xyz.size() >= 3 * output.chunk_points)
+            if (Status s = handOver(data + chunks[first + w].offset); !s.ok())
+              return s;
+          take(r);
+        }
+      }
+      record = data + chunks[first + batch - 1].offset + chunks[first + batch - 1].bytes;
+    }
   }
   info.points_read = count;
   if (output.sink) {
@@ -294,9 +358,10 @@ const char* lasReturnFilterName(LasReturnFilter filter)
 
 std::string LasInfo::description() const
 {
-  return "LAS " + std::to_string(version_major) + "." + std::to_string(version_minor) +
-         ", point format " + std::to_string(point_format) + ", " +
-         std::to_string(record_length) + "-byte records";
+  return (laz.empty() ? "LAS " : "LAZ ") + std::to_string(version_major) + "." +
+         std::to_string(version_minor) + ", point format " + std::to_string(point_format) +
+         ", " + std::to_string(record_length) + "-byte records" +
+         (laz.empty() ? "" : " (" + laz + ")");
 }
 
 Status parseLasCloud(const std::uint8_t* data, std::size_t size,

@@ -1,8 +1,9 @@
-// Reads the x, y, z of an uncompressed LAS 1.0-1.4 file (point formats 0-10) into
+// Reads the x, y, z of a LAS 1.0-1.4 file (point formats 0-10), plain or LASzip-
+// compressed (LAZ: point formats 0-3 and 6-8, decoded chunk by chunk on threads), into
 // doubles: int32 * scale + offset, records stepped by the header's record length
 // (extra bytes), optional classification and return filters. Every size the header
-// claims is checked against the file before anything is allocated; LAZ is refused
-// with the command that converts it. PCL-free (std + POSIX); no LAS library needed.
+// claims is checked against the file before anything is allocated. PCL-free (std +
+// POSIX); no LAS or LAZ library needed.
 #pragma once
 
 #include <pcl_vts/core/status.h>
@@ -34,6 +35,8 @@ struct LasReadOptions {
   /// Formats 0-5 store the class in the low 5 bits, formats 6-10 in a full byte.
   std::vector<std::uint8_t> classes;
   LasReturnFilter returns = LasReturnFilter::ALL;
+  /// LAZ: chunks decoded at once, one per thread (1 = on the calling thread).
+  unsigned threads = 1;
 };
 
 /// What the reader found, for the caller's summary.
@@ -57,8 +60,11 @@ struct PCL_VTS_IO_EXPORT LasInfo {
   std::array<std::uint64_t, 256> class_counts{};
   std::string system_identifier;
   std::string generating_software;
+  /// LAZ: how the points are compressed ("layered-chunked (3), LASzip 3.4.3, 50000
+  /// points per chunk"); empty for LAS.
+  std::string laz;
 
-  /// "LAS 1.2, point format 3, 34-byte records".
+  /// "LAS 1.2, point format 3, 34-byte records" ("LAZ 1.4, ..." for LAZ).
   std::string description() const;
 };
 
