@@ -100,9 +100,9 @@ void printHelp()
       "        read in double precision:\n"
       "        .pcd  PCD (ascii, binary, binary_compressed), fields x y z or X Y Z,\n"
       "              float32, float64 or integer\n"
-      "        .las  LAS 1.0-1.4, point formats 0-10 (int32 * scale + offset);\n"
-      "              .laz is not read: convert it first ('pdal translate in.laz\n"
-      "              out.las' or 'laszip -i in.laz -o out.las')\n"
+      "        .las  LAS 1.0-1.4, point formats 0-10 (int32 * scale + offset)\n"
+      "        .laz  LAZ (LASzip-compressed LAS), point formats 0-3 and 6-8, its\n"
+      "              chunks decoded on --threads\n"
       "        .asc  ESRI ASCII grid: one point per cell centre, NODATA skipped\n"
       "        .tif .tiff  GeoTIFF (band 1, through GDAL when the build found it):\n"
       "              one point per cell centre, NODATA skipped\n"
@@ -161,7 +161,8 @@ void printHelp()
       "                      --pmf-slope 1 (rise/run), --pmf-initial 0.5 and\n"
       "                      --pmf-max 3 (height thresholds), --pmf-base 2\n"
       "                      (window growth); docs/ground.md\n"
-      "  --threads N         threads for the triangulation, N >= 0; 0 = all cores\n"
+      "  --threads N         threads for the triangulation and LAZ decoding, N >= 0;\n"
+      "                      0 = all cores\n"
       "                      (default: 0; the mesh is the same for every N)\n"
       "  --ascii             ASCII PLY instead of binary (default: binary; .obj and "
       ".vtk\n"
@@ -197,7 +198,7 @@ void printHelp()
       "  1  usage error: unknown option, bad or missing option value, wrong number of\n"
       "     arguments, unknown output extension, --classes/--returns on non-LAS input\n"
       "  2  input file error: missing, unreadable, empty, unknown format, bad header,\n"
-      "     truncated body, no x/y/z, a value that is not a number, LAZ input\n"
+      "     truncated body, no x/y/z, a value that is not a number, corrupt LAZ\n"
       "  3  input data unusable: no points (or none left after --classes/--returns,\n"
       "     all NODATA), fewer than 3 distinct XY positions, all points collinear,\n"
       "     coordinates out of range\n"
@@ -290,7 +291,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
   std::vector<std::string> positional;
   bool options_done = false;
   opt.vts.cell_size = DEFAULT_CELL_SIZE;
-  opt.vts.threads = 0;                                       // every core
+  opt.vts.threads = 0; // every core
+  opt.load.threads = 0;
   opt.vts.reconstruction = pcl_vts::ReconstructionOptions{}; // trim and fill
   if (!pcl_vts::parseDuplicateRule(DEFAULT_DUPLICATES, opt.vts.duplicate_rule)) {
     error = "internal: bad default duplicate rule";
@@ -424,6 +426,7 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
         return false;
       }
       opt.vts.threads = static_cast<unsigned>(threads);
+      opt.load.threads = opt.vts.threads; // LAZ chunks decode on the same threads
     } else if (name == "--png") {
       if (!hasPngExtension(value)) {
         error = "--png: '" + value + "' must name a .png file";

@@ -8,7 +8,6 @@
 #include "reader_guard.h"
 
 #include <pcl_vts/core/parallel_for.h>
-
 #include <pcl_vts/io/las_reader.h>
 
 #include <algorithm>
@@ -145,15 +144,16 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
                              std::to_string(size) + "] (header size, file size)");
   // Bit 7 (and 6) of the format byte mark LAZ; the laszip VLR says how it is coded.
   std::size_t vlr_length = 0;
-  const std::uint8_t* vlr_data =
-      findLaszipVlr(data, info.header_size, info.offset_to_points, vlr_count, vlr_length);
+  const std::uint8_t* vlr_data = findLaszipVlr(
+      data, info.header_size, info.offset_to_points, vlr_count, vlr_length);
   const bool compressed = (format_byte & 0xC0) != 0 || vlr_data != nullptr;
   if (compressed && vlr_data == nullptr)
     return lazError(name, "point format byte " + std::to_string(format_byte) +
                               " has the compression bit set, but no 'laszip encoded' "
                               "VLR (record 22204) says how");
   laz::LaszipVlr laszip;
-  if (std::string why; compressed && !laz::parseLaszipVlr(vlr_data, vlr_length, laszip, why))
+  if (std::string why;
+      compressed && !laz::parseLaszipVlr(vlr_data, vlr_length, laszip, why))
     return lazError(name, why);
   info.laz = compressed ? laszip.description() : std::string();
   info.point_format = format_byte & 0x3F;
@@ -192,20 +192,21 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
   if (compressed) {
     std::string why;
     if (!laz::checkItems(laszip, info.point_format, info.record_length, why) ||
-        !laz::readChunkTable(data, size, info.offset_to_points, count, laszip, chunks, why))
+        !laz::readChunkTable(data, size, info.offset_to_points, count, laszip, chunks,
+                             why))
       return lazError(name, why);
     for (const laz::Chunk& c : chunks)
       if (c.points > MAX_CHUNK_POINTS)
-        return lazError(name, "a chunk of " + std::to_string(c.points) +
-                                  " points, more than the " +
-                                  std::to_string(MAX_CHUNK_POINTS) + " decoded at once");
+        return lazError(
+            name, "a chunk of " + std::to_string(c.points) + " points, more than the " +
+                      std::to_string(MAX_CHUNK_POINTS) + " decoded at once");
   } else {
     const std::size_t available = size - info.offset_to_points;
     if (count > available / info.record_length)
-      return ioError(name, "truncated or corrupt: header claims " + std::to_string(count) +
-                               " points of " + std::to_string(info.record_length) +
-                               " bytes, only " + std::to_string(available) +
-                               " bytes follow offset " +
+      return ioError(name, "truncated or corrupt: header claims " +
+                               std::to_string(count) + " points of " +
+                               std::to_string(info.record_length) + " bytes, only " +
+                               std::to_string(available) + " bytes follow offset " +
                                std::to_string(info.offset_to_points));
   }
 
@@ -289,14 +290,16 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
           return lazError(name, "chunk " + std::to_string(first + w) + " of " +
                                     std::to_string(chunks.size()) + ": " + errors[w]);
         const std::uint8_t* r = decoded[w].data();
-        for (std::uint64_t i = 0; i < chunks[first + w].points; ++i, r += info.record_length) {
+        for (std::uint64_t i = 0; i < chunks[first + w].points;
+             ++i, r += info.record_length) {
           if (output.sink && xyz.size() >= 3 * output.chunk_points)
             if (Status s = handOver(data + chunks[first + w].offset); !s.ok())
               return s;
           take(r);
         }
       }
-      record = data + chunks[first + batch - 1].offset + chunks[first + batch - 1].bytes;
+      record =
+          data + chunks[first + batch - 1].offset + chunks[first + batch - 1].bytes;
     }
   }
   info.points_read = count;
@@ -359,9 +362,9 @@ const char* lasReturnFilterName(LasReturnFilter filter)
 std::string LasInfo::description() const
 {
   return (laz.empty() ? "LAS " : "LAZ ") + std::to_string(version_major) + "." +
-         std::to_string(version_minor) + ", point format " + std::to_string(point_format) +
-         ", " + std::to_string(record_length) + "-byte records" +
-         (laz.empty() ? "" : " (" + laz + ")");
+         std::to_string(version_minor) + ", point format " +
+         std::to_string(point_format) + ", " + std::to_string(record_length) +
+         "-byte records" + (laz.empty() ? "" : " (" + laz + ")");
 }
 
 Status parseLasCloud(const std::uint8_t* data, std::size_t size,

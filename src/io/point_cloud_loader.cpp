@@ -1,5 +1,6 @@
 // Extension first (users name their files), content second (for odd names); each
 // reader's info is folded into one CloudDescription so the CLI prints one shape.
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/io/asc_grid_reader.h>
 #include <pcl_vts/io/file_crs.h>
 #include <pcl_vts/io/geotiff_reader.h>
@@ -235,6 +236,7 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
     LasReadOptions las;
     las.classes = options.classes;
     las.returns = options.returns;
+    las.threads = options.threads == 0 ? allCores() : options.threads;
     LasInfo info;
     s = readLasCloud(path, las, xyz, info);
     if (!s.ok())
@@ -316,6 +318,7 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
     LasReadOptions las;
     las.classes = options.classes;
     las.returns = options.returns;
+    las.threads = options.threads == 0 ? allCores() : options.threads;
     LasInfo info;
     if (Status s = readLasCloudChunks(path, las, chunk_points, sink, info); !s.ok())
       return s;

@@ -1248,7 +1248,7 @@ TEST_F(PcdToMesh, BadInputOfEveryFormatIsOneLineAndNoFile)
       {"b.ply", ply_huge, 2, "3000000000"},
       {"b.asc", "ncols 90000\nnrows 90000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1\n",
        2, "90000 x 90000"},
-      {"z.laz", laz, 2, "pdal translate"},
+      {"z.laz", laz, 2, "no 'laszip encoded' VLR"},
       {"n.xyz", "1 2 3\n4 5 x\n", 2, "'x' is not a number"},
       {"u.foo", "some text\n", 2, "unknown input format"},
       {"same.xyz", "1 1 1\n1 1 2\n1 1 3\n1 1 4\n", 3, "TOO_FEW_POINTS"},

@@ -41,6 +41,8 @@ struct CloudLoadOptions {
   /// LAS only: returns to keep; anything but ALL on another format is
   /// INVALID_PARAMETER.
   LasReturnFilter returns = LasReturnFilter::ALL;
+  /// LAZ only: chunks decoded at once, one per thread; 0 = all cores.
+  unsigned threads = 1;
 };
 
 struct CloudDescription {

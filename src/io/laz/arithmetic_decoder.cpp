@@ -5,7 +5,9 @@
 namespace pcl_vts {
 namespace laz {
 
-SymbolModel::SymbolModel(std::uint32_t n) : symbols(n), last_symbol(n - 1)
+SymbolModel::SymbolModel(std::uint32_t n)
+    : symbols(n)
+    , last_symbol(n - 1)
 {
   if (symbols > 16) {
     std::uint32_t table_bits = 3;

@@ -15,7 +15,7 @@ namespace laz {
 
 constexpr std::uint32_t MIN_LENGTH = 0x01000000u; // renormalise below this
 constexpr std::uint32_t MAX_LENGTH = 0xFFFFFFFFu;
-constexpr std::uint32_t BIT_LENGTH_SHIFT = 13;    // bit model: 13-bit probabilities
+constexpr std::uint32_t BIT_LENGTH_SHIFT = 13; // bit model: 13-bit probabilities
 constexpr std::uint32_t BIT_MAX_COUNT = 1u << BIT_LENGTH_SHIFT;
 constexpr std::uint32_t SYMBOL_LENGTH_SHIFT = 15; // symbol model: 15-bit distribution
 constexpr std::uint32_t SYMBOL_MAX_COUNT = 1u << SYMBOL_LENGTH_SHIFT;
@@ -46,7 +46,7 @@ struct BitModel {
 /// Adaptive model of an alphabet of 2..2048 symbols; alphabets above 16 symbols
 /// keep a lookup table that narrows the search before the bisection.
 class SymbolModel {
-public:
+ public:
   explicit SymbolModel(std::uint32_t symbols);
 
   void update();
@@ -60,9 +60,12 @@ public:
 
 /// Decodes one arithmetic-coded stream held in [begin, end).
 class ArithmeticDecoder {
-public:
+ public:
   ArithmeticDecoder() = default;
-  ArithmeticDecoder(const std::uint8_t* begin, const std::uint8_t* end) { start(begin, end); }
+  ArithmeticDecoder(const std::uint8_t* begin, const std::uint8_t* end)
+  {
+    start(begin, end);
+  }
 
   /// Starts on a new stream: reads its first four bytes.
   void start(const std::uint8_t* begin, const std::uint8_t* end)
@@ -76,6 +79,8 @@ public:
       value_ = (value_ << 8) | nextByte();
   }
 
+  /// Bytes of the stream not read yet.
+  std::size_t unread() const { return static_cast<std::size_t>(end_ - at_); }
   /// Bytes asked for beyond the stream's end (0 for an intact stream).
   std::size_t overrun() const { return overrun_; }
 
@@ -115,7 +120,7 @@ public:
     return (readShort() << 16) | low;
   }
 
-private:
+ private:
   std::uint32_t nextByte()
   {
     if (at_ < end_)

@@ -13,7 +13,7 @@ namespace pcl_vts {
 namespace laz {
 
 class IntegerDecoder {
-public:
+ public:
   /// bits: width of the values (32 = the whole int32 range); contexts: how many
   /// independent k models; bits_high: corrector bits coded by a model, the rest raw.
   explicit IntegerDecoder(std::uint32_t bits = 16, std::uint32_t contexts = 1,
@@ -37,15 +37,15 @@ public:
   /// Bit length of the last corrector: the next values' contexts depend on it.
   std::uint32_t k() const { return k_; }
 
-private:
+ private:
   std::int32_t corrector(ArithmeticDecoder& dec, std::uint32_t context);
 
   std::uint32_t bits_high_;
   std::uint32_t corr_bits_, corr_range_;
   std::int32_t corr_min_;
   std::uint32_t k_ = 0;
-  std::vector<SymbolModel> k_models_; // one per context
-  BitModel corrector0_;               // k == 0: the corrector is 0 or 1
+  std::vector<SymbolModel> k_models_;         // one per context
+  BitModel corrector0_;                       // k == 0: the corrector is 0 or 1
   std::vector<SymbolModel> corrector_models_; // k == 1..corr_bits
 };
 

@@ -17,7 +17,7 @@ namespace laz {
 /// Median of the last five values, kept sorted with a flag for which side the next
 /// insertion replaces (LASzip's StreamingMedian5).
 class Median5 {
-public:
+ public:
   std::int32_t get() const { return v_[2]; }
   void add(std::int32_t x)
   {
@@ -70,15 +70,18 @@ public:
     }
   }
 
-private:
+ private:
   std::array<std::int32_t, 5> v_{};
   bool high_ = true;
 };
 
 /// count models of `symbols` symbols, each made when first used.
 class LazyModels {
-public:
-  LazyModels(std::size_t count, std::uint32_t symbols) : models_(count), symbols_(symbols) {}
+ public:
+  LazyModels(std::size_t count, std::uint32_t symbols)
+      : models_(count)
+      , symbols_(symbols)
+  {}
   SymbolModel& operator[](std::size_t i)
   {
     if (!models_[i])
@@ -86,7 +89,7 @@ public:
     return *models_[i];
   }
 
-private:
+ private:
   std::vector<std::unique_ptr<SymbolModel>> models_;
   std::uint32_t symbols_;
 };
@@ -115,16 +118,24 @@ inline std::int32_t wrapMul(std::int32_t a, std::int32_t b)
                                    static_cast<std::uint32_t>(b));
 }
 
-template <typename T> T load(const std::uint8_t* p)
+template <typename T>
+T load(const std::uint8_t* p)
 {
   T v;
   std::memcpy(&v, p, sizeof(T)); // LAZ runs on little-endian hosts only (checked)
   return v;
 }
-template <typename T> void store(std::uint8_t* p, T v) { std::memcpy(p, &v, sizeof(T)); }
+template <typename T>
+void store(std::uint8_t* p, T v)
+{
+  std::memcpy(p, &v, sizeof(T));
+}
 
 /// Clamps to a byte, as the RGB predictions do.
-inline std::uint8_t clampByte(int v) { return static_cast<std::uint8_t>(v < 0 ? 0 : v > 255 ? 255 : v); }
+inline std::uint8_t clampByte(int v)
+{
+  return static_cast<std::uint8_t>(v < 0 ? 0 : v > 255 ? 255 : v);
+}
 
 /// RGB12 v2 and RGB14 v3: which of the six colour bytes changed, then each changed
 /// byte's difference from a prediction that follows red's change.
@@ -136,8 +147,8 @@ struct RgbModels {
 
 /// Decodes one RGB triple into out (6 bytes), predicted from `last`, which it then
 /// updates; RGB14 keeps `last` and the models in different scanner contexts.
-void decodeRgb(ArithmeticDecoder& dec, RgbModels& models, std::array<std::uint16_t, 3>& last,
-               std::uint8_t* out);
+void decodeRgb(ArithmeticDecoder& dec, RgbModels& models,
+               std::array<std::uint16_t, 3>& last, std::uint8_t* out);
 
 } // namespace laz
 } // namespace pcl_vts

@@ -11,9 +11,9 @@ namespace {
 // Context of return r of n (formats 0-5). Well-formed files use the upper-left
 // triangle; the rest gives context to files that number returns from 0 or swap them.
 constexpr std::uint8_t NUMBER_RETURN_MAP[8][8] = {
-    {15, 14, 13, 12, 11, 10, 9, 8}, {14, 0, 1, 3, 6, 10, 10, 9},
-    {13, 1, 2, 4, 7, 11, 11, 10},   {12, 3, 4, 5, 8, 12, 12, 11},
-    {11, 6, 7, 8, 9, 13, 13, 12},   {10, 10, 11, 12, 13, 14, 14, 13},
+    {15, 14, 13, 12, 11, 10, 9, 8},  {14, 0, 1, 3, 6, 10, 10, 9},
+    {13, 1, 2, 4, 7, 11, 11, 10},    {12, 3, 4, 5, 8, 12, 12, 11},
+    {11, 6, 7, 8, 9, 13, 13, 12},    {10, 10, 11, 12, 13, 14, 14, 13},
     {9, 10, 11, 12, 13, 14, 15, 14}, {8, 9, 10, 11, 12, 13, 14, 15}};
 
 /// The 20 bytes of a point format 0 record.
@@ -56,7 +56,7 @@ struct Point10 {
 };
 
 class Point10V2 final : public PointwiseItemDecoder {
-public:
+ public:
   void first(const std::uint8_t* raw) override
   {
     last_.read(raw);
@@ -79,8 +79,8 @@ public:
         last_.intensity = last_intensity_[m];
       }
       if (changed & (1u << 3))
-        last_.classification =
-            static_cast<std::uint8_t>(dec.decodeSymbol(classification_[last_.classification]));
+        last_.classification = static_cast<std::uint8_t>(
+            dec.decodeSymbol(classification_[last_.classification]));
       if (changed & (1u << 2))
         last_.scan_angle = static_cast<std::uint8_t>(
             dec.decodeSymbol(scan_angle_[last_.scanDirection()]) + last_.scan_angle);
@@ -88,8 +88,8 @@ public:
         last_.user_data =
             static_cast<std::uint8_t>(dec.decodeSymbol(user_data_[last_.user_data]));
       if (changed & 1u)
-        last_.point_source =
-            static_cast<std::uint16_t>(point_source_.decode(dec, last_.point_source, 0));
+        last_.point_source = static_cast<std::uint16_t>(
+            point_source_.decode(dec, last_.point_source, 0));
     }
     // x and y: difference from the median of the last five of this return context.
     std::int32_t diff = dx_.decode(dec, x_median_[m].get(), n == 1);
@@ -106,7 +106,7 @@ public:
     last_.write(out);
   }
 
-private:
+ private:
   Point10 last_;
   std::array<std::uint16_t, 16> last_intensity_{};
   std::array<Median5, 16> x_median_, y_median_;
@@ -114,7 +114,8 @@ private:
   SymbolModel changed_values_{64};
   LazyModels scan_angle_{2, 256}, bit_byte_{256, 256}, classification_{256, 256},
       user_data_{256, 256};
-  IntegerDecoder intensity_{16, 4}, point_source_{16}, dx_{32, 2}, dy_{32, 22}, z_{32, 20};
+  IntegerDecoder intensity_{16, 4}, point_source_{16}, dx_{32, 2}, dy_{32, 22},
+      z_{32, 20};
 };
 
 // GPS time: up to four interleaved sequences of regular increments (multi-return
@@ -126,7 +127,7 @@ constexpr std::int32_t GPS_MULTI_CODE_FULL = GPS_MULTI - GPS_MULTI_MINUS + 2;
 constexpr std::int32_t GPS_MULTI_TOTAL = GPS_MULTI - GPS_MULTI_MINUS + 6;
 
 class GpsTime11V2 final : public PointwiseItemDecoder {
-public:
+ public:
   void first(const std::uint8_t* raw) override { time_[0] = load<std::int64_t>(raw); }
 
   void next(ArithmeticDecoder& dec, std::uint8_t* out) override
@@ -139,12 +140,13 @@ public:
     store(out, time_[last_]);
   }
 
-private:
+ private:
   /// False when the symbol only switched sequences.
   bool decodeOnce(ArithmeticDecoder& dec)
   {
     if (diff_[last_] == 0) {
-      const std::int32_t multi = static_cast<std::int32_t>(dec.decodeSymbol(zero_diff_));
+      const std::int32_t multi =
+          static_cast<std::int32_t>(dec.decodeSymbol(zero_diff_));
       if (multi == 1) { // a 32-bit difference
         diff_[last_] = gps_.decode(dec, 0, 0);
         time_[last_] = wrapAdd64(time_[last_], diff_[last_]);
@@ -218,9 +220,8 @@ private:
   IntegerDecoder gps_{32, 9};
 };
 
-
 class Rgb12V2 final : public PointwiseItemDecoder {
-public:
+ public:
   void first(const std::uint8_t* raw) override
   {
     for (int c = 0; c < 3; ++c)
@@ -231,15 +232,21 @@ public:
     decodeRgb(dec, models_, last_, out);
   }
 
-private:
+ private:
   std::array<std::uint16_t, 3> last_{};
   RgbModels models_;
 };
 
 class BytesV2 final : public PointwiseItemDecoder {
-public:
-  explicit BytesV2(std::size_t count) : last_(count), models_(count, SymbolModel(256)) {}
-  void first(const std::uint8_t* raw) override { last_.assign(raw, raw + last_.size()); }
+ public:
+  explicit BytesV2(std::size_t count)
+      : last_(count)
+      , models_(count, SymbolModel(256))
+  {}
+  void first(const std::uint8_t* raw) override
+  {
+    last_.assign(raw, raw + last_.size());
+  }
   void next(ArithmeticDecoder& dec, std::uint8_t* out) override
   {
     for (std::size_t i = 0; i < last_.size(); ++i) {
@@ -248,7 +255,7 @@ public:
     }
   }
 
-private:
+ private:
   std::vector<std::uint8_t> last_;
   std::vector<SymbolModel> models_;
 };
@@ -261,7 +268,9 @@ void decodeRgb(ArithmeticDecoder& dec, RgbModels& s, std::array<std::uint16_t, 3
   const std::uint32_t sym = dec.decodeSymbol(s.used);
   const auto low = [](std::uint16_t v) { return static_cast<int>(v & 0xFF); };
   const auto high = [](std::uint16_t v) { return static_cast<int>(v >> 8); };
-  const auto byteSum = [](int a, int b) { return static_cast<std::uint16_t>(static_cast<std::uint8_t>(a + b)); };
+  const auto byteSum = [](int a, int b) {
+    return static_cast<std::uint16_t>(static_cast<std::uint8_t>(a + b));
+  };
   std::uint16_t r, g, b;
   r = (sym & 1u) ? byteSum(static_cast<int>(dec.decodeSymbol(s.diff[0])), low(last[0]))
                  : static_cast<std::uint16_t>(low(last[0]));
@@ -286,15 +295,17 @@ void decodeRgb(ArithmeticDecoder& dec, RgbModels& s, std::array<std::uint16_t, 3
     }
     diff = high(r) - high(last[0]);
     if (sym & (1u << 3))
-      g |= static_cast<std::uint16_t>(byteSum(static_cast<int>(dec.decodeSymbol(s.diff[3])),
-                                              clampByte(diff + high(last[1])))
-                                      << 8);
+      g |= static_cast<std::uint16_t>(
+          byteSum(static_cast<int>(dec.decodeSymbol(s.diff[3])),
+                  clampByte(diff + high(last[1])))
+          << 8);
     else
       g |= last[1] & 0xFF00;
     if (sym & (1u << 5)) {
       const int corr = static_cast<int>(dec.decodeSymbol(s.diff[5]));
       diff = (diff + high(g) - high(last[1])) / 2;
-      b |= static_cast<std::uint16_t>(byteSum(corr, clampByte(diff + high(last[2]))) << 8);
+      b |= static_cast<std::uint16_t>(byteSum(corr, clampByte(diff + high(last[2])))
+                                      << 8);
     } else {
       b |= last[2] & 0xFF00;
     }
@@ -307,9 +318,18 @@ void decodeRgb(ArithmeticDecoder& dec, RgbModels& s, std::array<std::uint16_t, 3
     store(out + 2 * c, last[c]);
 }
 
-std::unique_ptr<PointwiseItemDecoder> makePoint10V2() { return std::make_unique<Point10V2>(); }
-std::unique_ptr<PointwiseItemDecoder> makeGpsTime11V2() { return std::make_unique<GpsTime11V2>(); }
-std::unique_ptr<PointwiseItemDecoder> makeRgb12V2() { return std::make_unique<Rgb12V2>(); }
+std::unique_ptr<PointwiseItemDecoder> makePoint10V2()
+{
+  return std::make_unique<Point10V2>();
+}
+std::unique_ptr<PointwiseItemDecoder> makeGpsTime11V2()
+{
+  return std::make_unique<GpsTime11V2>();
+}
+std::unique_ptr<PointwiseItemDecoder> makeRgb12V2()
+{
+  return std::make_unique<Rgb12V2>();
+}
 std::unique_ptr<PointwiseItemDecoder> makeBytesV2(std::size_t count)
 {
   return std::make_unique<BytesV2>(count);

@@ -91,17 +91,38 @@ struct Layer {
   }
 };
 
-/// Sum of the overruns of some layers.
-template <typename Layers> std::size_t overrunOf(const Layers& layers)
+/// True when every present layer decoded to its last byte and not beyond.
+template <typename Layers>
+bool consumedExactly(const Layers& layers)
 {
-  std::size_t sum = 0;
   for (const Layer& l : layers)
-    sum += l.present ? l.dec.overrun() : 0;
-  return sum;
+    if (l.present && (l.dec.overrun() != 0 || l.dec.unread() != 0))
+      return false;
+  return true;
+}
+
+template <typename Layers>
+bool overran(const Layers& layers)
+{
+  for (const Layer& l : layers)
+    if (l.present && l.dec.overrun() != 0)
+      return true;
+  return false;
 }
 
 class Point14V3 final : public LayeredItemDecoder {
-  enum { XY, Z, CLASS, FLAGS, INTENSITY, SCAN_ANGLE, USER_DATA, POINT_SOURCE, GPS_TIME, COUNT };
+  enum {
+    XY,
+    Z,
+    CLASS,
+    FLAGS,
+    INTENSITY,
+    SCAN_ANGLE,
+    USER_DATA,
+    POINT_SOURCE,
+    GPS_TIME,
+    COUNT
+  };
 
   /// Everything kept per scanner channel.
   struct Channel {
@@ -119,8 +140,8 @@ class Point14V3 final : public LayeredItemDecoder {
     LazyModels nr{16, 16}, rn{16, 16}, classification{64, 256}, flag{64, 64},
         user_data{64, 256};
     SymbolModel gps_multi{515}, gps_0diff{5};
-    IntegerDecoder dx{32, 2}, dy{32, 22}, z{32, 20}, intensity{16, 4}, scan_angle{16, 2},
-        point_source{16}, gps_time{32, 9};
+    IntegerDecoder dx{32, 2}, dy{32, 22}, z{32, 20}, intensity{16, 4},
+        scan_angle{16, 2}, point_source{16}, gps_time{32, 9};
 
     /// A channel's state starts from the record before its first one.
     void begin(const Point14& p)
@@ -133,7 +154,7 @@ class Point14V3 final : public LayeredItemDecoder {
     }
   };
 
-public:
+ public:
   void first(const std::uint8_t* raw, unsigned& context) override
   {
     Point14 p;
@@ -147,20 +168,23 @@ public:
     for (int i = 0; i < COUNT; ++i)
       layer_[i].start(data[i], sizes[i]);
   }
-  std::size_t overrun() const override { return overrunOf(layer_); }
+  bool consumedExactly() const override { return laz::consumedExactly(layer_); }
+  bool overran() const override { return laz::overran(layer_); }
 
   void next(std::uint8_t* out, unsigned& context) override
   {
     ArithmeticDecoder& xy = layer_[XY].dec;
     Channel& prev = channel(current_);
-    const unsigned prev_r = prev.last.returnNumber(), prev_n = prev.last.numberOfReturns();
+    const unsigned prev_r = prev.last.returnNumber(),
+                   prev_n = prev.last.numberOfReturns();
     const unsigned change_context =
         (prev_r == 1) | ((prev_r >= prev_n) << 1) | (prev.gps_changed << 2);
     const std::uint32_t changed = xy.decodeSymbol(prev.changed_values[change_context]);
-    const bool channel_changed = (changed >> 6) & 1, point_source_changed = (changed >> 5) & 1,
-               gps_changed = (changed >> 4) & 1, scan_angle_changed = (changed >> 3) & 1,
-               nr_changed = (changed >> 2) & 1, rn_minus = (changed >> 1) & 1,
-               rn_plus = changed & 1;
+    const bool channel_changed = (changed >> 6) & 1,
+               point_source_changed = (changed >> 5) & 1,
+               gps_changed = (changed >> 4) & 1,
+               scan_angle_changed = (changed >> 3) & 1, nr_changed = (changed >> 2) & 1,
+               rn_minus = (changed >> 1) & 1, rn_plus = changed & 1;
     unsigned sc = current_;
     if (channel_changed) {
       sc = (sc + xy.decodeSymbol(prev.scanner_channel) + 1) % 4;
@@ -181,7 +205,8 @@ public:
     else if (rn_minus && !rn_plus)
       r = (r + 15) % 16;
     else if (rn_plus && rn_minus)
-      r = gps_changed ? xy.decodeSymbol(c.rn[r]) : (r + xy.decodeSymbol(c.rn_gps_same) + 2) % 16;
+      r = gps_changed ? xy.decodeSymbol(c.rn[r])
+                      : (r + xy.decodeSymbol(c.rn_gps_same) + 2) % 16;
     p.returns = static_cast<std::uint8_t>((n << 4) | r);
 
     const unsigned xy_context = (NUMBER_RETURN_MAP_6CTX[n][r] << 1) | gps_changed;
@@ -201,13 +226,14 @@ public:
     }
     if (layer_[CLASS].present) {
       const unsigned ctx = (r == 1 && r >= n) | ((p.classification & 0x1Fu) << 1);
-      p.classification =
-          static_cast<std::uint8_t>(layer_[CLASS].dec.decodeSymbol(c.classification[ctx]));
+      p.classification = static_cast<std::uint8_t>(
+          layer_[CLASS].dec.decodeSymbol(c.classification[ctx]));
     }
     if (layer_[FLAGS].present) {
       const unsigned merged = (p.flags & 0x0Fu) | (((p.flags >> 6) & 3u) << 4);
       const std::uint32_t f = layer_[FLAGS].dec.decodeSymbol(c.flag[merged]);
-      p.flags = static_cast<std::uint8_t>((f & 0x0Fu) | (sc << 4) | (((f >> 4) & 3u) << 6));
+      p.flags =
+          static_cast<std::uint8_t>((f & 0x0Fu) | (sc << 4) | (((f >> 4) & 3u) << 6));
     }
     if (layer_[INTENSITY].present) {
       const unsigned ctx = gps_changed | ((r >= n) << 1) | ((r == 1) << 2);
@@ -230,7 +256,7 @@ public:
     p.write(out);
   }
 
-private:
+ private:
   Channel& channel(unsigned i)
   {
     if (!channels_[i])
@@ -257,7 +283,8 @@ private:
         }
         break;
       }
-      const std::int32_t multi = static_cast<std::int32_t>(dec.decodeSymbol(c.gps_multi));
+      const std::int32_t multi =
+          static_cast<std::int32_t>(dec.decodeSymbol(c.gps_multi));
       if (multi == 1) {
         c.gps[s] = wrapAdd64(c.gps[s], c.gps_time.decode(dec, c.gps_diff[s], 1));
         c.gps_extreme[s] = 0;
@@ -303,9 +330,12 @@ private:
   {
     c.gps_next = (c.gps_next + 1) & 3;
     const std::int32_t high = c.gps_time.decode(
-        dec, static_cast<std::int32_t>(static_cast<std::uint64_t>(c.gps[c.gps_last]) >> 32), 8);
+        dec,
+        static_cast<std::int32_t>(static_cast<std::uint64_t>(c.gps[c.gps_last]) >> 32),
+        8);
     c.gps[c.gps_next] = static_cast<std::int64_t>(
-        (static_cast<std::uint64_t>(static_cast<std::uint32_t>(high)) << 32) | dec.readInt());
+        (static_cast<std::uint64_t>(static_cast<std::uint32_t>(high)) << 32) |
+        dec.readInt());
     c.gps_last = c.gps_next;
     c.gps_diff[c.gps_last] = 0;
     c.gps_extreme[c.gps_last] = 0;
@@ -319,8 +349,9 @@ private:
 /// Shared by RGB14, NIR14 and BYTE14: a value per channel used as the prediction,
 /// with LASzip's rule that a switch to an already used channel keeps predicting
 /// from the previous channel's value (and updates that one).
-template <typename Value, typename Models> class ChannelPrediction {
-public:
+template <typename Value, typename Models>
+class ChannelPrediction {
+ public:
   void first(const Value& v, unsigned context)
   {
     current_ = context;
@@ -344,7 +375,7 @@ public:
   }
   const Value& current() { return slot(current_).last; }
 
-private:
+ private:
   struct Slot {
     bool used = false;
     Value last{};
@@ -368,8 +399,10 @@ struct NirModels {
 class Rgb14V3 final : public LayeredItemDecoder {
   using Rgb = std::array<std::uint16_t, 3>;
 
-public:
-  explicit Rgb14V3(bool with_nir) : with_nir_(with_nir) {}
+ public:
+  explicit Rgb14V3(bool with_nir)
+      : with_nir_(with_nir)
+  {}
   void first(const std::uint8_t* raw, unsigned& context) override
   {
     Rgb rgb;
@@ -386,7 +419,8 @@ public:
     if (with_nir_)
       layer_[1].start(data[1], sizes[1]);
   }
-  std::size_t overrun() const override { return overrunOf(layer_); }
+  bool consumedExactly() const override { return laz::consumedExactly(layer_); }
+  bool overran() const override { return laz::overran(layer_); }
 
   void next(std::uint8_t* out, unsigned& context) override
   {
@@ -407,19 +441,21 @@ public:
     auto [last, models] = nir_.select(context);
     ArithmeticDecoder& dec = layer_[1].dec;
     const std::uint32_t sym = dec.decodeSymbol(models->used);
-    std::uint16_t v = (sym & 1u) ? static_cast<std::uint8_t>(dec.decodeSymbol(models->diff[0]) +
-                                                             (*last & 0xFFu))
-                                 : static_cast<std::uint16_t>(*last & 0xFFu);
+    std::uint16_t v = (sym & 1u)
+                          ? static_cast<std::uint8_t>(
+                                dec.decodeSymbol(models->diff[0]) + (*last & 0xFFu))
+                          : static_cast<std::uint16_t>(*last & 0xFFu);
     if (sym & 2u)
       v |= static_cast<std::uint16_t>(
-          static_cast<std::uint8_t>(dec.decodeSymbol(models->diff[1]) + (*last >> 8)) << 8);
+          static_cast<std::uint8_t>(dec.decodeSymbol(models->diff[1]) + (*last >> 8))
+          << 8);
     else
       v |= *last & 0xFF00u;
     *last = v;
     store(out + 6, v);
   }
 
-private:
+ private:
   bool with_nir_;
   std::array<Layer, 2> layer_;
   ChannelPrediction<Rgb, RgbModels> rgb_;
@@ -432,8 +468,11 @@ class Bytes14V3 final : public LayeredItemDecoder {
     std::vector<std::unique_ptr<SymbolModel>> byte;
   };
 
-public:
-  explicit Bytes14V3(std::size_t count) : count_(count), layer_(count) {}
+ public:
+  explicit Bytes14V3(std::size_t count)
+      : count_(count)
+      , layer_(count)
+  {}
   void first(const std::uint8_t* raw, unsigned& context) override
   {
     bytes_.first(Bytes(raw, raw + count_), context);
@@ -444,7 +483,8 @@ public:
     for (std::size_t i = 0; i < count_; ++i)
       layer_[i].start(data[i], sizes[i]);
   }
-  std::size_t overrun() const override { return overrunOf(layer_); }
+  bool consumedExactly() const override { return laz::consumedExactly(layer_); }
+  bool overran() const override { return laz::overran(layer_); }
   void next(std::uint8_t* out, unsigned& context) override
   {
     auto [last, models] = bytes_.select(context);
@@ -453,14 +493,14 @@ public:
       if (layer_[i].present) {
         if (!models->byte[i])
           models->byte[i] = std::make_unique<SymbolModel>(256);
-        (*last)[i] = static_cast<std::uint8_t>((*last)[i] +
-                                               layer_[i].dec.decodeSymbol(*models->byte[i]));
+        (*last)[i] = static_cast<std::uint8_t>(
+            (*last)[i] + layer_[i].dec.decodeSymbol(*models->byte[i]));
       }
       out[i] = (*last)[i];
     }
   }
 
-private:
+ private:
   std::size_t count_;
   std::vector<Layer> layer_;
   ChannelPrediction<Bytes, Models> bytes_;
@@ -468,7 +508,10 @@ private:
 
 } // namespace
 
-std::unique_ptr<LayeredItemDecoder> makePoint14V3() { return std::make_unique<Point14V3>(); }
+std::unique_ptr<LayeredItemDecoder> makePoint14V3()
+{
+  return std::make_unique<Point14V3>();
+}
 std::unique_ptr<LayeredItemDecoder> makeRgb14V3(bool with_nir)
 {
   return std::make_unique<Rgb14V3>(with_nir);

@@ -1,11 +1,11 @@
 // LAZ point data: VLR, chunk table, chunk decoding. See laz_stream.h; the layout is
 // LASzip's (laszip_dll / lasreadpoint in LASzip 3.4), checked field by field here.
-#include "laz_stream.h"
-
 #include "integer_decoder.h"
 #include "item_state.h"
+#include "laz_stream.h"
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 
 namespace pcl_vts {
@@ -29,13 +29,26 @@ const char* compressorName(std::uint16_t c)
 
 std::string itemName(const Item& item)
 {
-  static const char* const names[] = {"BYTE",   "SHORT",     "INT",          "LONG",
-                                      "FLOAT",  "DOUBLE",    "POINT10",      "GPSTIME11",
-                                      "RGB12",  "WAVEPACKET13", "POINT14",   "RGB14",
-                                      "RGBNIR14", "WAVEPACKET14", "BYTE14"};
-  const std::string name = item.type < 15 ? names[item.type] : "type " + std::to_string(item.type);
+  static const char* const names[] = {
+      "BYTE",    "SHORT",   "INT",       "LONG",         "FLOAT",
+      "DOUBLE",  "POINT10", "GPSTIME11", "RGB12",        "WAVEPACKET13",
+      "POINT14", "RGB14",   "RGBNIR14",  "WAVEPACKET14", "BYTE14"};
+  const std::string name =
+      item.type < 15 ? names[item.type] : "type " + std::to_string(item.type);
   return name + " v" + std::to_string(item.version) + " (" + std::to_string(item.size) +
          " bytes)";
+}
+
+/// How often (in points) a chunk's decoding looks for a stream read past its end.
+constexpr std::uint64_t CHECK_EVERY = 256;
+
+template <typename Items>
+bool overranAny(const Items& items)
+{
+  for (const auto& item : items)
+    if (item->overran())
+      return true;
+  return false;
 }
 
 /// The item decoders of one chunk.
@@ -50,16 +63,17 @@ ChunkDecoders makeDecoders(const LaszipVlr& vlr)
   for (const Item& item : vlr.items)
     switch (item.type) {
     case ITEM_POINT10:
-      d.pointwise.push_back(makePoint10V2());
+      d.pointwise.push_back(item.version == 1 ? makePoint10V1() : makePoint10V2());
       break;
     case ITEM_GPSTIME11:
-      d.pointwise.push_back(makeGpsTime11V2());
+      d.pointwise.push_back(item.version == 1 ? makeGpsTime11V1() : makeGpsTime11V2());
       break;
     case ITEM_RGB12:
-      d.pointwise.push_back(makeRgb12V2());
+      d.pointwise.push_back(item.version == 1 ? makeRgb12V1() : makeRgb12V2());
       break;
     case ITEM_BYTE:
-      d.pointwise.push_back(makeBytesV2(item.size));
+      d.pointwise.push_back(item.version == 1 ? makeBytesV1(item.size)
+                                              : makeBytesV2(item.size));
       break;
     case ITEM_POINT14:
       d.layered.push_back(makePoint14V3());
@@ -83,9 +97,9 @@ bool fail(std::string& why, const std::string& what)
   return false;
 }
 
-bool decodePointwise(const std::uint8_t* data, const std::uint8_t* end, const Chunk& chunk,
-                     const LaszipVlr& vlr, std::size_t record_length, std::uint8_t* out,
-                     std::string& why)
+bool decodePointwise(const std::uint8_t* data, const std::uint8_t* end,
+                     const Chunk& chunk, const LaszipVlr& vlr,
+                     std::size_t record_length, std::uint8_t* out, std::string& why)
 {
   ChunkDecoders d = makeDecoders(vlr);
   std::size_t at = 0;
@@ -98,21 +112,32 @@ bool decodePointwise(const std::uint8_t* data, const std::uint8_t* end, const Ch
     return true;
   ArithmeticDecoder dec(data + record_length, end);
   for (std::uint64_t p = 1; p < chunk.points; ++p) {
+    if (p % CHECK_EVERY == 0 && dec.overrun() != 0)
+      break; // corrupt: said below
     std::uint8_t* record = out + p * record_length;
     for (std::size_t i = 0; i < d.pointwise.size(); ++i) {
       d.pointwise[i]->next(dec, record);
       record += vlr.items[i].size;
     }
   }
-  if (dec.overrun() != 0)
-    return fail(why, "its compressed stream ends " + std::to_string(dec.overrun()) +
-                         " bytes early (truncated or corrupt)");
+  // The encoder pads its stream so that the decoder stops on its last byte: any
+  // other end means the bytes are not what was encoded. The unchunked stream runs to
+  // the end of the file, so only its overrun says something.
+  const bool whole_file = vlr.compressor == POINTWISE;
+  if (dec.overrun() != 0 || (!whole_file && dec.unread() != 0))
+    return fail(why, "its compressed stream of " +
+                         std::to_string(end - data - record_length) + " bytes " +
+                         (dec.overrun() != 0
+                              ? "ends early"
+                              : "decodes with " + std::to_string(dec.unread()) +
+                                    " bytes left over") +
+                         " (truncated or corrupt)");
   return true;
 }
 
-bool decodeLayered(const std::uint8_t* data, const std::uint8_t* end, const Chunk& chunk,
-                   const LaszipVlr& vlr, std::size_t record_length, std::uint8_t* out,
-                   std::string& why)
+bool decodeLayered(const std::uint8_t* data, const std::uint8_t* end,
+                   const Chunk& chunk, const LaszipVlr& vlr, std::size_t record_length,
+                   std::uint8_t* out, std::string& why)
 {
   ChunkDecoders d = makeDecoders(vlr);
   unsigned context = 0;
@@ -132,8 +157,8 @@ bool decodeLayered(const std::uint8_t* data, const std::uint8_t* end, const Chun
   const std::uint32_t count = load<std::uint32_t>(p);
   p += 4;
   if (count != chunk.points)
-    return fail(why, "it says it holds " + std::to_string(count) + " points, the chunk table " +
-                         std::to_string(chunk.points));
+    return fail(why, "it says it holds " + std::to_string(count) +
+                         " points, the chunk table " + std::to_string(chunk.points));
   std::vector<std::uint32_t> sizes(layer_count);
   for (std::uint32_t& s : sizes) {
     s = load<std::uint32_t>(p);
@@ -142,8 +167,9 @@ bool decodeLayered(const std::uint8_t* data, const std::uint8_t* end, const Chun
   std::vector<const std::uint8_t*> starts(layer_count);
   for (std::size_t i = 0; i < layer_count; ++i) {
     if (sizes[i] > static_cast<std::size_t>(end - p))
-      return fail(why, "layer " + std::to_string(i) + " claims " + std::to_string(sizes[i]) +
-                           " bytes, only " + std::to_string(end - p) + " are left");
+      return fail(why, "layer " + std::to_string(i) + " claims " +
+                           std::to_string(sizes[i]) + " bytes, only " +
+                           std::to_string(end - p) + " are left");
     starts[i] = p;
     p += sizes[i];
   }
@@ -153,6 +179,8 @@ bool decodeLayered(const std::uint8_t* data, const std::uint8_t* end, const Chun
     first_layer += item->layers();
   }
   for (std::uint64_t k = 1; k < chunk.points; ++k) {
+    if (k % CHECK_EVERY == 0 && overranAny(d.layered))
+      break; // corrupt: said below
     std::uint8_t* record = out + k * record_length;
     for (std::size_t i = 0; i < d.layered.size(); ++i) {
       d.layered[i]->next(record, context);
@@ -160,9 +188,9 @@ bool decodeLayered(const std::uint8_t* data, const std::uint8_t* end, const Chun
     }
   }
   for (std::size_t i = 0; i < d.layered.size(); ++i)
-    if (d.layered[i]->overrun() != 0)
+    if (!d.layered[i]->consumedExactly())
       return fail(why, "the layers of its " + itemName(vlr.items[i]) +
-                           " end early (truncated or corrupt)");
+                           " do not decode to their ends (truncated or corrupt)");
   return true;
 }
 
@@ -170,13 +198,14 @@ bool decodeLayered(const std::uint8_t* data, const std::uint8_t* end, const Chun
 
 std::string LaszipVlr::description() const
 {
-  std::string s = std::string(compressorName(compressor)) + " (" + std::to_string(compressor) +
-                  "), LASzip " + std::to_string(version_major) + "." +
-                  std::to_string(version_minor) + "." + std::to_string(revision);
+  std::string s = std::string(compressorName(compressor)) + " (" +
+                  std::to_string(compressor) + "), LASzip " +
+                  std::to_string(version_major) + "." + std::to_string(version_minor) +
+                  "." + std::to_string(revision);
   if (compressor != POINTWISE)
-    s += chunk_size == VARIABLE_CHUNK_SIZE ? ", variable chunks"
-                                           : ", " + std::to_string(chunk_size) +
-                                                 " points per chunk";
+    s += chunk_size == VARIABLE_CHUNK_SIZE
+             ? ", variable chunks"
+             : ", " + std::to_string(chunk_size) + " points per chunk";
   return s;
 }
 
@@ -184,7 +213,8 @@ bool parseLaszipVlr(const std::uint8_t* data, std::size_t size, LaszipVlr& vlr,
                     std::string& why)
 {
   if (size < VLR_FIXED_SIZE)
-    return fail(why, "its laszip VLR has " + std::to_string(size) + " bytes, at least 34 needed");
+    return fail(why, "its laszip VLR has " + std::to_string(size) +
+                         " bytes, at least 34 needed");
   vlr.compressor = load<std::uint16_t>(data);
   vlr.coder = load<std::uint16_t>(data + 2);
   vlr.version_major = data[4];
@@ -204,8 +234,9 @@ bool parseLaszipVlr(const std::uint8_t* data, std::size_t size, LaszipVlr& vlr,
                     load<std::uint16_t>(p + 4)};
   }
   if (vlr.compressor < POINTWISE || vlr.compressor > LAYERED_CHUNKED)
-    return fail(why, "unknown LASzip compressor " + std::to_string(vlr.compressor) +
-                         " (1 pointwise, 2 pointwise-chunked, 3 layered-chunked are read)");
+    return fail(why,
+                "unknown LASzip compressor " + std::to_string(vlr.compressor) +
+                    " (1 pointwise, 2 pointwise-chunked, 3 layered-chunked are read)");
   if (vlr.coder != 0)
     return fail(why, "unknown LASzip coder " + std::to_string(vlr.coder) +
                          " (0, arithmetic, is the only one)");
@@ -225,12 +256,14 @@ bool checkItems(const LaszipVlr& vlr, int point_format, std::size_t record_lengt
     const Item& item = vlr.items[i];
     total += item.size;
     const auto refuse = [&](const std::string& reason) {
-      return fail(why, "item " + std::to_string(i) + " " + itemName(item) + ": " + reason);
+      return fail(why,
+                  "item " + std::to_string(i) + " " + itemName(item) + ": " + reason);
     };
     if (item.type == ITEM_WAVEPACKET13 || item.type == ITEM_WAVEPACKET14)
-      return refuse("waveform packets (point formats 4, 5, 9, 10) are not decoded; "
-                    "convert to a format without waveforms, e.g. 'las2las -set_point_type " +
-                    std::string(point_format >= 6 ? "6" : "1") + "'");
+      return refuse(
+          "waveform packets (point formats 4, 5, 9, 10) are not decoded; "
+          "convert to a format without waveforms, e.g. 'las2las -set_point_type " +
+          std::string(point_format >= 6 ? "6" : "1") + "'");
     const bool first = i == 0;
     bool known;
     std::size_t size = item.size;
@@ -247,22 +280,22 @@ bool checkItems(const LaszipVlr& vlr, int point_format, std::size_t record_lengt
               (item.type == ITEM_GPSTIME11 && !first && size == 8) ||
               (item.type == ITEM_RGB12 && !first && size == 6) ||
               (item.type == ITEM_BYTE && !first && size > 0);
-      if (known && item.version != 2)
-        return refuse("LASzip 1.x items (version " + std::to_string(item.version) +
-                      ") are not decoded yet (version 2 is); recompress with a current "
-                      "laszip, e.g. 'laszip -i old.laz -o new.laz'");
+      if (known && item.version != 1 && item.version != 2)
+        return refuse("version " + std::to_string(item.version) +
+                      " of the pointwise items is not decoded (versions 1 and 2 are)");
     }
     if (!known)
-      return refuse(std::string("not an item of the ") + compressorName(vlr.compressor) +
-                    " scheme in that place");
+      return refuse(std::string("not an item of the ") +
+                    compressorName(vlr.compressor) + " scheme in that place");
   }
   if (total != record_length)
     return fail(why, "its laszip items make " + std::to_string(total) +
-                         "-byte records, the header says " + std::to_string(record_length));
+                         "-byte records, the header says " +
+                         std::to_string(record_length));
   const bool point14 = vlr.items[0].type == ITEM_POINT14;
   if (point14 != (point_format >= 6))
-    return fail(why, "point format " + std::to_string(point_format) + " cannot be stored as " +
-                         itemName(vlr.items[0]));
+    return fail(why, "point format " + std::to_string(point_format) +
+                         " cannot be stored as " + itemName(vlr.items[0]));
   return true;
 }
 
@@ -284,13 +317,14 @@ bool readChunkTable(const std::uint8_t* file, std::size_t file_size,
   const std::size_t first_chunk = points_begin + 8;
   if (table < static_cast<std::int64_t>(first_chunk) ||
       static_cast<std::uint64_t>(table) > file_size - 8)
-    return fail(why, "its chunk table offset " + std::to_string(table) + " lies outside [" +
-                         std::to_string(first_chunk) + ", " + std::to_string(file_size - 8) +
+    return fail(why, "its chunk table offset " + std::to_string(table) +
+                         " lies outside [" + std::to_string(first_chunk) + ", " +
+                         std::to_string(file_size - 8) +
                          "] (file truncated, or not closed by its writer)");
   const std::uint8_t* t = file + table;
   if (load<std::uint32_t>(t) != 0)
-    return fail(why, "its chunk table has version " + std::to_string(load<std::uint32_t>(t)) +
-                         " (0 is read)");
+    return fail(why, "its chunk table has version " +
+                         std::to_string(load<std::uint32_t>(t)) + " (0 is read)");
   const std::uint32_t chunk_count = load<std::uint32_t>(t + 4);
   const std::uint64_t room = static_cast<std::uint64_t>(table) - first_chunk;
   const bool variable = vlr.chunk_size == LaszipVlr::VARIABLE_CHUNK_SIZE;
@@ -318,11 +352,13 @@ bool readChunkTable(const std::uint8_t* file, std::size_t file_size,
     last_bytes = ic.decode(dec, last_bytes, 1);
     c.bytes = static_cast<std::uint32_t>(last_bytes);
     c.offset = offset;
-    if (c.points == 0 || c.points > points_left || c.bytes > room - (offset - first_chunk))
+    if (c.points == 0 || c.points > points_left ||
+        c.bytes > room - (offset - first_chunk))
       return fail(why, "its chunk table is corrupt: chunk " +
                            std::to_string(&c - chunks.data()) + " of " +
-                           std::to_string(c.points) + " points, " + std::to_string(c.bytes) +
-                           " bytes at offset " + std::to_string(offset) + ", with " +
+                           std::to_string(c.points) + " points, " +
+                           std::to_string(c.bytes) + " bytes at offset " +
+                           std::to_string(offset) + ", with " +
                            std::to_string(points_left) + " points left before byte " +
                            std::to_string(table));
     points_left -= c.points;
@@ -350,7 +386,8 @@ bool decodeChunk(const std::uint8_t* file, const Chunk& chunk, const LaszipVlr& 
   const std::uint8_t* end = data + chunk.bytes;
   return vlr.compressor == LAYERED_CHUNKED
              ? decodeLayered(data, end, chunk, vlr, record_length, records.data(), why)
-             : decodePointwise(data, end, chunk, vlr, record_length, records.data(), why);
+             : decodePointwise(data, end, chunk, vlr, record_length, records.data(),
+                               why);
 }
 
 } // namespace laz

@@ -30,7 +30,11 @@ enum ItemType : std::uint16_t {
   ITEM_BYTE14 = 14
 };
 
-enum Compressor : std::uint16_t { POINTWISE = 1, POINTWISE_CHUNKED = 2, LAYERED_CHUNKED = 3 };
+enum Compressor : std::uint16_t {
+  POINTWISE = 1,
+  POINTWISE_CHUNKED = 2,
+  LAYERED_CHUNKED = 3
+};
 
 struct Item {
   std::uint16_t type = 0, size = 0, version = 0;
