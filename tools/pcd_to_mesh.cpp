@@ -101,7 +101,7 @@ void printHelp()
       "        .pcd  PCD (ascii, binary, binary_compressed), fields x y z or X Y Z,\n"
       "              float32, float64 or integer\n"
       "        .las  LAS 1.0-1.4, point formats 0-10 (int32 * scale + offset)\n"
-      "        .laz  LAZ (LASzip-compressed LAS), point formats 0-3 and 6-8, its\n"
+      "        .laz  LAZ (LASzip-compressed LAS), point formats 0-3 and 6-10, its\n"
       "              chunks decoded on --threads\n"
       "        .asc  ESRI ASCII grid: one point per cell centre, NODATA skipped\n"
       "        .tif .tiff  GeoTIFF (band 1, through GDAL when the build found it):\n"

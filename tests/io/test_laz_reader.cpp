@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -240,8 +241,7 @@ TEST_F(LazReader, RefusalsSayWhat)
   const struct {
     const char* path;
     const char* words;
-  } cases[] = {{"fullwave.laz", "waveform packets"},
-               {"broken/broken_coder.laz", "unknown LASzip coder 15"},
+  } cases[] = {{"broken/broken_coder.laz", "unknown LASzip coder 15"},
                {"broken/broken_compressor.laz", "unknown LASzip compressor 16"},
                {"broken/broken_type.laz", "type 22"},
                {"broken/broken_version.laz", "version 6 of the pointwise items"}};
@@ -255,6 +255,51 @@ TEST_F(LazReader, RefusalsSayWhat)
     EXPECT_NE(s.message.find("cannot decode this LAZ file"), std::string::npos);
     EXPECT_TRUE(xyz.empty());
   }
+}
+
+TEST_F(LazReader, PointwiseWaveformsAreRefused)
+{
+  // point-time.laz with its GPSTIME11 item relabelled WAVEPACKET13 (formats 4, 5).
+  std::vector<std::uint8_t> bytes = fileBytes(DATA + "/laz/point-time.laz");
+  const Layout l = layoutOf(bytes);
+  const std::size_t item1 = static_cast<std::size_t>(l.laszip - bytes.data()) + 34 + 6;
+  ASSERT_EQ(field<std::uint16_t>(bytes, item1), 7); // GPSTIME11
+  bytes[item1] = 9;
+  std::vector<double> xyz;
+  LasInfo info;
+  const Status s =
+      parseLasCloud(bytes.data(), bytes.size(), "w.laz", LasReadOptions{}, xyz, info);
+  EXPECT_EQ(s.code, StatusCode::IO_ERROR);
+  EXPECT_NE(s.message.find("waveform packets of point formats 4 and 5"),
+            std::string::npos)
+      << s.message;
+}
+
+TEST_F(LazReader, WaveformFileAgreesWithItsHeader)
+{
+  // fullwave.laz (point format 10, LAS 1.4) has no twin (laz-perf cannot read it):
+  // its header's point count, bounds and points per return are the reference.
+  const std::string path = DATA + "/laz/fullwave.laz";
+  std::vector<double> xyz;
+  LasInfo info;
+  const Status s = readAll(path, 2, xyz, info);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_EQ(info.point_format, 10);
+  EXPECT_EQ(info.points_read, 10750u);
+  EXPECT_EQ(xyz.size(), 3 * 10750u);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(info.min[a], info.header_min[a], info.scale[a] / 2) << a;
+    EXPECT_NEAR(info.max[a], info.header_max[a], info.scale[a] / 2) << a;
+  }
+  const std::vector<std::uint8_t> bytes = fileBytes(path);
+  const std::vector<std::uint8_t> records = decodeRecords(bytes);
+  ASSERT_EQ(records.size(), 10750u * 67);
+  std::array<std::uint64_t, 16> by_return{};
+  for (std::size_t r = 0; r < 10750; ++r)
+    ++by_return[records[67 * r + 14] & 0x0F];
+  for (int k = 1; k <= 15; ++k)
+    EXPECT_EQ(by_return[k], field<std::uint64_t>(bytes, 255 + 8 * (k - 1)))
+        << "return " << k;
 }
 
 TEST_F(LazReader, TruncatedFilesFailOrReadTheSamePoints)

@@ -1,5 +1,5 @@
 // Reads the x, y, z of a LAS 1.0-1.4 file (point formats 0-10), plain or LASzip-
-// compressed (LAZ: point formats 0-3 and 6-8, decoded chunk by chunk on threads), into
+// compressed (LAZ: point formats 0-3 and 6-10, decoded chunk by chunk on threads), into
 // doubles: int32 * scale + offset, records stepped by the header's record length
 // (extra bytes), optional classification and return filters. Every size the header
 // claims is checked against the file before anything is allocated. PCL-free (std +

@@ -59,6 +59,7 @@ class LayeredItemDecoder {
 std::unique_ptr<LayeredItemDecoder> makePoint14V3();
 std::unique_ptr<LayeredItemDecoder> makeRgb14V3(bool with_nir);
 std::unique_ptr<LayeredItemDecoder> makeBytes14V3(std::size_t count);
+std::unique_ptr<LayeredItemDecoder> makeWavePacket14V3();
 
 } // namespace laz
 } // namespace pcl_vts

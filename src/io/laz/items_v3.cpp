@@ -7,6 +7,7 @@
 #include "item_state.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace pcl_vts {
 namespace laz {
@@ -506,7 +507,85 @@ class Bytes14V3 final : public LayeredItemDecoder {
   ChannelPrediction<Bytes, Models> bytes_;
 };
 
+/// WAVEPACKET14: the waveform packet descriptor (index, offset, size, return point,
+/// x y z of the direction), predicted from the previous one of its channel.
+class WavePacket14V3 final : public LayeredItemDecoder {
+  using Packet = std::array<std::uint8_t, 29>;
+  struct Models {
+    SymbolModel packet_index{256};
+    std::array<SymbolModel, 4> offset_diff{SymbolModel(4), SymbolModel(4),
+                                           SymbolModel(4), SymbolModel(4)};
+    IntegerDecoder offset{32}, packet_size{32}, return_point{32}, xyz{32, 3};
+    std::uint32_t last_offset_symbol = 0;
+    std::int32_t last_diff = 0;
+  };
+
+ public:
+  void first(const std::uint8_t* raw, unsigned& context) override
+  {
+    Packet p;
+    std::memcpy(p.data(), raw, p.size());
+    packets_.first(p, context);
+  }
+  std::size_t layers() const override { return 1; }
+  void startLayers(const std::uint8_t* const* data, const std::uint32_t* sizes) override
+  {
+    layer_[0].start(data[0], sizes[0]);
+  }
+  bool consumedExactly() const override { return laz::consumedExactly(layer_); }
+  bool overran() const override { return laz::overran(layer_); }
+
+  void next(std::uint8_t* out, unsigned& context) override
+  {
+    if (!layer_[0].present) {
+      std::memcpy(out, packets_.current().data(), 29);
+      return;
+    }
+    auto [last, m] = packets_.select(context);
+    ArithmeticDecoder& dec = layer_[0].dec;
+    out[0] = static_cast<std::uint8_t>(dec.decodeSymbol(m->packet_index));
+    const std::uint8_t* l = last->data() + 1;
+    std::uint8_t* o = out + 1;
+    m->last_offset_symbol = dec.decodeSymbol(m->offset_diff[m->last_offset_symbol]);
+    const std::uint64_t last_offset = load<std::uint64_t>(l);
+    std::uint64_t offset;
+    switch (m->last_offset_symbol) {
+    case 0: // the same packet
+      offset = last_offset;
+      break;
+    case 1: // the next packet
+      offset = last_offset + load<std::uint32_t>(l + 8);
+      break;
+    case 2:
+      m->last_diff = m->offset.decode(dec, m->last_diff, 0);
+      offset = last_offset +
+               static_cast<std::uint64_t>(static_cast<std::int64_t>(m->last_diff));
+      break;
+    default: {
+      const std::uint64_t low = dec.readInt();
+      offset = (static_cast<std::uint64_t>(dec.readInt()) << 32) | low;
+    }
+    }
+    store(o, offset);
+    store(o + 8, m->packet_size.decode(dec, load<std::int32_t>(l + 8), 0));
+    store(o + 12, m->return_point.decode(dec, load<std::int32_t>(l + 12), 0));
+    for (int a = 0; a < 3; ++a)
+      store(o + 16 + 4 * a, m->xyz.decode(dec, load<std::int32_t>(l + 16 + 4 * a),
+                                          static_cast<unsigned>(a)));
+    std::memcpy(last->data(), out, 29);
+  }
+
+ private:
+  std::array<Layer, 1> layer_;
+  ChannelPrediction<Packet, Models> packets_;
+};
+
 } // namespace
+
+std::unique_ptr<LayeredItemDecoder> makeWavePacket14V3()
+{
+  return std::make_unique<WavePacket14V3>();
+}
 
 std::unique_ptr<LayeredItemDecoder> makePoint14V3()
 {

@@ -85,6 +85,9 @@ ChunkDecoders makeDecoders(const LaszipVlr& vlr)
     case ITEM_BYTE14:
       d.layered.push_back(makeBytes14V3(item.size));
       break;
+    case ITEM_WAVEPACKET14:
+      d.layered.push_back(makeWavePacket14V3());
+      break;
     default: // checkItems refused the others
       break;
     }
@@ -259,11 +262,10 @@ bool checkItems(const LaszipVlr& vlr, int point_format, std::size_t record_lengt
       return fail(why,
                   "item " + std::to_string(i) + " " + itemName(item) + ": " + reason);
     };
-    if (item.type == ITEM_WAVEPACKET13 || item.type == ITEM_WAVEPACKET14)
-      return refuse(
-          "waveform packets (point formats 4, 5, 9, 10) are not decoded; "
-          "convert to a format without waveforms, e.g. 'las2las -set_point_type " +
-          std::string(point_format >= 6 ? "6" : "1") + "'");
+    if (item.type == ITEM_WAVEPACKET13)
+      return refuse("waveform packets of point formats 4 and 5 are not decoded (those "
+                    "of 9 and 10 are); convert to a format without waveforms, e.g. "
+                    "'las2las -set_point_type 1'");
     const bool first = i == 0;
     bool known;
     std::size_t size = item.size;
@@ -271,7 +273,8 @@ bool checkItems(const LaszipVlr& vlr, int point_format, std::size_t record_lengt
       known = (item.type == ITEM_POINT14 && first && size == 30) ||
               (item.type == ITEM_RGB14 && !first && size == 6) ||
               (item.type == ITEM_RGBNIR14 && !first && size == 8) ||
-              (item.type == ITEM_BYTE14 && !first && size > 0);
+              (item.type == ITEM_BYTE14 && !first && size > 0) ||
+              (item.type == ITEM_WAVEPACKET14 && !first && size == 29);
       if (known && item.version != 3)
         return refuse("version " + std::to_string(item.version) +
                       " of the layered items is not decoded (version 3 is)");
