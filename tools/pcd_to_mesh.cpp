@@ -847,12 +847,16 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   std::vector<std::uint8_t> described(opt.inputs.size(), 0);
   pcl_vts::PointInputs inputs;
   inputs.count = opt.inputs.size();
+  // Streamed: a LAS/LAZ file of any size passes through a chunk of at most a million
+  // points, and of no more than 1/64 of the memory limit (the reader's chunk and the
+  // job's copy of it are both alive).
+  const std::size_t chunk_points = static_cast<std::size_t>(std::clamp<std::uint64_t>(
+      opt.memory_limit / 64 / (3 * sizeof(double)), 4096, std::uint64_t{1} << 20));
   inputs.read = [&](std::size_t f, const pcl_vts::PointSink& sink) {
-    // Streamed: a LAS file of any size passes through a chunk of a million points.
     pcl_vts::CloudDescription one;
     bool sink_failed = false;
     pcl_vts::Status s = pcl_vts::streamPointCloud(
-        opt.inputs[f], opt.load, std::size_t{1} << 20,
+        opt.inputs[f], opt.load, chunk_points,
         [&](const double* xyz, std::size_t n) {
           pcl_vts::Status t = sink(xyz, n);
           sink_failed = !t.ok();

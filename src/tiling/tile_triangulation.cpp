@@ -98,6 +98,47 @@ void nearestRightOf(const KnownSpace& space, const Point2& a, const Point2& b,
     hits.push_back(nearest_block);
 }
 
+/// A triangle too flat for floating point to bound its circumdisk (three nearly
+/// collinear points along a straight data edge, common where coordinates are
+/// quantised). When its angle opposite the longest edge p -> q (CCW order) is surely
+/// obtuse, the disk lies in the open half-plane right of p -> q (away from the third
+/// vertex) and in the disk on diameter pq (the arc on the vertex's side sees pq under
+/// an obtuse angle). Both are asked for, the half-plane nearest first as for a hull
+/// edge, instead of every unknown block. False when the angle is not surely obtuse.
+bool flatTriangleUnknowns(const Point2* v, const KnownSpace& space,
+                          const LoadedBlocks& flags, double block_side,
+                          std::vector<std::uint32_t>& hits)
+{
+  int k = 0;
+  double longest = -1;
+  for (int e = 0; e < 3; ++e) {
+    const Point2& a = v[e];
+    const Point2& b = v[(e + 1) % 3];
+    const double l2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
+    if (l2 > longest) {
+      longest = l2;
+      k = e;
+    }
+  }
+  const Point2& p = v[k];
+  const Point2& q = v[(k + 1) % 3];
+  const Point2& m = v[(k + 2) % 3];
+  const double ax = p.x - m.x, ay = p.y - m.y, bx = q.x - m.x, by = q.y - m.y;
+  const double la = std::hypot(ax, ay), lb = std::hypot(bx, by);
+  // Rounding of the differences (an ulp of the coordinates) and of the products.
+  const double magnitude = std::fabs(p.x) + std::fabs(p.y) + std::fabs(q.x) +
+                           std::fabs(q.y) + std::fabs(m.x) + std::fabs(m.y);
+  const double tolerance = 1e-6 * la * lb + 1e-15 * magnitude * (la + lb);
+  if (!(ax * bx + ay * by < -tolerance))
+    return false;
+  SafeDisk thales;
+  thales.center = {0.5 * (p.x + q.x), 0.5 * (p.y + q.y)};
+  thales.radius = 0.5 * std::sqrt(longest) * (1 + 1e-9) + 1e-15 * magnitude;
+  space.unknownInDisk(thales, flags, hits);
+  nearestRightOf(space, p, q, flags, block_side, hits);
+  return true;
+}
+
 /// Unknown blocks that the stars of the tile's vertices (and their hull edges) meet.
 void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in_tile,
                    const KnownSpace& space, const LoadedBlocks& flags,
@@ -110,7 +151,10 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
       continue;
     SafeDisk disk = safeCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]);
     const std::size_t before = hits.size();
-    space.unknownInDisk(disk, flags, hits);
+    const Point2 corners[3] = {mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]};
+    if (!disk.unbounded ||
+        !flatTriangleUnknowns(corners, space, flags, block_side, hits))
+      space.unknownInDisk(disk, flags, hits);
     if (hits.size() != before && !disk.unbounded) {
       // Not proven: the points that will settle it lie around this disk, so load a
       // wider disk now (by up to three blocks) rather than one ring per round.

@@ -115,20 +115,23 @@ Status scan(Job& job)
 ///    over the ranks); the block index and the global hull shared.
 Status bucket(Job& job, BlockStore& store)
 {
-  std::vector<double> chunk;
   std::uint64_t fed = 0, bucketed = 0;
   Status status = job.readMine([&](const double* xyz, std::size_t n) {
-    chunk.clear();
-    for (std::size_t i = 0; i < n; ++i)
-      if (finitePoint(xyz + 3 * i))
-        chunk.insert(chunk.end(), xyz + 3 * i, xyz + 3 * i + 3);
+    // Runs of finite points straight into the store: no copy of the chunk.
+    Status added = Status::success();
+    for (std::size_t i = 0; i < n && added.ok();) {
+      std::size_t end = i;
+      while (end < n && finitePoint(xyz + 3 * end))
+        ++end;
+      added = store.add(xyz + 3 * i, end - i);
+      bucketed += end - i;
+      i = end + 1; // past the non-finite point (or the end)
+    }
     fed += n;
-    bucketed += chunk.size() / 3;
     job.progress("bucketing", fed * static_cast<std::uint64_t>(job.ranks),
                  job.report.points);
-    return store.add(chunk.data(), chunk.size() / 3);
+    return added;
   });
-  std::vector<double>().swap(chunk);
   if (status.ok() && fed != job.my_points)
     status = Status::error(
         StatusCode::IO_ERROR,

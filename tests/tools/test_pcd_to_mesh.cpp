@@ -1887,5 +1887,42 @@ TEST_F(PcdToMesh, TiledRunStaysWithinTheMemoryLimit)
   EXPECT_EQ(summaryValue(r.out, "points read"), 2250000u);
 }
 
+TEST_F(PcdToMesh, CurvedQuantisedBoundaryTilesStayWithinTheMemoryLimit)
+{
+  if (std::system("test -x /usr/bin/time") != 0)
+    GTEST_SKIP() << "GNU time (Debian package time) is not installed";
+  const std::string laz = SHARED_DATA + "/laz/las_with_several_extra_byte_bloc.laz";
+  if (!fs::exists(laz))
+    GTEST_SKIP() << "shared data not found at " << laz;
+  // IGN LiDAR HD ground, read from LAZ: a curved data edge made of straight runs of
+  // points quantised to 1 cm, so nearly collinear triples along it form triangles too
+  // flat for a floating-point circumdisk. Each once made its tile load every block
+  // (683023 points in one tile, 160 MiB over a 64 MiB limit); now their disks are
+  // bounded by the half-plane beyond the long edge and the disk on it.
+  const std::string timed =
+      "/usr/bin/time -f %M -o " + shellQuote((root_ / "logs" / "rss").string());
+  ASSERT_EQ(run({"--help"}, timed).exit_code, 0);
+  const std::size_t baseline = peakKiB(root_ / "logs" / "rss");
+  const CliResult memory = runDelaunay({laz, "memory.ply", "--classes", "2"});
+  ASSERT_EQ(memory.exit_code, 0) << memory.err;
+  for (const std::string threads : {"1", "2"}) {
+    SCOPED_TRACE("threads " + threads);
+    const CliResult tiled =
+        run({laz, "tiled.ply", "--classes", "2", "--no-trim", "--no-fill",
+             "--memory-limit", "64M", "--threads", threads, "--temp-dir", "."},
+            timed);
+    ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
+    EXPECT_NE(tiled.out.find("Meshing tiled"), std::string::npos) << tiled.out;
+    EXPECT_TRUE(readText(work("tiled.ply")) == readText(work("memory.ply")));
+    const std::size_t peak = peakKiB(root_ / "logs" / "rss");
+    EXPECT_LT(peak - std::min(peak, baseline), 64u * 1024u)
+        << "peak " << peak << " KiB, the process alone " << baseline << " KiB";
+    const std::size_t at = tiled.out.find("largest tile ");
+    ASSERT_NE(at, std::string::npos) << tiled.out;
+    EXPECT_LT(std::strtoull(tiled.out.c_str() + at + 13, nullptr, 10), 200000u)
+        << tiled.out;
+  }
+}
+
 } // namespace
 } // namespace pcl_vts
