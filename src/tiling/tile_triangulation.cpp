@@ -9,6 +9,11 @@
 namespace pcl_vts {
 namespace {
 
+/// Blocks one triangle's disk may add in one round before only the first reached
+/// are kept, and blocks one hull edge adds in one round.
+constexpr std::size_t DISK_BLOCKS_PER_ROUND = 64;
+constexpr std::size_t HULL_BLOCKS_PER_ROUND = 64;
+
 /// Unloaded occupied blocks in the block rectangle around `blocks`, widened by
 /// `margin` blocks.
 void ringAround(const std::vector<std::uint32_t>& blocks, int level,
@@ -52,50 +57,52 @@ void load(std::vector<std::uint32_t>& more, std::vector<std::uint32_t>& loaded,
   more.clear();
 }
 
-/// Distance from a box to the segment a-b, from below (centre distance less the
-/// half diagonal): a ranking, not a test.
-double roughDistance(const Rect& box, const Point2& a, const Point2& b)
+/// Keeps, of hits[first..], the `keep` blocks that a circle grown from the edge pq
+/// to its right (away from the triangle or the hull it bounds) reaches first:
+/// the mediatrix search of the triangulation itself, on block centres. Those hold the
+/// points that replace the triangle (across a void, the partner edge), where the
+/// blocks nearest to it would only extend a straight data edge. Blocks behind pq come
+/// after, by distance. A ranking only: the next round checks the disk again.
+void keepFirstReached(const KnownSpace& space, const Point2& p, const Point2& q,
+                      std::size_t keep, std::size_t first,
+                      std::vector<std::uint32_t>& hits)
 {
-  const Point2 c{0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1)};
-  const double ex = b.x - a.x, ey = b.y - a.y, length2 = ex * ex + ey * ey;
-  const double t =
-      length2 > 0
-          ? std::clamp(((c.x - a.x) * ex + (c.y - a.y) * ey) / length2, 0.0, 1.0)
-          : 0.0;
-  const double dx = a.x + t * ex - c.x, dy = a.y + t * ey - c.y;
-  return std::sqrt(dx * dx + dy * dy) -
-         0.5 * std::hypot(box.x1 - box.x0, box.y1 - box.y0);
+  if (hits.size() - first <= keep)
+    return;
+  const double longest = (q.x - p.x) * (q.x - p.x) + (q.y - p.y) * (q.y - p.y);
+  const Point2 mid{0.5 * (p.x + q.x), 0.5 * (p.y + q.y)};
+  const double length = std::sqrt(longest);
+  const Point2 normal{(q.y - p.y) / length, (p.x - q.x) / length}; // right of p -> q
+  const auto score = [&](std::uint32_t block) {
+    const Rect& box = space.bounds(block);
+    const double cx = 0.5 * (box.x0 + box.x1) - mid.x,
+                 cy = 0.5 * (box.y0 + box.y1) - mid.y;
+    const double ahead = cx * normal.x + cy * normal.y;
+    const double reach = cx * cx + cy * cy - 0.25 * longest;
+    return ahead > 0 ? reach / (2 * ahead) : 1e300 * 0.5 + std::sqrt(cx * cx + cy * cy);
+  };
+  std::vector<std::pair<double, std::uint32_t>> ranked;
+  ranked.reserve(hits.size() - first);
+  for (std::size_t h = first; h < hits.size(); ++h)
+    ranked.emplace_back(score(hits[h]), hits[h]);
+  std::partial_sort(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(keep),
+                    ranked.end());
+  hits.resize(first);
+  for (std::size_t h = 0; h < keep; ++h)
+    hits.push_back(ranked[h].second);
 }
 
-/// Unknown blocks with points beyond the hull edge a -> b, but only those near it:
-/// along a nearly straight data boundary the line reaches points kilometres away,
-/// while the triangles that replace the edge are decided by the nearest. Progress
-/// is kept (the nearest block always comes); the next round checks again.
+/// Unknown blocks with points beyond the hull edge a -> b, but only those a circle
+/// grown from the edge reaches first: along a nearly straight data boundary the line
+/// reaches points kilometres away, and across a void the other side, while the
+/// triangles that replace the edge are decided by the first reached. Progress is kept
+/// (some block always comes); the next round checks again.
 void nearestRightOf(const KnownSpace& space, const Point2& a, const Point2& b,
-                    const LoadedBlocks& flags, double block_side,
-                    std::vector<std::uint32_t>& hits)
+                    const LoadedBlocks& flags, std::vector<std::uint32_t>& hits)
 {
-  std::vector<std::uint32_t> all;
-  space.unknownRightOf(a, b, flags, all);
-  if (all.empty())
-    return;
-  const double reach = 4.0 * std::max(std::hypot(b.x - a.x, b.y - a.y), block_side);
-  double nearest = HUGE_VAL;
-  std::uint32_t nearest_block = all.front();
-  bool any = false;
-  for (std::uint32_t block : all) {
-    const double d = roughDistance(space.bounds(block), a, b);
-    if (d <= reach) {
-      hits.push_back(block);
-      any = true;
-    }
-    if (d < nearest) {
-      nearest = d;
-      nearest_block = block;
-    }
-  }
-  if (!any)
-    hits.push_back(nearest_block);
+  const std::size_t first = hits.size();
+  space.unknownRightOf(a, b, flags, hits);
+  keepFirstReached(space, a, b, HULL_BLOCKS_PER_ROUND, first, hits);
 }
 
 /// A triangle too flat for floating point to bound its circumdisk (three nearly
@@ -106,8 +113,7 @@ void nearestRightOf(const KnownSpace& space, const Point2& a, const Point2& b,
 /// an obtuse angle). Both are asked for, the half-plane nearest first as for a hull
 /// edge, instead of every unknown block. False when the angle is not surely obtuse.
 bool flatTriangleUnknowns(const Point2* v, const KnownSpace& space,
-                          const LoadedBlocks& flags, double block_side,
-                          std::vector<std::uint32_t>& hits)
+                          const LoadedBlocks& flags, std::vector<std::uint32_t>& hits)
 {
   int k = 0;
   double longest = -1;
@@ -135,8 +141,29 @@ bool flatTriangleUnknowns(const Point2* v, const KnownSpace& space,
   thales.center = {0.5 * (p.x + q.x), 0.5 * (p.y + q.y)};
   thales.radius = 0.5 * std::sqrt(longest) * (1 + 1e-9) + 1e-15 * magnitude;
   space.unknownInDisk(thales, flags, hits);
-  nearestRightOf(space, p, q, flags, block_side, hits);
+  nearestRightOf(space, p, q, flags, hits);
   return true;
+}
+
+/// Disks up to this radius (in blocks) are loaded three blocks wider than they are.
+constexpr double ENLARGED_RADIUS_BLOCKS = 16.0;
+
+/// keepFirstReached from the triangle's longest edge (CCW order).
+void keepFirstReachedFrom(const KnownSpace& space, const Point2* corners,
+                          std::size_t first, std::vector<std::uint32_t>& hits)
+{
+  int k = 0;
+  double longest = -1;
+  for (int e = 0; e < 3; ++e) {
+    const double dx = corners[(e + 1) % 3].x - corners[e].x,
+                 dy = corners[(e + 1) % 3].y - corners[e].y;
+    if (dx * dx + dy * dy > longest) {
+      longest = dx * dx + dy * dy;
+      k = e;
+    }
+  }
+  keepFirstReached(space, corners[k], corners[(k + 1) % 3], DISK_BLOCKS_PER_ROUND,
+                   first, hits);
 }
 
 /// Unknown blocks that the stars of the tile's vertices (and their hull edges) meet.
@@ -152,12 +179,19 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
     SafeDisk disk = safeCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]);
     const std::size_t before = hits.size();
     const Point2 corners[3] = {mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]};
-    if (!disk.unbounded ||
-        !flatTriangleUnknowns(corners, space, flags, block_side, hits))
+    if (!disk.unbounded || !flatTriangleUnknowns(corners, space, flags, hits))
       space.unknownInDisk(disk, flags, hits);
-    if (hits.size() != before && !disk.unbounded) {
+    if (hits.size() - before > DISK_BLOCKS_PER_ROUND) {
+      // A disk over many unknown blocks belongs to a triangle that the nearest of them
+      // will replace (a flat triangle along a straight data edge, a sliver across a
+      // void): load those first, and let the next round ask again.
+      keepFirstReachedFrom(space, corners, before, hits);
+    } else if (hits.size() != before && !disk.unbounded &&
+               disk.radius <= ENLARGED_RADIUS_BLOCKS * block_side) {
       // Not proven: the points that will settle it lie around this disk, so load a
-      // wider disk now (by up to three blocks) rather than one ring per round.
+      // wider disk now (by up to three blocks) rather than one ring per round. Not for
+      // a large disk: three blocks more along its rim would sweep a band the length of
+      // a data edge (a flat triangle along a straight edge has a disk of kilometres).
       hits.resize(before);
       disk.radius += std::min(disk.radius, 3 * block_side);
       space.unknownInDisk(disk, flags, hits);
@@ -167,7 +201,7 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
       const VertexId a = mesh.triangles[e],
                      b = mesh.triangles[nextHalfedge(static_cast<HalfedgeId>(e))];
       if (mesh.halfedges[e] == INVALID_ID && (in_tile[a] || in_tile[b]))
-        nearestRightOf(space, mesh.xy[a], mesh.xy[b], flags, block_side, hits);
+        nearestRightOf(space, mesh.xy[a], mesh.xy[b], flags, hits);
     }
   }
 }

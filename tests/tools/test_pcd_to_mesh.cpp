@@ -1887,6 +1887,44 @@ TEST_F(PcdToMesh, TiledRunStaysWithinTheMemoryLimit)
   EXPECT_EQ(summaryValue(r.out, "points read"), 2250000u);
 }
 
+TEST_F(PcdToMesh, AnLShapedDeliveryStaysWithinTheMemoryLimit)
+{
+  if (std::system("test -x /usr/bin/time") != 0)
+    GTEST_SKIP() << "GNU time (Debian package time) is not installed";
+  // 1.2e6 points on 2 km x 2 km less its upper-right quarter (a delivery shaped like
+  // an L), 1 cm coordinates. The triangles across the void reach the other arm, and
+  // the local hulls of the first rounds had disks over the whole arm: the corner
+  // tiles once loaded 665 thousand points (157 MiB over a 64 MiB limit). Halos now
+  // take, per triangle or hull edge and round, the blocks a circle grown from the
+  // edge reaches first.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 2000.0);
+  std::vector<Xyz> points;
+  while (points.size() < 1200000) {
+    const double x = u(rng), y = u(rng);
+    if (x > 1000.0 && y > 1000.0)
+      continue;
+    points.push_back({500000.0 + x, 4100000.0 + y, 100.0 + x / 1000.0});
+  }
+  writeBytes(work("l.las"), lasFile(points, {}, 0.01, {500000.0, 4100000.0, 0.0}));
+  const std::string timed =
+      "/usr/bin/time -f %M -o " + shellQuote((root_ / "logs" / "rss").string());
+  ASSERT_EQ(run({"--help"}, timed).exit_code, 0);
+  const std::size_t baseline = peakKiB(root_ / "logs" / "rss");
+  const CliResult r =
+      run({"l.las", "out.ply", "--no-trim", "--no-fill", "--memory-limit", "64M",
+           "--threads", "2", "--temp-dir", "."},
+          timed);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Meshing tiled"), std::string::npos) << r.out;
+  const std::size_t peak = peakKiB(root_ / "logs" / "rss");
+  EXPECT_LT(peak - std::min(peak, baseline), 64u * 1024u)
+      << "peak " << peak << " KiB, the process alone " << baseline << " KiB";
+  const std::size_t at = r.out.find("largest tile ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_LT(std::strtoull(r.out.c_str() + at + 13, nullptr, 10), 200000u) << r.out;
+}
+
 TEST_F(PcdToMesh, CurvedQuantisedBoundaryTilesStayWithinTheMemoryLimit)
 {
   if (std::system("test -x /usr/bin/time") != 0)
