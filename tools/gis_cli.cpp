@@ -107,6 +107,11 @@ bool GisCli::anyProduct() const
   return impl_->options.any();
 }
 
+bool GisCli::contoursAsked() const
+{
+  return !impl_->options.contours.empty();
+}
+
 Status GisCli::validate() const
 {
   return validateGisOptions(impl_->options);
@@ -187,6 +192,28 @@ Status GisCli::write(const TriangleMesh& mesh, const std::string& mesh_path,
   return writeGisOutputs(mesh, crs_, impl_->options, summary);
 }
 
+Status GisCli::writePrj(const std::string& mesh_path) const
+{
+  return crs_.empty() ? Status::success() : writePrjSidecar(mesh_path, crs_);
+}
+
+Status GisCli::writeOutOfCore(const MeshSource& mesh, std::uint64_t memory,
+                              const std::string& temp_folder,
+                              std::vector<std::string>& summary) const
+{
+  DemMeshStream stream;
+  stream.vertices = [&](const std::function<void(double, double, double)>& visit) {
+    return mesh.forEachVertex(
+        [&](double x, double y, double z, bool) { visit(x, y, z); });
+  };
+  stream.triangles =
+      [&](const std::function<void(VertexId, VertexId, VertexId)>& visit) {
+        return mesh.forEachTriangle(visit);
+      };
+  return writeGisOutputsOutOfCore(stream, crs_, impl_->options, memory, temp_folder,
+                                  summary);
+}
+
 #else
 
 bool GisCli::parse(const std::string& name, const std::string&, std::string&)
@@ -197,6 +224,11 @@ bool GisCli::parse(const std::string& name, const std::string&, std::string&)
 }
 
 bool GisCli::anyProduct() const
+{
+  return false;
+}
+
+bool GisCli::contoursAsked() const
 {
   return false;
 }
@@ -223,6 +255,17 @@ std::string GisCli::crsName() const
 
 Status GisCli::write(const TriangleMesh&, const std::string&,
                      std::vector<std::string>&) const
+{
+  return Status::success();
+}
+
+Status GisCli::writeOutOfCore(const MeshSource&, std::uint64_t, const std::string&,
+                              std::vector<std::string>&) const
+{
+  return Status::success();
+}
+
+Status GisCli::writePrj(const std::string&) const
 {
   return Status::success();
 }

@@ -831,11 +831,12 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
       return out.fail(EXIT_OUTPUT, "--tile-output '" + opt.tile_output +
                                        "' is not a writable folder");
   }
-  if (opt.gis.anyProduct())
+  if (opt.gis.contoursAsked())
     return out.fail(EXIT_USAGE, (opt.tile_level < 0 && opt.tile_output.empty()
                                      ? why
                                      : std::string("a tiled run")) +
-                                    ": --dem and --contours run in memory only");
+                                    ": --contours runs in memory only (--dem runs "
+                                    "tiled too)");
   if (opt.preprocess.any() || !opt.png.empty())
     return out.fail(
         EXIT_USAGE,
@@ -897,6 +898,20 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
             comm.size() > 1
                 ? (", " + std::to_string(comm.size()) + " MPI ranks").c_str()
                 : "");
+  // The DEM from the final mesh, read back from the tile results (rank 0).
+  std::vector<std::string> product_lines;
+  double product_ms = 0;
+  if (opt.gis.anyProduct())
+    options.after_write = [&](const pcl_vts::MeshSource& mesh,
+                              const std::string& folder) {
+      const auto product_start = Clock::now();
+      // An eighth of the limit for the triangles of one DEM window (at the mean
+      // density; a dense window takes more).
+      const pcl_vts::Status w =
+          opt.gis.writeOutOfCore(mesh, opt.memory_limit / 8, folder, product_lines);
+      product_ms = msSince(product_start);
+      return w;
+    };
   pcl_vts::TiledMeshReport report;
   const pcl_vts::Status s =
       pcl_vts::runTiledMesh(inputs, options, opt.output, write_options, report, comm);
@@ -963,10 +978,13 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   out.line("  %-20s %.1f MiB (limit %s)\n", "peak memory", peakMemoryMiB(),
            mib(opt.memory_limit).c_str());
   out.line("  %-20s %s\n", "mesh written to", opt.output.c_str());
-  std::vector<std::string> gis_lines; // the .prj beside the mesh, by rank 0 only
+  for (const std::string& line : product_lines)
+    out.line("GIS: %s\n", line.c_str());
+  if (!product_lines.empty())
+    out.line("GIS: written in %.1f ms\n", product_ms);
+  // The .prj beside the mesh, by rank 0 only.
   if (pcl_vts::Status w =
-          g_silent ? pcl_vts::Status::success()
-                   : opt.gis.write(pcl_vts::TriangleMesh{}, opt.output, gis_lines);
+          g_silent ? pcl_vts::Status::success() : opt.gis.writePrj(opt.output);
       !w.ok())
     return out.fail(EXIT_OUTPUT, w.message);
   std::fflush(stdout);

@@ -253,9 +253,10 @@ Status writePrjSidecar(const std::string& path, const std::string& wkt)
   return Status::success();
 }
 
-Status writeDemGeoTiff(const std::string& path, const TriangleMesh& mesh,
-                       const DemGrid& grid, const std::string& wkt, bool overviews,
-                       DemRasterStats* stats)
+/// The GeoTIFF of a grid whose windows `rasterize` hands to the sink it is given.
+Status writeDemTiff(const std::string& path, const DemGrid& grid,
+                    const std::string& wkt, bool overviews,
+                    const std::function<Status(const DemWindowSink&)>& rasterize)
 {
   GDALAllRegister();
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
@@ -291,17 +292,15 @@ Status writeDemGeoTiff(const std::string& path, const TriangleMesh& mesh,
   }
   GDALRasterBand* band = ds->GetRasterBand(1);
   band->SetNoDataValue(DEM_NODATA);
-  Status s = rasterizeDem(
-      mesh, grid, DEM_NODATA, DEM_BLOCK,
-      [&](std::size_t row0, std::size_t count, const float* values) {
-        if (band->RasterIO(GF_Write, 0, static_cast<int>(row0),
-                           static_cast<int>(grid.cols), static_cast<int>(count),
-                           const_cast<float*>(values), static_cast<int>(grid.cols),
-                           static_cast<int>(count), GDT_Float32, 0, 0) != CE_None)
-          return ioError("cannot write '" + path + "'");
-        return Status::success();
-      },
-      stats);
+  Status s = rasterize([&](std::size_t row0, std::size_t col0, std::size_t rows,
+                           std::size_t cols, const float* values) {
+    if (band->RasterIO(GF_Write, static_cast<int>(col0), static_cast<int>(row0),
+                       static_cast<int>(cols), static_cast<int>(rows),
+                       const_cast<float*>(values), static_cast<int>(cols),
+                       static_cast<int>(rows), GDT_Float32, 0, 0) != CE_None)
+      return ioError("cannot write '" + path + "'");
+    return Status::success();
+  });
   if (!s.ok())
     return fail(s);
   if (overviews) {
@@ -331,6 +330,31 @@ Status writeDemGeoTiff(const std::string& path, const TriangleMesh& mesh,
                          "cannot rename to '" + path + "': " + std::strerror(err));
   }
   return Status::success();
+}
+
+Status writeDemGeoTiff(const std::string& path, const TriangleMesh& mesh,
+                       const DemGrid& grid, const std::string& wkt, bool overviews,
+                       DemRasterStats* stats)
+{
+  return writeDemTiff(path, grid, wkt, overviews, [&](const DemWindowSink& sink) {
+    return rasterizeDem(
+        mesh, grid, DEM_NODATA, DEM_BLOCK,
+        [&](std::size_t row0, std::size_t count, const float* values) {
+          return sink(row0, 0, count, grid.cols, values);
+        },
+        stats);
+  });
+}
+
+Status writeDemGeoTiff(const std::string& path, const DemMeshStream& mesh,
+                       const DemGrid& grid, const std::string& wkt, bool overviews,
+                       std::uint64_t memory, const std::string& temp_folder,
+                       DemRasterStats* stats)
+{
+  return writeDemTiff(path, grid, wkt, overviews, [&](const DemWindowSink& sink) {
+    return rasterizeDemOutOfCore(mesh, grid, DEM_NODATA, DEM_BLOCK, memory, temp_folder,
+                                 sink, stats);
+  });
 }
 
 namespace {
@@ -434,6 +458,41 @@ Status writeContourFile(const std::string& path, const TriangleMesh& mesh,
   return Status::success();
 }
 
+namespace {
+
+/// The summary line of a DEM, then its hillshade when asked for.
+Status finishDem(const DemGrid& grid, const DemRasterStats& stats,
+                 const std::string& wkt, const GisOutputOptions& options,
+                 std::vector<std::string>& summary)
+{
+  char line[512];
+  std::snprintf(
+      line, sizeof line,
+      "DEM %zu x %zu pixels of %.6g (%zu with a value), origin %.10g,%.10g%s%s",
+      grid.cols, grid.rows, grid.resolution, stats.pixels_inside, grid.x0, grid.y1,
+      options.overviews ? ", overviews" : "", wkt.empty() ? ", no CRS" : "");
+  summary.emplace_back(line);
+  if (!options.hillshade.empty()) {
+    if (Status s = writeHillshade(options.dem, options.hillshade); !s.ok())
+      return s;
+    summary.emplace_back("hillshade of the DEM in " + options.hillshade);
+  }
+  return Status::success();
+}
+
+/// --dem-bounds when given, else `from_mesh`.
+template <typename FromMesh>
+Status gridFor(const GisOutputOptions& options, DemGrid& grid,
+               const FromMesh& from_mesh)
+{
+  return options.bounds_given
+             ? demGridForBounds(options.bounds[0], options.bounds[1], options.bounds[2],
+                                options.bounds[3], options.resolution, grid)
+             : from_mesh();
+}
+
+} // namespace
+
 Status writeGisOutputs(const TriangleMesh& mesh, const std::string& wkt,
                        const GisOutputOptions& options,
                        std::vector<std::string>& summary)
@@ -441,28 +500,16 @@ Status writeGisOutputs(const TriangleMesh& mesh, const std::string& wkt,
   char line[512];
   if (!options.dem.empty()) {
     DemGrid grid;
-    Status s =
-        options.bounds_given
-            ? demGridForBounds(options.bounds[0], options.bounds[1], options.bounds[2],
-                               options.bounds[3], options.resolution, grid)
-            : demGridForMesh(mesh, options.resolution, grid);
+    Status s = gridFor(options, grid,
+                       [&] { return demGridForMesh(mesh, options.resolution, grid); });
     if (!s.ok())
       return s;
     DemRasterStats stats;
     if (s = writeDemGeoTiff(options.dem, mesh, grid, wkt, options.overviews, &stats);
         !s.ok())
       return s;
-    std::snprintf(
-        line, sizeof line,
-        "DEM %zu x %zu pixels of %.6g (%zu with a value), origin %.10g,%.10g%s%s",
-        grid.cols, grid.rows, grid.resolution, stats.pixels_inside, grid.x0, grid.y1,
-        options.overviews ? ", overviews" : "", wkt.empty() ? ", no CRS" : "");
-    summary.emplace_back(line);
-    if (!options.hillshade.empty()) {
-      if (s = writeHillshade(options.dem, options.hillshade); !s.ok())
-        return s;
-      summary.emplace_back("hillshade of the DEM in " + options.hillshade);
-    }
+    if (s = finishDem(grid, stats, wkt, options, summary); !s.ok())
+      return s;
   }
   if (!options.contours.empty()) {
     TriangleMesh copy;
@@ -486,6 +533,41 @@ Status writeGisOutputs(const TriangleMesh& mesh, const std::string& wkt,
     summary.emplace_back(line);
   }
   return Status::success();
+}
+
+Status writeGisOutputsOutOfCore(const DemMeshStream& mesh, const std::string& wkt,
+                                const GisOutputOptions& options, std::uint64_t memory,
+                                const std::string& temp_folder,
+                                std::vector<std::string>& summary)
+{
+  if (!options.contours.empty())
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "--contours runs in memory only (not on a tiled run yet)");
+  if (options.dem.empty())
+    return Status::success();
+  DemGrid grid;
+  Status s = gridFor(options, grid, [&] {
+    double low[2] = {HUGE_VAL, HUGE_VAL}, high[2] = {-HUGE_VAL, -HUGE_VAL};
+    if (Status v = mesh.vertices([&](double x, double y, double) {
+          low[0] = std::min(low[0], x);
+          low[1] = std::min(low[1], y);
+          high[0] = std::max(high[0], x);
+          high[1] = std::max(high[1], y);
+        });
+        !v.ok())
+      return v;
+    if (!(low[0] <= high[0]))
+      return Status::error(StatusCode::EMPTY_INPUT, "no triangle to rasterize");
+    return demGridForExtent(low[0], low[1], high[0], high[1], options.resolution, grid);
+  });
+  if (!s.ok())
+    return s;
+  DemRasterStats stats;
+  if (s = writeDemGeoTiff(options.dem, mesh, grid, wkt, options.overviews, memory,
+                          temp_folder, &stats);
+      !s.ok())
+    return s;
+  return finishDem(grid, stats, wkt, options, summary);
 }
 
 } // namespace pcl_vts

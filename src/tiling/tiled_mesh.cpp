@@ -314,6 +314,10 @@ Status writeOutput(Job& job, const std::string& output,
     job.report.triangles = mesh.triangleCount();
     if (status.ok())
       status = writeMesh(output, mesh, write_options, &job.report.written);
+    if (status.ok() && job.options.after_write) {
+      job.progress("writing products", 0, 0);
+      status = job.options.after_write(mesh, job.folder);
+    }
   }
   status = agree(job.comm, status);
   std::vector<std::uint64_t> triangles = {job.report.triangles};

@@ -9,6 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -38,7 +41,10 @@ struct Vlr {
 };
 
 /// LAS 1.2, point format 0, a 6x6 grid of points z = x + y, the given VLRs.
-std::string makeLas(const std::vector<Vlr>& vlrs)
+/// A LAS 1.2 file (1 cm, offset 0) with these VLRs: a 6 x 6 grid of points 1 m apart,
+/// or the given points.
+std::string makeLas(const std::vector<Vlr>& vlrs,
+                    const std::vector<std::array<double, 3>>& points = {})
 {
   std::string b(227, '\0');
   std::memcpy(&b[0], "LASF", 4);
@@ -56,7 +62,7 @@ std::string makeLas(const std::vector<Vlr>& vlrs)
   put(b, 96, b.size(), 4);
   b[104] = 0;
   put(b, 105, 20, 2);
-  put(b, 107, 36, 4);
+  put(b, 107, points.empty() ? 36 : points.size(), 4);
   const double scale = 0.01, offset = 0.0;
   for (int a = 0; a < 3; ++a) {
     std::uint64_t u;
@@ -65,16 +71,22 @@ std::string makeLas(const std::vector<Vlr>& vlrs)
     std::memcpy(&u, &offset, 8);
     put(b, 155 + 8 * a, u, 8);
   }
-  for (int j = 0; j < 6; ++j)
-    for (int i = 0; i < 6; ++i) {
-      std::string r(20, '\0');
-      put(r, 0, static_cast<std::uint32_t>(100 * i), 4);
-      put(r, 4, static_cast<std::uint32_t>(100 * j), 4);
-      put(r, 8, static_cast<std::uint32_t>(100 * (i + j)), 4);
-      r[14] = 0x09; // return 1 of 1
-      r[15] = 2;
-      b += r;
-    }
+  const auto record = [&](double x, double y, double z) {
+    std::string r(20, '\0');
+    put(r, 0, static_cast<std::uint32_t>(std::llround(100 * x)), 4);
+    put(r, 4, static_cast<std::uint32_t>(std::llround(100 * y)), 4);
+    put(r, 8, static_cast<std::uint32_t>(std::llround(100 * z)), 4);
+    r[14] = 0x09; // return 1 of 1
+    r[15] = 2;
+    b += r;
+  };
+  if (!points.empty())
+    for (const auto& p : points)
+      record(p[0], p[1], p[2]);
+  else
+    for (int j = 0; j < 6; ++j)
+      for (int i = 0; i < 6; ++i)
+        record(i, j, i + j);
   return b;
 }
 
@@ -164,6 +176,74 @@ TEST_F(CrsRoundTrip, LasWktRecordReachesTheDemTheContoursAndThePrj)
   // The DEM read back as input (GeoTIFF through GDAL) keeps its CRS to the mesh.
   ASSERT_EQ(run("dem.tif back.ply", &err), 0) << err;
   EXPECT_TRUE(sameCrs(readText(root() + "/back.prj"), "EPSG:32633"));
+}
+
+/// Band 1 of a raster as floats (empty when it cannot be read).
+std::vector<float> rasterValues(const std::string& path, int& cols, int& rows)
+{
+  GDALAllRegister();
+  GDALDataset* ds = static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly));
+  if (!ds)
+    return {};
+  cols = ds->GetRasterXSize();
+  rows = ds->GetRasterYSize();
+  std::vector<float> v(static_cast<std::size_t>(cols) * static_cast<std::size_t>(rows));
+  if (ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, cols, rows, v.data(), cols, rows,
+                                     GDT_Float32, 0, 0) != CE_None)
+    v.clear();
+  GDALClose(ds);
+  return v;
+}
+
+TEST_F(CrsRoundTrip, TiledRunWritesTheInMemoryDem)
+{
+  // A terrain with a void, 20000 points, meshed in memory and in 16 tiles: the DEM of
+  // the tiled run (rasterized out of core from the tile results, in windows of 32
+  // pixels under a small limit) equals the in-memory one pixel for pixel, CRS too.
+  const std::string wkt = wktOf("EPSG:32633");
+  std::vector<std::array<double, 3>> points;
+  std::uint64_t state = 7;
+  auto next = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  while (points.size() < 20000) {
+    const double x = 200.0 * next(), y = 150.0 * next();
+    if ((x - 120) * (x - 120) + (y - 60) * (y - 60) < 900)
+      continue; // a round void
+    points.push_back(
+        {500000.0 + x, 4100000.0 + y, 300.0 + 0.1 * x + 5 * std::sin(y / 9)});
+  }
+  write("t.las",
+        makeLas({{"LASF_Projection", 2112, wkt + std::string(1, '\0')}}, points));
+  std::string err;
+  ASSERT_EQ(
+      run("t.las memory.ply --no-trim --no-fill --dem memory.tif --resolution 0.7",
+          &err),
+      0)
+      << err;
+  ASSERT_EQ(run("t.las tiled.ply --no-trim --no-fill --dem tiled.tif --resolution 0.7 "
+                "--tile-level 2 --memory-limit 16M --temp-dir . --hillshade tiled.png",
+                &err),
+            0)
+      << err;
+  int c1 = 0, r1 = 0, c2 = 0, r2 = 0;
+  const std::vector<float> memory = rasterValues(root() + "/memory.tif", c1, r1);
+  const std::vector<float> tiled = rasterValues(root() + "/tiled.tif", c2, r2);
+  ASSERT_FALSE(memory.empty());
+  EXPECT_EQ(c1, c2);
+  EXPECT_EQ(r1, r2);
+  EXPECT_TRUE(memory == tiled);
+  EXPECT_GT(std::count(memory.begin(), memory.end(), DEM_NODATA), 1000); // the void
+  EXPECT_TRUE(sameCrs(crsOfFile(root() + "/tiled.tif"), "EPSG:32633"));
+  EXPECT_TRUE(sameCrs(readText(root() + "/tiled.prj"), "EPSG:32633"));
+  EXPECT_FALSE(readText(root() + "/tiled.png").empty());
+  // Contours stay in memory: a tiled run says so.
+  EXPECT_EQ(run("t.las c.ply --no-trim --no-fill --contours c.gpkg --interval 1 "
+                "--tile-level 2",
+                &err),
+            1);
+  EXPECT_NE(err.find("--contours runs in memory only"), std::string::npos) << err;
 }
 
 TEST_F(CrsRoundTrip, LasGeoKeysGiveTheEpsgCode)

@@ -7,7 +7,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <string>
 #include <vector>
 
 namespace pcl_vts {
@@ -137,6 +143,84 @@ TEST(DemRaster, LShapeNodataExactlyOutsideWithCentresOnTheBoundary)
     }
   EXPECT_EQ(stats.pixels_inside, inside);
   EXPECT_EQ(inside, 9u * 9u - 4u * 4u);
+}
+
+/// rasterizeDemOutOfCore into one array, checking that every window comes once.
+std::vector<float> rasterizeOutOfCore(const TriangleMesh& mesh, const DemGrid& grid,
+                                      std::uint64_t memory, const std::string& folder,
+                                      DemRasterStats* stats = nullptr)
+{
+  DemMeshStream stream;
+  stream.vertices = [&](const std::function<void(double, double, double)>& visit) {
+    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+      visit(mesh.xy[v].x, mesh.xy[v].y, mesh.z[v]);
+    return Status::success();
+  };
+  stream.triangles =
+      [&](const std::function<void(VertexId, VertexId, VertexId)>& visit) {
+        for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+          visit(mesh.triangles[3 * t], mesh.triangles[3 * t + 1],
+                mesh.triangles[3 * t + 2]);
+        return Status::success();
+      };
+  std::vector<float> out(grid.cols * grid.rows, 12345.0f);
+  std::vector<int> written(out.size(), 0);
+  const Status s = rasterizeDemOutOfCore(
+      stream, grid, NODATA, 256, memory, folder,
+      [&](std::size_t row0, std::size_t col0, std::size_t rows, std::size_t cols,
+          const float* v) {
+        for (std::size_t r = 0; r < rows; ++r)
+          for (std::size_t c = 0; c < cols; ++c) {
+            out[(row0 + r) * grid.cols + col0 + c] = v[r * cols + c];
+            ++written[(row0 + r) * grid.cols + col0 + c];
+          }
+        return Status::success();
+      },
+      stats);
+  EXPECT_TRUE(s.ok()) << s.toString();
+  EXPECT_TRUE(
+      std::all_of(written.begin(), written.end(), [](int w) { return w == 1; }));
+  return out;
+}
+
+TEST(DemRaster, OutOfCoreEqualsInMemoryForEveryWindowSize)
+{
+  // The tiled path's DEM: triangles filed per window on disk, then window by window.
+  // Shared edges on pixel centres (grid meshes with centres on their lines), a
+  // footprint with a notch, and long thin triangles across many windows.
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / "pcl_vts_dem_out_of_core_test";
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  auto keep = [](int i, int j) { return !(i >= 5 && j >= 4); };
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const TriangleMesh meshes[] = {
+      test::gridMesh(
+          9, 7, 0.0, 0.0, 1.0, 1.0, [](double x, double y) { return x * y; }, keep),
+      test::gridMesh(40, 3, -7.3, 1.1, 0.77, 9.5, [&](double x, double y) {
+        return std::sin(x) + y + 0.01 * u(rng);
+      })};
+  for (const TriangleMesh& mesh : meshes) {
+    for (const double resolution : {0.05, 0.25, 0.5}) {
+      SCOPED_TRACE(resolution);
+      DemGrid grid;
+      ASSERT_TRUE(demGridForMesh(mesh, resolution, grid).ok());
+      DemRasterStats memory_stats;
+      const std::vector<float> expected = rasterize(mesh, grid, 256, &memory_stats);
+      // From one window (plenty of memory) down to 32-pixel windows.
+      for (const std::uint64_t memory :
+           {std::uint64_t{1} << 30, std::uint64_t{20000}, std::uint64_t{100}}) {
+        SCOPED_TRACE(memory);
+        DemRasterStats stats;
+        EXPECT_TRUE(rasterizeOutOfCore(mesh, grid, memory, folder.string(), &stats) ==
+                    expected);
+        EXPECT_EQ(stats.pixels_inside, memory_stats.pixels_inside);
+      }
+    }
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(folder)) << "temporary files left behind";
+  std::filesystem::remove_all(folder);
 }
 
 TEST(DemRaster, GridRules)

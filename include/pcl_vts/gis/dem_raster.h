@@ -9,7 +9,9 @@
 #include <pcl_vts/gis/export.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace pcl_vts {
@@ -41,6 +43,11 @@ struct DemGrid {
 PCL_VTS_GIS_EXPORT Status demGridForMesh(const TriangleMesh& mesh, double resolution,
                                          DemGrid& grid);
 
+/// The same for vertices spanning [xmin, xmax] x [ymin, ymax].
+PCL_VTS_GIS_EXPORT Status demGridForExtent(double xmin, double ymin, double xmax,
+                                           double ymax, double resolution,
+                                           DemGrid& grid);
+
 /// The grid for explicit bounds X0,Y0,X1,Y1 (west, south, east, north): their
 /// extent must be a whole number of pixels (within 1e-9 relative).
 PCL_VTS_GIS_EXPORT Status demGridForBounds(double x0, double y0, double x1, double y1,
@@ -67,5 +74,32 @@ PCL_VTS_GIS_EXPORT Status rasterizeDem(const TriangleMesh& mesh, const DemGrid& 
                                        float nodata, std::size_t block_rows,
                                        const DemBlockSink& sink,
                                        DemRasterStats* stats = nullptr);
+
+/// A mesh read in two passes from where it lies on disk (the tiled path's output,
+/// never held whole): its vertices in order, then its triangles as vertex ids.
+struct DemMeshStream {
+  std::function<Status(const std::function<void(double x, double y, double z)>&)>
+      vertices;
+  std::function<Status(const std::function<void(VertexId a, VertexId b, VertexId c)>&)>
+      triangles;
+};
+
+/// Receives the window rows [row0, row0 + rows) x cols [col0, col0 + cols), row-major.
+using DemWindowSink =
+    std::function<Status(std::size_t row0, std::size_t col0, std::size_t rows,
+                         std::size_t cols, const float* values)>;
+
+/// rasterizeDem for a mesh that is not held: the same pixels. The vertices go to a
+/// file in temp_folder (24 B each, mapped while the triangles pass), each triangle
+/// with its corners to the file of every square window it reaches (80 B), then the
+/// windows are rasterized one by one, in rows of windows from the north. A window is
+/// as large as keeps its triangles within `memory` bytes (at the mean density: two
+/// triangles per vertex over the grid), a multiple of `window` pixels on a side when
+/// that fits, else of 32.
+/// The files are removed.
+PCL_VTS_GIS_EXPORT Status rasterizeDemOutOfCore(
+    const DemMeshStream& mesh, const DemGrid& grid, float nodata, std::size_t window,
+    std::uint64_t memory, const std::string& temp_folder, const DemWindowSink& sink,
+    DemRasterStats* stats = nullptr);
 
 } // namespace pcl_vts

@@ -76,6 +76,15 @@ PCL_VTS_GIS_EXPORT Status writeDemGeoTiff(const std::string& path,
                                           const std::string& wkt, bool overviews,
                                           DemRasterStats* stats = nullptr);
 
+/// The same for a mesh that is not held (the tiled path's): rasterizeDemOutOfCore
+/// with its files in temp_folder.
+PCL_VTS_GIS_EXPORT Status writeDemGeoTiff(const std::string& path,
+                                          const DemMeshStream& mesh,
+                                          const DemGrid& grid, const std::string& wkt,
+                                          bool overviews,
+                                          const std::string& temp_folder,
+                                          DemRasterStats* stats = nullptr);
+
 /// Writes the contour lines of mesh as LineString features with a Real field
 /// "elev" (and "closed", 0/1): GeoPackage for .gpkg, ESRI Shapefile for .shp.
 PCL_VTS_GIS_EXPORT Status writeContourFile(const std::string& path,
@@ -89,5 +98,15 @@ PCL_VTS_GIS_EXPORT Status writeGisOutputs(const TriangleMesh& mesh,
                                           const std::string& wkt,
                                           const GisOutputOptions& options,
                                           std::vector<std::string>& summary);
+
+/// writeGisOutputs for a mesh that is not held: the DEM (and its hillshade) out of
+/// core, with files in temp_folder and windows within `memory` bytes; contours are
+/// INVALID_PARAMETER (in memory only).
+PCL_VTS_GIS_EXPORT Status writeGisOutputsOutOfCore(const DemMeshStream& mesh,
+                                                   const std::string& wkt,
+                                                   const GisOutputOptions& options,
+                                                   std::uint64_t memory,
+                                                   const std::string& temp_folder,
+                                                   std::vector<std::string>& summary);
 
 } // namespace pcl_vts

@@ -67,6 +67,11 @@ struct TiledMeshOptions {
   /// tiles share their seam vertices exactly), and index.csv (tile bounds, counts,
   /// file names). Empty = no tile meshes.
   std::string tile_output;
+  /// Called by rank 0 once the mesh is written, while the temporary folder still holds
+  /// the tile results: what else is made from the final mesh (the DEM). Its failure
+  /// fails the run.
+  std::function<Status(const MeshSource& mesh, const std::string& temp_folder)>
+      after_write;
   /// Testing knobs: quadtree levels of tiles and blocks (-1 = from memory_limit).
   int tile_level = -1;
   int block_level = -1;
