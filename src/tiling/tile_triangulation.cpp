@@ -9,10 +9,9 @@
 namespace pcl_vts {
 namespace {
 
-/// Blocks one triangle's disk may add in one round before only the first reached
-/// are kept, and blocks one hull edge adds in one round.
-constexpr std::size_t DISK_BLOCKS_PER_ROUND = 64;
-constexpr std::size_t HULL_BLOCKS_PER_ROUND = 64;
+/// Blocks one triangle's disk or one hull edge may add in one round before only the
+/// first reached are kept: as many as the tile owns, and at least this many.
+constexpr std::size_t MIN_BLOCKS_PER_ROUND = 64;
 
 /// Unloaded occupied blocks in the block rectangle around `blocks`, widened by
 /// `margin` blocks.
@@ -92,17 +91,47 @@ void keepFirstReached(const KnownSpace& space, const Point2& p, const Point2& q,
     hits.push_back(ranked[h].second);
 }
 
-/// Unknown blocks with points beyond the hull edge a -> b, but only those a circle
-/// grown from the edge reaches first: along a nearly straight data boundary the line
-/// reaches points kilometres away, and across a void the other side, while the
-/// triangles that replace the edge are decided by the first reached. Progress is kept
+/// Distance from a box to the segment a-b, from below (centre distance less the
+/// half diagonal): a ranking, not a test.
+double roughDistance(const Rect& box, const Point2& a, const Point2& b)
+{
+  const Point2 c{0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1)};
+  const double ex = b.x - a.x, ey = b.y - a.y, length2 = ex * ex + ey * ey;
+  const double t =
+      length2 > 0
+          ? std::clamp(((c.x - a.x) * ex + (c.y - a.y) * ey) / length2, 0.0, 1.0)
+          : 0.0;
+  const double dx = a.x + t * ex - c.x, dy = a.y + t * ey - c.y;
+  return std::sqrt(dx * dx + dy * dy) -
+         0.5 * std::hypot(box.x1 - box.x0, box.y1 - box.y0);
+}
+
+/// Unknown blocks with points beyond the hull edge a -> b, but only those near it
+/// (within four edge lengths or blocks): along a nearly straight data boundary the
+/// line reaches points kilometres away, while the triangles that replace the edge are
+/// decided by the nearest. When none is near, or too many are (across a void, the
+/// other side), those a circle grown from the edge reaches first. Progress is kept
 /// (some block always comes); the next round checks again.
 void nearestRightOf(const KnownSpace& space, const Point2& a, const Point2& b,
-                    const LoadedBlocks& flags, std::vector<std::uint32_t>& hits)
+                    const LoadedBlocks& flags, double block_side, std::size_t cap,
+                    std::vector<std::uint32_t>& hits)
 {
   const std::size_t first = hits.size();
   space.unknownRightOf(a, b, flags, hits);
-  keepFirstReached(space, a, b, HULL_BLOCKS_PER_ROUND, first, hits);
+  if (hits.size() == first)
+    return;
+  const double reach = 4.0 * std::max(std::hypot(b.x - a.x, b.y - a.y), block_side);
+  const auto near_end =
+      std::stable_partition(hits.begin() + static_cast<std::ptrdiff_t>(first),
+                            hits.end(), [&](std::uint32_t block) {
+                              return roughDistance(space.bounds(block), a, b) <= reach;
+                            });
+  if (near_end != hits.begin() + static_cast<std::ptrdiff_t>(first)) {
+    hits.erase(near_end, hits.end());
+    keepFirstReached(space, a, b, cap, first, hits);
+  } else {
+    keepFirstReached(space, a, b, 1, first, hits);
+  }
 }
 
 /// A triangle too flat for floating point to bound its circumdisk (three nearly
@@ -113,7 +142,8 @@ void nearestRightOf(const KnownSpace& space, const Point2& a, const Point2& b,
 /// an obtuse angle). Both are asked for, the half-plane nearest first as for a hull
 /// edge, instead of every unknown block. False when the angle is not surely obtuse.
 bool flatTriangleUnknowns(const Point2* v, const KnownSpace& space,
-                          const LoadedBlocks& flags, std::vector<std::uint32_t>& hits)
+                          const LoadedBlocks& flags, double block_side, std::size_t cap,
+                          std::vector<std::uint32_t>& hits)
 {
   int k = 0;
   double longest = -1;
@@ -141,7 +171,7 @@ bool flatTriangleUnknowns(const Point2* v, const KnownSpace& space,
   thales.center = {0.5 * (p.x + q.x), 0.5 * (p.y + q.y)};
   thales.radius = 0.5 * std::sqrt(longest) * (1 + 1e-9) + 1e-15 * magnitude;
   space.unknownInDisk(thales, flags, hits);
-  nearestRightOf(space, p, q, flags, hits);
+  nearestRightOf(space, p, q, flags, block_side, cap, hits);
   return true;
 }
 
@@ -150,7 +180,8 @@ constexpr double ENLARGED_RADIUS_BLOCKS = 16.0;
 
 /// keepFirstReached from the triangle's longest edge (CCW order).
 void keepFirstReachedFrom(const KnownSpace& space, const Point2* corners,
-                          std::size_t first, std::vector<std::uint32_t>& hits)
+                          std::size_t cap, std::size_t first,
+                          std::vector<std::uint32_t>& hits)
 {
   int k = 0;
   double longest = -1;
@@ -162,14 +193,13 @@ void keepFirstReachedFrom(const KnownSpace& space, const Point2* corners,
       k = e;
     }
   }
-  keepFirstReached(space, corners[k], corners[(k + 1) % 3], DISK_BLOCKS_PER_ROUND,
-                   first, hits);
+  keepFirstReached(space, corners[k], corners[(k + 1) % 3], cap, first, hits);
 }
 
 /// Unknown blocks that the stars of the tile's vertices (and their hull edges) meet.
 void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in_tile,
                    const KnownSpace& space, const LoadedBlocks& flags,
-                   double block_side, std::vector<std::uint32_t>& hits)
+                   double block_side, std::size_t cap, std::vector<std::uint32_t>& hits)
 {
   const std::size_t nt = mesh.triangleCount();
   for (std::size_t t = 0; t < nt; ++t) {
@@ -179,13 +209,14 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
     SafeDisk disk = safeCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]);
     const std::size_t before = hits.size();
     const Point2 corners[3] = {mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]};
-    if (!disk.unbounded || !flatTriangleUnknowns(corners, space, flags, hits))
+    if (!disk.unbounded ||
+        !flatTriangleUnknowns(corners, space, flags, block_side, cap, hits))
       space.unknownInDisk(disk, flags, hits);
-    if (hits.size() - before > DISK_BLOCKS_PER_ROUND) {
+    if (hits.size() - before > cap) {
       // A disk over many unknown blocks belongs to a triangle that the nearest of them
       // will replace (a flat triangle along a straight data edge, a sliver across a
       // void): load those first, and let the next round ask again.
-      keepFirstReachedFrom(space, corners, before, hits);
+      keepFirstReachedFrom(space, corners, cap, before, hits);
     } else if (hits.size() != before && !disk.unbounded &&
                disk.radius <= ENLARGED_RADIUS_BLOCKS * block_side) {
       // Not proven: the points that will settle it lie around this disk, so load a
@@ -201,7 +232,7 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
       const VertexId a = mesh.triangles[e],
                      b = mesh.triangles[nextHalfedge(static_cast<HalfedgeId>(e))];
       if (mesh.halfedges[e] == INVALID_ID && (in_tile[a] || in_tile[b]))
-        nearestRightOf(space, mesh.xy[a], mesh.xy[b], flags, hits);
+        nearestRightOf(space, mesh.xy[a], mesh.xy[b], flags, block_side, cap, hits);
     }
   }
 }
@@ -262,7 +293,8 @@ Status triangulateTile(const TileContext& context, std::uint32_t tile,
       code[v] = frame.code(m.xy[v]);
       in_tile[v] = TileFrame::nodeOf(code[v], tile_level) == tile;
     }
-    unprovenStars(m, in_tile, space, flags, frame.side / (1u << block_level), more);
+    unprovenStars(m, in_tile, space, flags, frame.side / (1u << block_level),
+                  std::max(MIN_BLOCKS_PER_ROUND, own.size()), more);
     if (more.empty())
       break;
     load(more, loaded, flags);
