@@ -39,6 +39,23 @@ inputs=(in0.xyz in1.xyz in2.xyz in3.xyz in4.xyz)
 compare mixed "${inputs[@]}"
 compare grid grid0.xyz grid1.xyz
 
+# The DEM of a 2-rank run (rank 0 rasterizes it out of core from the tile results) has
+# the one-process pixels: each GeoTIFF, read back as input under the same name, meshes
+# to the same bytes only if every pixel is the same.
+if "$single" --help | grep -q -- '--dem'; then
+  "$single" grid0.xyz grid1.xyz dem1.ply --no-trim --no-fill --quiet --dem dem1.tif \
+    --resolution 0.7 || fail "dem: single-process run"
+  mpirun -np 2 "$mpi" grid0.xyz grid1.xyz dem2.ply --no-trim --no-fill --threads 1 \
+    --temp-dir . --dem dem2.tif --resolution 0.7 > out_dem.txt 2> err_dem.txt ||
+    fail "dem, 2 ranks: exit $? $(cat err_dem.txt)"
+  grep -q "GIS: DEM" out_dem.txt || fail "dem, 2 ranks: no DEM line: $(cat out_dem.txt)"
+  mkdir -p d1 d2 && cp dem1.tif d1/dem.tif && cp dem2.tif d2/dem.tif
+  (cd d1 && "$single" dem.tif back.ply --no-trim --no-fill --quiet) || fail "dem1 back"
+  (cd d2 && "$single" dem.tif back.ply --no-trim --no-fill --quiet) || fail "dem2 back"
+  cmp -s d1/back.ply d2/back.ply || fail "the DEM of 2 ranks differs from one process"
+  rm -rf d1 d2
+fi
+
 # A corrupt input read by the last rank: every rank stops, rank 0 reports it once.
 printf '1 2 3\n4 five 6\n' > in4.xyz
 set +e
@@ -88,4 +105,4 @@ set -e
 sleep 0.5
 leftovers=$(ls -A | grep '^\.pcl_vts-' || true)
 [ -z "$leftovers" ] || fail "temporary files left after a killed rank: $leftovers"
-echo "mpi: 1, 2, 3 ranks identical to one process on mixed and grid inputs; a failing and a killed rank fail the job cleanly"
+echo "mpi: 1, 2, 3 ranks identical to one process on mixed and grid inputs, the DEM of 2 ranks too; a failing and a killed rank fail the job cleanly"
