@@ -684,17 +684,31 @@ pcl_vts::Status drawMesh(const CliOptions& opt, const pcl_vts::TriangleMesh& mes
   return pcl_vts::Status::success();
 }
 
-/// Reads input file f. With several inputs, a file left empty by the filters (e.g.
-/// a tile without ground points) is skipped, not an error.
-pcl_vts::Status loadInput(const CliOptions& opt, std::size_t f,
-                          std::vector<double>& xyz,
-                          pcl_vts::CloudDescription& description, bool& skipped)
+/// Appends input file f to xyz, streamed, unless the points read so far exceed what
+/// the memory limit allows in memory: then `over` is set and the reading stops. A
+/// file left empty by the filters (e.g. a tile without ground points) is skipped
+/// when there are several inputs, not an error.
+pcl_vts::Status streamInput(const CliOptions& opt, std::size_t f,
+                            std::vector<double>& xyz,
+                            pcl_vts::CloudDescription& description, bool& skipped,
+                            bool& over)
 {
   skipped = false;
-  pcl_vts::Status s =
-      pcl_vts::loadPointCloud(opt.inputs[f], opt.load, xyz, description);
+  const std::size_t before = xyz.size();
+  const pcl_vts::Status stop = pcl_vts::Status::error(
+      pcl_vts::StatusCode::CAPACITY_EXCEEDED, "more than the memory limit allows");
+  pcl_vts::Status s = pcl_vts::streamPointCloud(
+      opt.inputs[f], opt.load, std::size_t{1} << 16,
+      [&](const double* chunk, std::size_t n) {
+        xyz.insert(xyz.end(), chunk, chunk + 3 * n);
+        over = xyz.size() / 3 * IN_MEMORY_BYTES_PER_POINT > opt.memory_limit;
+        return over ? stop : pcl_vts::Status::success();
+      },
+      description);
+  if (over)
+    return pcl_vts::Status::success();
   if (s.code == pcl_vts::StatusCode::EMPTY_INPUT && opt.inputs.size() > 1) {
-    xyz.clear();
+    xyz.resize(before);
     skipped = true;
     return pcl_vts::Status::success();
   }
@@ -1038,18 +1052,16 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
   std::vector<double> xyz;
   pcl_vts::CloudDescription input;
   bool tiled = opt.tile_level >= 0 || comm.size() > 1 || !opt.tile_output.empty();
+  // The inputs are streamed (LAS, LAZ, XYZ in chunks) and the reading stops as soon
+  // as the points exceed what the limit allows in memory: a single file larger than
+  // the limit is then never held whole.
   for (std::size_t f = 0; f < opt.inputs.size() && !tiled; ++f) {
-    std::vector<double> part;
     pcl_vts::CloudDescription one;
     bool skipped = false;
-    if (pcl_vts::Status s = loadInput(opt, f, part, one, skipped); !s.ok())
+    if (pcl_vts::Status s = streamInput(opt, f, xyz, one, skipped, tiled); !s.ok())
       return out.fail(exitCodeFor(s.code), readFailure(s));
-    addDescription(opt, f, one, skipped, input);
-    if (xyz.empty())
-      xyz.swap(part);
-    else
-      xyz.insert(xyz.end(), part.begin(), part.end());
-    tiled = xyz.size() / 3 * IN_MEMORY_BYTES_PER_POINT > opt.memory_limit;
+    if (!tiled)
+      addDescription(opt, f, one, skipped, input);
   }
   if (tiled) {
     std::vector<double>().swap(xyz);

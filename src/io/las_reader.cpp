@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <sys/mman.h>
 
 namespace pcl_vts {
 namespace {
@@ -233,15 +232,8 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
     const Status s =
         xyz.empty() ? Status::success() : (*output.sink)(xyz.data(), xyz.size() / 3);
     xyz.clear();
-    if (output.release) { // whole pages already read: drop them from memory
-      const std::uintptr_t page = 4096;
-      const auto end = reinterpret_cast<std::uintptr_t>(consumed) & ~(page - 1);
-      const auto begin =
-          (reinterpret_cast<std::uintptr_t>(released) + page - 1) & ~(page - 1);
-      if (end > begin)
-        ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
-      released = consumed;
-    }
+    if (output.release) // whole pages already read: drop them from memory
+      releaseReadPages(released, consumed);
     return s;
   };
   const auto take = [&](const std::uint8_t* record) {

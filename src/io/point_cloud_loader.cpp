@@ -193,6 +193,16 @@ Status describeCrs(const std::string& path, CloudDescription& d)
 
 } // namespace
 
+/// The summary of a text table.
+static void describeXyz(const XyzTextInfo& info, CloudDescription& d)
+{
+  d.points_read = d.points_kept = info.points;
+  d.details = "columns " + std::to_string(info.column[0] + 1) + " " +
+              std::to_string(info.column[1] + 1) + " " +
+              std::to_string(info.column[2] + 1) +
+              (info.header.empty() ? ", no header" : ", header line");
+}
+
 Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
                       std::vector<double>& xyz, CloudDescription& d)
 {
@@ -266,11 +276,7 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
     s = readXyzText(path, xyz, info);
     if (!s.ok())
       return s;
-    d.points_read = d.points_kept = info.points;
-    d.details = "columns " + std::to_string(info.column[0] + 1) + " " +
-                std::to_string(info.column[1] + 1) + " " +
-                std::to_string(info.column[2] + 1) +
-                (info.header.empty() ? ", no header" : ", header line");
+    describeXyz(info, d);
     break;
   }
   case CloudFileFormat::PLY: {
@@ -325,7 +331,17 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
     describeLas(info, options, description);
     return describeCrs(path, description);
   }
-  // The other readers parse whole files; they are hand over in one piece.
+  if (cloudFileFormatFromExtension(path, format) && format == CloudFileFormat::XYZ &&
+      options.classes.empty() && options.returns == LasReturnFilter::ALL) {
+    description = CloudDescription();
+    description.format = CloudFileFormat::XYZ;
+    XyzTextInfo info;
+    if (Status s = readXyzTextChunks(path, chunk_points, sink, info); !s.ok())
+      return s;
+    describeXyz(info, description);
+    return describeCrs(path, description);
+  }
+  // The other readers parse whole files; they are handed over in one piece.
   std::vector<double> xyz;
   if (Status s = loadPointCloud(path, options, xyz, description); !s.ok())
     return s;

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <new>
 #include <string>
+#include <sys/mman.h>
 #include <vector>
 
 namespace pcl_vts {
@@ -34,6 +35,21 @@ Status guardedParse(const std::string& name, std::vector<double>& xyz, Info& inf
     xyz.shrink_to_fit();
   }
   return status;
+}
+
+/// Drops from memory the whole pages of a mapped file between `released` and
+/// `consumed` (already parsed), and moves `released` to `consumed`: a streaming
+/// reader's memory then stays bounded by its chunk whatever the file's size.
+inline void releaseReadPages(const std::uint8_t*& released,
+                             const std::uint8_t* consumed)
+{
+  const std::uintptr_t page = 4096;
+  const auto end = reinterpret_cast<std::uintptr_t>(consumed) & ~(page - 1);
+  const auto begin =
+      (reinterpret_cast<std::uintptr_t>(released) + page - 1) & ~(page - 1);
+  if (end > begin)
+    ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+  released = consumed;
 }
 
 /// Maps path and returns parse_bytes(data, size); a file that cannot be opened or

@@ -55,17 +55,51 @@ std::string columnName(const Field& f)
   return s;
 }
 
+/// Where the points go: the whole array (sink == nullptr), or chunks handed to a
+/// sink, with the mapped pages behind the reader released.
+struct XyzOutput {
+  const XyzChunkSink* sink = nullptr;
+  std::size_t chunk_points = 0;
+};
+
+/// The first byte of [p, end) that no text file holds, or end.
+const char* firstBinaryByte(const char* p, const char* end)
+{
+  for (; p != end; ++p) {
+    const auto u = static_cast<unsigned char>(*p);
+    if (u < 32 && u != '\n' && u != '\r' && u != '\t')
+      return p;
+  }
+  return end;
+}
+
 Status parseXyzImpl(const char* p, const char* end, const std::string& name,
-                    std::vector<double>& xyz, XyzTextInfo& info)
+                    std::vector<double>& xyz, XyzTextInfo& info,
+                    const XyzOutput& output = XyzOutput())
 {
   if (p == end)
     return ioError(name, "the file is empty (0 bytes)");
-  for (const char* c = p; c != end; ++c) {
-    const auto u = static_cast<unsigned char>(*c);
-    if (u < 32 && u != '\n' && u != '\r' && u != '\t')
-      return ioError(name, "not a text file: byte " + std::to_string(u) +
-                               " at offset " + std::to_string(c - p));
-  }
+  const char* const begin = p;
+  const auto binary = [&](const char* c) {
+    return ioError(name, "not a text file: byte " +
+                             std::to_string(static_cast<unsigned char>(*c)) +
+                             " at offset " + std::to_string(c - begin));
+  };
+  // Whole, the file is checked first; streamed, line by line as it is read (a binary
+  // file then fails at its first such line, after the points before it went out).
+  if (!output.sink)
+    if (const char* c = firstBinaryByte(p, end); c != end)
+      return binary(c);
+  std::size_t handed = 0;
+  const std::uint8_t* released = reinterpret_cast<const std::uint8_t*>(p);
+  const auto handOver = [&](const char* consumed) {
+    handed += xyz.size() / 3;
+    const Status s =
+        xyz.empty() ? Status::success() : (*output.sink)(xyz.data(), xyz.size() / 3);
+    xyz.clear();
+    releaseReadPages(released, reinterpret_cast<const std::uint8_t*>(consumed));
+    return s;
+  };
   if (end - p >= 3 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0)
     p += 3; // UTF-8 byte order mark
   info.column = {0, 1, 2};
@@ -75,9 +109,15 @@ Status parseXyzImpl(const char* p, const char* end, const std::string& name,
   std::vector<Field> fields;
   xyz.clear();
   while (p != end) {
+    if (output.sink && xyz.size() >= 3 * output.chunk_points)
+      if (Status s = handOver(p); !s.ok())
+        return s;
     const char* eol = p;
     while (eol != end && *eol != '\n')
       ++eol;
+    if (output.sink)
+      if (const char* c = firstBinaryByte(p, eol); c != eol)
+        return binary(c);
     const char* line = p;
     p = eol == end ? end : eol + 1;
     ++line_no;
@@ -130,7 +170,11 @@ Status parseXyzImpl(const char* p, const char* end, const std::string& name,
       xyz.push_back(v);
     }
   }
-  info.points = xyz.size() / 3;
+  if (output.sink) {
+    if (Status s = handOver(end); !s.ok())
+      return s;
+  }
+  info.points = output.sink ? handed : xyz.size() / 3;
   if (info.points == 0)
     return Status::error(StatusCode::EMPTY_INPUT,
                          "'" + name + "' holds 0 points" +
@@ -149,6 +193,22 @@ Status parseXyzText(const std::uint8_t* data, std::size_t size, const std::strin
     const char* p = reinterpret_cast<const char*>(data);
     return parseXyzImpl(p, p + size, name, xyz, info);
   });
+}
+
+Status readXyzTextChunks(const std::string& path, std::size_t chunk_points,
+                         const XyzChunkSink& sink, XyzTextInfo& info)
+{
+  std::vector<double> chunk;
+  XyzOutput output;
+  output.sink = &sink;
+  output.chunk_points = std::max<std::size_t>(chunk_points, 1);
+  return readMappedFile(path, chunk, info,
+                        [&](const std::uint8_t* data, std::size_t size) {
+                          return guardedParse(path, chunk, info, [&] {
+                            const char* p = reinterpret_cast<const char*>(data);
+                            return parseXyzImpl(p, p + size, path, chunk, info, output);
+                          });
+                        });
 }
 
 Status readXyzText(const std::string& path, std::vector<double>& xyz, XyzTextInfo& info)

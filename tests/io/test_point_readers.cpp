@@ -200,6 +200,68 @@ TEST_F(PointReaders, XyzTextBadInputsAreErrors)
   expectEachFails(*this, "bad.xyz", cases, &pcl_vts::readXyzText);
 }
 
+TEST_F(PointReaders, XyzTextStreamedInChunksEqualsTheWholeRead)
+{
+  // A header in another column order, comments, CRLF, blank lines: every chunk size
+  // gives the points of the whole read, in order, and the same info.
+  std::string text = "# survey\r\nid;Z;X;Y\r\n";
+  for (int i = 0; i < 1000; ++i) {
+    text += std::to_string(i) + ";" + std::to_string(100 + i % 17) + ".25;" +
+            std::to_string(500000 + i) + ".5;" + std::to_string(4100000 + 3 * i) +
+            "\r\n";
+    if (i % 97 == 0)
+      text += "\r\n// note\r\n";
+  }
+  const std::string path = write("s.csv", text);
+  std::vector<double> whole;
+  pcl_vts::XyzTextInfo whole_info;
+  ASSERT_TRUE(pcl_vts::readXyzText(path, whole, whole_info).ok());
+  ASSERT_EQ(whole.size(), 3000u);
+  for (const std::size_t chunk :
+       {std::size_t{1}, std::size_t{7}, std::size_t{1000}, std::size_t{1} << 20}) {
+    SCOPED_TRACE(chunk);
+    std::vector<double> streamed;
+    std::size_t calls = 0;
+    pcl_vts::XyzTextInfo info;
+    const pcl_vts::Status s = pcl_vts::readXyzTextChunks(
+        path, chunk,
+        [&](const double* xyz, std::size_t n) {
+          EXPECT_LE(n, chunk);
+          streamed.insert(streamed.end(), xyz, xyz + 3 * n);
+          ++calls;
+          return pcl_vts::Status::success();
+        },
+        info);
+    ASSERT_TRUE(s.ok()) << s.toString();
+    EXPECT_EQ(streamed, whole);
+    EXPECT_EQ(calls, (1000 + chunk - 1) / chunk);
+    EXPECT_EQ(info.points, 1000u);
+    EXPECT_EQ(info.column, whole_info.column);
+    EXPECT_EQ(info.header, whole_info.header);
+  }
+  // Errors: a bad line late in the file, binary bytes after text, a failing sink.
+  const auto streamed = [&](const std::string& bytes, std::size_t chunk,
+                            const pcl_vts::Status& answer =
+                                pcl_vts::Status::success()) {
+    pcl_vts::XyzTextInfo info;
+    return pcl_vts::readXyzTextChunks(
+        write("e.xyz", bytes), chunk,
+        [&](const double*, std::size_t) { return answer; }, info);
+  };
+  pcl_vts::Status s = streamed("1 2 3\n4 5 6\n7 8 x\n", 1);
+  EXPECT_EQ(s.code, StatusCode::IO_ERROR);
+  EXPECT_NE(s.message.find("line 3: z value 'x'"), std::string::npos) << s.message;
+  s = streamed(std::string("1 2 3\n4 5 6\n\0\1\2", 15), 1);
+  EXPECT_EQ(s.code, StatusCode::IO_ERROR);
+  EXPECT_NE(s.message.find("not a text file: byte 0 at offset 12"), std::string::npos)
+      << s.message;
+  s = streamed("1 2 3\n4 5 6\n", 1,
+               pcl_vts::Status::error(StatusCode::IO_ERROR, "sink full"));
+  EXPECT_EQ(s.message, "sink full");
+  s = streamed("# only a comment\n", 4);
+  EXPECT_EQ(s.code, StatusCode::EMPTY_INPUT);
+}
+
 TEST_F(PointReaders, XyzTextNanAndInfPassThroughForThePipelineToDrop)
 {
   std::vector<double> xyz;

@@ -1887,6 +1887,40 @@ TEST_F(PcdToMesh, TiledRunStaysWithinTheMemoryLimit)
   EXPECT_EQ(summaryValue(r.out, "points read"), 2250000u);
 }
 
+TEST_F(PcdToMesh, OneTextFileLargerThanTheLimitIsNeverHeldWhole)
+{
+  if (std::system("test -x /usr/bin/time") != 0)
+    GTEST_SKIP() << "GNU time (Debian package time) is not installed";
+  // 600000 points in one XYZ file (17 MB of text, 14 MB as doubles): deciding between
+  // memory and tiles once read the file whole, and the tiles read it whole again.
+  // Both now stream it: the job stays far below a 24M limit.
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::string text;
+  text.reserve(600000 * 29);
+  char line[64];
+  for (int i = 0; i < 600000; ++i) {
+    std::snprintf(line, sizeof line, "%.2f %.2f %.2f\n", 500000 + 800 * u(rng),
+                  4100000 + 800 * u(rng), 100 + u(rng));
+    text += line;
+  }
+  writeBytes(work("big.xyz"), text);
+  const std::string timed =
+      "/usr/bin/time -f %M -o " + shellQuote((root_ / "logs" / "rss").string());
+  ASSERT_EQ(run({"--help"}, timed).exit_code, 0);
+  const std::size_t baseline = peakKiB(root_ / "logs" / "rss");
+  const CliResult r =
+      run({"big.xyz", "out.ply", "--no-trim", "--no-fill", "--memory-limit", "24M",
+           "--threads", "2", "--temp-dir", "."},
+          timed);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Meshing tiled"), std::string::npos) << r.out;
+  EXPECT_EQ(summaryValue(r.out, "points read"), 600000u);
+  const std::size_t peak = peakKiB(root_ / "logs" / "rss");
+  EXPECT_LT(peak - std::min(peak, baseline), 24u * 1024u)
+      << "peak " << peak << " KiB, the process alone " << baseline << " KiB";
+}
+
 TEST_F(PcdToMesh, AnLShapedDeliveryStaysWithinTheMemoryLimit)
 {
   if (std::system("test -x /usr/bin/time") != 0)

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,18 @@ struct XyzTextInfo {
 ///         number; EMPTY_INPUT when it holds no data line (header or comments only).
 PCL_VTS_IO_EXPORT Status readXyzText(const std::string& path, std::vector<double>& xyz,
                                      XyzTextInfo& info);
+
+/// Receives points, xyz triples in file order, a chunk at a time.
+using XyzChunkSink = std::function<Status(const double* xyz, std::size_t n)>;
+
+/// Same as readXyzText, but the points go to `sink` in chunks of at most chunk_points,
+/// and the file's pages are released behind the reader: memory stays bounded by the
+/// chunk whatever the file's size. Binary bytes are found line by line (a file that
+/// turns binary fails there, after its earlier points went out); a sink error stops
+/// the read and is returned.
+PCL_VTS_IO_EXPORT Status readXyzTextChunks(const std::string& path,
+                                           std::size_t chunk_points,
+                                           const XyzChunkSink& sink, XyzTextInfo& info);
 
 /// Same, on bytes in memory; name is used in messages only.
 PCL_VTS_IO_EXPORT Status parseXyzText(const std::uint8_t* data, std::size_t size,
