@@ -193,6 +193,21 @@ Status describeCrs(const std::string& path, CloudDescription& d)
 
 } // namespace
 
+/// The summary of an ASCII grid.
+static void describeAsc(const AscGridInfo& info, CloudDescription& d)
+{
+  d.points_read = info.ncols * info.nrows;
+  d.points_kept = info.points;
+  d.details =
+      std::to_string(info.ncols) + " x " + std::to_string(info.nrows) + " cells of " +
+      fmt(info.cell_dx) +
+      (info.cell_dx == info.cell_dy ? std::string() : " x " + fmt(info.cell_dy)) +
+      (info.centre_registered ? ", xllcenter" : ", xllcorner");
+  d.notes.push_back(std::to_string(info.nodata_cells) + " NODATA cells skipped" +
+                    (info.has_nodata ? " (NODATA = " + fmt(info.nodata) + ")"
+                                     : std::string(" (no NODATA_value)")));
+}
+
 /// The summary of a text table.
 static void describeXyz(const XyzTextInfo& info, CloudDescription& d)
 {
@@ -259,16 +274,7 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
     s = readAscGrid(path, xyz, info);
     if (!s.ok())
       return s;
-    d.points_read = info.ncols * info.nrows;
-    d.points_kept = info.points;
-    d.details =
-        std::to_string(info.ncols) + " x " + std::to_string(info.nrows) + " cells of " +
-        fmt(info.cell_dx) +
-        (info.cell_dx == info.cell_dy ? std::string() : " x " + fmt(info.cell_dy)) +
-        (info.centre_registered ? ", xllcenter" : ", xllcorner");
-    d.notes.push_back(std::to_string(info.nodata_cells) + " NODATA cells skipped" +
-                      (info.has_nodata ? " (NODATA = " + fmt(info.nodata) + ")"
-                                       : std::string(" (no NODATA_value)")));
+    describeAsc(info, d);
     break;
   }
   case CloudFileFormat::XYZ: {
@@ -339,6 +345,16 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
     if (Status s = readXyzTextChunks(path, chunk_points, sink, info); !s.ok())
       return s;
     describeXyz(info, description);
+    return describeCrs(path, description);
+  }
+  if (cloudFileFormatFromExtension(path, format) && format == CloudFileFormat::ASC &&
+      options.classes.empty() && options.returns == LasReturnFilter::ALL) {
+    description = CloudDescription();
+    description.format = CloudFileFormat::ASC;
+    AscGridInfo info;
+    if (Status s = readAscGridChunks(path, chunk_points, sink, info); !s.ok())
+      return s;
+    describeAsc(info, description);
     return describeCrs(path, description);
   }
   // The other readers parse whole files; they are handed over in one piece.

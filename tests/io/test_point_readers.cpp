@@ -262,6 +262,56 @@ TEST_F(PointReaders, XyzTextStreamedInChunksEqualsTheWholeRead)
   EXPECT_EQ(s.code, StatusCode::EMPTY_INPUT);
 }
 
+TEST_F(PointReaders, AscGridStreamedInChunksEqualsTheWholeRead)
+{
+  // 37 x 23 cells, NODATA every 5th, values wrapping lines: every chunk size gives the
+  // points of the whole read, in order; a grid with one value too many or too few
+  // fails after or before the expected points went out.
+  std::string text = "ncols 37\nnrows 23\nxllcenter 500000.5\nyllcorner 4100000\n"
+                     "cellsize 2\nNODATA_value -9999\n";
+  for (int i = 0; i < 37 * 23; ++i)
+    text += (i % 5 == 0 ? std::string("-9999") : std::to_string(100 + i % 29) + ".5") +
+            (i % 11 == 10 ? "\n" : " ");
+  const std::string path = write("g.asc", text);
+  std::vector<double> whole;
+  pcl_vts::AscGridInfo whole_info;
+  ASSERT_TRUE(pcl_vts::readAscGrid(path, whole, whole_info).ok());
+  ASSERT_EQ(whole.size(), 3u * (37 * 23 - (37 * 23 + 4) / 5));
+  for (const std::size_t chunk :
+       {std::size_t{1}, std::size_t{50}, std::size_t{1} << 20}) {
+    SCOPED_TRACE(chunk);
+    std::vector<double> streamed;
+    pcl_vts::AscGridInfo info;
+    const pcl_vts::Status s = pcl_vts::readAscGridChunks(
+        path, chunk,
+        [&](const double* xyz, std::size_t n) {
+          EXPECT_LE(n, chunk);
+          streamed.insert(streamed.end(), xyz, xyz + 3 * n);
+          return pcl_vts::Status::success();
+        },
+        info);
+    ASSERT_TRUE(s.ok()) << s.toString();
+    EXPECT_EQ(streamed, whole);
+    EXPECT_EQ(info.points, whole_info.points);
+    EXPECT_EQ(info.nodata_cells, whole_info.nodata_cells);
+  }
+  const auto streamedStatus = [&](const std::string& bytes) {
+    pcl_vts::AscGridInfo info;
+    return pcl_vts::readAscGridChunks(
+        write("e.asc", bytes), 2,
+        [](const double*, std::size_t) { return pcl_vts::Status::success(); }, info);
+  };
+  const std::string head = "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
+  pcl_vts::Status s = streamedStatus(head + "1 2 3 4 5\n");
+  EXPECT_NE(s.message.find("more values than ncols x nrows"), std::string::npos)
+      << s.message;
+  s = streamedStatus(head + "1 2 3\n");
+  EXPECT_NE(s.message.find("truncated"), std::string::npos) << s.message;
+  s = streamedStatus(head + "1 2 x 4\n");
+  EXPECT_NE(s.message.find("value 3 'x' is not a number"), std::string::npos)
+      << s.message;
+}
+
 TEST_F(PointReaders, XyzTextNanAndInfPassThroughForThePipelineToDrop)
 {
   std::vector<double> xyz;

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,17 @@ struct AscGridInfo {
 ///         EMPTY_INPUT when every cell is NODATA.
 PCL_VTS_IO_EXPORT Status readAscGrid(const std::string& path, std::vector<double>& xyz,
                                      AscGridInfo& info);
+
+/// Receives points, xyz triples in file order, a chunk at a time.
+using AscChunkSink = std::function<Status(const double* xyz, std::size_t n)>;
+
+/// Same as readAscGrid, but the valid cells go to `sink` in chunks of at most
+/// chunk_points, and the file's pages are released behind the reader: memory stays
+/// bounded by the chunk whatever the grid's size. Too many values are found after the
+/// expected ones went out; a sink error stops the read and is returned.
+PCL_VTS_IO_EXPORT Status readAscGridChunks(const std::string& path,
+                                           std::size_t chunk_points,
+                                           const AscChunkSink& sink, AscGridInfo& info);
 
 /// Same, on bytes in memory; name is used in messages only.
 PCL_VTS_IO_EXPORT Status parseAscGrid(const std::uint8_t* data, std::size_t size,
