@@ -1,6 +1,8 @@
 #include <pcl_vts/io/geotiff_reader.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #ifdef PCL_VTS_HAVE_GDAL
 #include <gdal.h>
@@ -15,9 +17,9 @@ bool geoTiffSupported()
   return false;
 }
 
-Status readGeoTiff(const std::string& path, std::vector<double>& xyz, GeoTiffInfo& info)
+Status readGeoTiffChunks(const std::string& path, std::size_t, const GeoTiffChunkSink&,
+                         GeoTiffInfo& info)
 {
-  xyz.clear();
   info = GeoTiffInfo{};
   return Status::error(StatusCode::IO_ERROR,
                        "'" + path +
@@ -33,10 +35,12 @@ bool geoTiffSupported()
   return true;
 }
 
-Status readGeoTiff(const std::string& path, std::vector<double>& xyz, GeoTiffInfo& info)
+Status readGeoTiffChunks(const std::string& path, std::size_t chunk_points,
+                         const GeoTiffChunkSink& sink, GeoTiffInfo& info)
 {
-  xyz.clear();
   info = GeoTiffInfo{};
+  chunk_points = std::max<std::size_t>(chunk_points, 1);
+  std::vector<double> xyz;
   GDALAllRegister();
   CPLPushErrorHandler(CPLQuietErrorHandler);
   GDALDatasetH dataset = GDALOpen(path.c_str(), GA_ReadOnly);
@@ -68,6 +72,11 @@ Status readGeoTiff(const std::string& path, std::vector<double>& xyz, GeoTiffInf
   info.has_nodata = has_nodata != 0;
   std::vector<double> row(info.columns);
   for (std::size_t r = 0; r < info.rows; ++r) {
+    if (xyz.size() >= 3 * chunk_points) { // rows read: hand them over
+      if (Status s = sink(xyz.data(), xyz.size() / 3); !s.ok())
+        return s;
+      xyz.clear();
+    }
     if (GDALRasterIO(band, GF_Read, 0, static_cast<int>(r),
                      static_cast<int>(info.columns), 1, row.data(),
                      static_cast<int>(info.columns), 1, GDT_Float64, 0, 0) != CE_None)
@@ -89,9 +98,24 @@ Status readGeoTiff(const std::string& path, std::vector<double>& xyz, GeoTiffInf
   if (info.valid_cells == 0)
     return Status::error(StatusCode::EMPTY_INPUT,
                          "'" + path + "': every cell of band 1 is NODATA");
-  return Status::success();
+  return xyz.empty() ? Status::success() : sink(xyz.data(), xyz.size() / 3);
 }
 
 #endif
+
+Status readGeoTiff(const std::string& path, std::vector<double>& xyz, GeoTiffInfo& info)
+{
+  xyz.clear();
+  const Status s = readGeoTiffChunks(
+      path, std::numeric_limits<std::size_t>::max() / 4,
+      [&](const double* chunk, std::size_t n) {
+        xyz.insert(xyz.end(), chunk, chunk + 3 * n);
+        return Status::success();
+      },
+      info);
+  if (!s.ok())
+    xyz.clear();
+  return s;
+}
 
 } // namespace pcl_vts

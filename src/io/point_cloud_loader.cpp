@@ -208,6 +208,19 @@ static void describeAsc(const AscGridInfo& info, CloudDescription& d)
                                      : std::string(" (no NODATA_value)")));
 }
 
+/// The summary of a raster read through GDAL, its CRS included.
+static void describeGeoTiff(const GeoTiffInfo& info, CloudDescription& d)
+{
+  d.points_read = info.columns * info.rows;
+  d.points_kept = info.valid_cells;
+  d.details = info.driver + ", " + std::to_string(info.columns) + " x " +
+              std::to_string(info.rows) + " cells";
+  d.notes.push_back(std::to_string(info.nodata_cells) + " NODATA cells skipped");
+  d.crs = info.crs_wkt;
+  if (!d.crs.empty())
+    d.crs_source = "GeoTIFF";
+}
+
 /// The summary of a text table.
 static void describeXyz(const XyzTextInfo& info, CloudDescription& d)
 {
@@ -305,14 +318,7 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
     s = readGeoTiff(path, xyz, info);
     if (!s.ok())
       return s;
-    d.points_read = info.columns * info.rows;
-    d.points_kept = info.valid_cells;
-    d.details = info.driver + ", " + std::to_string(info.columns) + " x " +
-                std::to_string(info.rows) + " cells";
-    d.notes.push_back(std::to_string(info.nodata_cells) + " NODATA cells skipped");
-    d.crs = info.crs_wkt;
-    if (!d.crs.empty())
-      d.crs_source = "GeoTIFF";
+    describeGeoTiff(info, d);
     break;
   }
   }
@@ -357,7 +363,18 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
     describeAsc(info, description);
     return describeCrs(path, description);
   }
-  // The other readers parse whole files; they are handed over in one piece.
+  if (cloudFileFormatFromExtension(path, format) &&
+      format == CloudFileFormat::GEOTIFF && options.classes.empty() &&
+      options.returns == LasReturnFilter::ALL) {
+    description = CloudDescription();
+    description.format = CloudFileFormat::GEOTIFF;
+    GeoTiffInfo info;
+    if (Status s = readGeoTiffChunks(path, chunk_points, sink, info); !s.ok())
+      return s;
+    describeGeoTiff(info, description);
+    return describeCrs(path, description);
+  }
+  // PCD and PLY are parsed whole, and handed over in one piece.
   std::vector<double> xyz;
   if (Status s = loadPointCloud(path, options, xyz, description); !s.ok())
     return s;

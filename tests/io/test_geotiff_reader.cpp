@@ -52,6 +52,41 @@ TEST(GeoTiffReader, SharedDemsMatchTheirAsciiGridCopies)
   }
 }
 
+TEST(GeoTiffReader, StreamedRowsEqualTheWholeRead)
+{
+  if (!geoTiffSupported())
+    GTEST_SKIP() << "this build has no GDAL";
+  const std::string tif =
+      std::string(PCL_VTS_SHARED_DATA_DIR) + "/dem/pysheds/dem.tif"; // with NODATA
+  if (!std::filesystem::exists(tif))
+    GTEST_SKIP() << "shared data absent: " << tif;
+  std::vector<double> whole;
+  GeoTiffInfo whole_info;
+  ASSERT_TRUE(readGeoTiff(tif, whole, whole_info).ok());
+  for (const std::size_t chunk :
+       {std::size_t{1}, std::size_t{1000}, std::size_t{1} << 30}) {
+    SCOPED_TRACE(chunk);
+    std::vector<double> streamed;
+    std::size_t calls = 0;
+    GeoTiffInfo info;
+    const Status s = readGeoTiffChunks(
+        tif, chunk,
+        [&](const double* xyz, std::size_t n) {
+          // Whole rows: a chunk passes its size by less than one row.
+          EXPECT_LT(n, chunk + whole_info.columns);
+          streamed.insert(streamed.end(), xyz, xyz + 3 * n);
+          ++calls;
+          return Status::success();
+        },
+        info);
+    ASSERT_TRUE(s.ok()) << s.toString();
+    EXPECT_TRUE(streamed == whole);
+    EXPECT_EQ(info.valid_cells, whole_info.valid_cells);
+    EXPECT_EQ(info.nodata_cells, whole_info.nodata_cells);
+    EXPECT_EQ(calls > 1, chunk < whole.size() / 3);
+  }
+}
+
 TEST(GeoTiffReader, UnreadableRasterIsAnInputError)
 {
   std::vector<double> xyz;

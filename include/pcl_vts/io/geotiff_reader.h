@@ -7,6 +7,7 @@
 #include <pcl_vts/io/export.h>
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,5 +33,16 @@ PCL_VTS_IO_EXPORT bool geoTiffSupported();
 ///         NODATA)
 PCL_VTS_IO_EXPORT Status readGeoTiff(const std::string& path, std::vector<double>& xyz,
                                      GeoTiffInfo& info);
+
+/// Receives points, xyz triples in row order, a chunk at a time.
+using GeoTiffChunkSink = std::function<Status(const double* xyz, std::size_t n)>;
+
+/// Same as readGeoTiff, but the valid cells go to `sink` in chunks of about
+/// chunk_points (whole rows), read row by row: memory stays bounded by the chunk
+/// whatever the raster's size. A sink error stops the read and is returned.
+PCL_VTS_IO_EXPORT Status readGeoTiffChunks(const std::string& path,
+                                           std::size_t chunk_points,
+                                           const GeoTiffChunkSink& sink,
+                                           GeoTiffInfo& info);
 
 } // namespace pcl_vts
