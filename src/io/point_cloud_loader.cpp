@@ -221,6 +221,19 @@ static void describeGeoTiff(const GeoTiffInfo& info, CloudDescription& d)
     d.crs_source = "GeoTIFF";
 }
 
+/// The summary of a PLY's vertices.
+static void describePly(const PlyPointInfo& info, CloudDescription& d)
+{
+  d.points_read = d.points_kept = info.vertices;
+  d.details =
+      info.format + ", x y z " + info.xyz_types[0] +
+      (info.xyz_types[0] == info.xyz_types[1] && info.xyz_types[1] == info.xyz_types[2]
+           ? std::string()
+           : " " + info.xyz_types[1] + " " + info.xyz_types[2]) +
+      (info.faces ? ", " + std::to_string(info.faces) + " faces ignored"
+                  : std::string());
+}
+
 /// The summary of a text table.
 static void describeXyz(const XyzTextInfo& info, CloudDescription& d)
 {
@@ -303,14 +316,7 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
     s = readPlyPoints(path, xyz, info);
     if (!s.ok())
       return s;
-    d.points_read = d.points_kept = info.vertices;
-    d.details = info.format + ", x y z " + info.xyz_types[0] +
-                (info.xyz_types[0] == info.xyz_types[1] &&
-                         info.xyz_types[1] == info.xyz_types[2]
-                     ? std::string()
-                     : " " + info.xyz_types[1] + " " + info.xyz_types[2]) +
-                (info.faces ? ", " + std::to_string(info.faces) + " faces ignored"
-                            : std::string());
+    describePly(info, d);
     break;
   }
   case CloudFileFormat::GEOTIFF: {
@@ -374,7 +380,17 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
     describeGeoTiff(info, description);
     return describeCrs(path, description);
   }
-  // PCD and PLY are parsed whole, and handed over in one piece.
+  if (cloudFileFormatFromExtension(path, format) && format == CloudFileFormat::PLY &&
+      options.classes.empty() && options.returns == LasReturnFilter::ALL) {
+    description = CloudDescription();
+    description.format = CloudFileFormat::PLY;
+    PlyPointInfo info;
+    if (Status s = readPlyPointChunks(path, chunk_points, sink, info); !s.ok())
+      return s;
+    describePly(info, description);
+    return describeCrs(path, description);
+  }
+  // PCD (through PCL) is parsed whole, and handed over in one piece.
   std::vector<double> xyz;
   if (Status s = loadPointCloud(path, options, xyz, description); !s.ok())
     return s;

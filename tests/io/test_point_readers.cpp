@@ -420,6 +420,71 @@ TEST_F(PointReaders, PlyElementsBeforeTheVertexElementAreSkipped)
   EXPECT_EQ(xyz, (std::vector<double>{500000.001, 5000000.002, 7.0, 1.0, 2.0, 3.0}));
 }
 
+TEST_F(PointReaders, PlyStreamedInChunksEqualsTheWholeRead)
+{
+  // Binary with an element before the vertices and faces after them, and ascii:
+  // every chunk size gives the whole read's vertices; a truncated body fails after
+  // the vertices before it went out.
+  std::string bin =
+      "ply\nformat binary_little_endian 1.0\nelement camera 1\n"
+      "property float a\nelement vertex 500\nproperty float nx\n"
+      "property double x\nproperty double y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  appendValue(bin, 1.5f, false);
+  std::string ascii = "ply\nformat ascii 1.0\nelement vertex 500\nproperty double x\n"
+                      "property double y\nproperty double z\nend_header\n";
+  for (int i = 0; i < 500; ++i) {
+    appendValue(bin, 0.25f, false);
+    appendValue(bin, 500000.0 + i, false);
+    appendValue(bin, 4100000.5 + 2 * i, false);
+    appendValue(bin, static_cast<float>(i % 7), false);
+    ascii += std::to_string(500000 + i) + " " + std::to_string(4100000 + 2 * i) +
+             ".5 " + std::to_string(i % 7) + "\n";
+  }
+  appendValue<std::uint8_t>(bin, 3, false);
+  for (int v : {0, 1, 2})
+    appendValue<std::int32_t>(bin, v, false);
+  for (const auto& [name, bytes] :
+       {std::pair{"b.ply", bin}, std::pair{"a.ply", ascii}}) {
+    SCOPED_TRACE(name);
+    const std::string path = write(name, bytes);
+    std::vector<double> whole;
+    pcl_vts::PlyPointInfo whole_info;
+    ASSERT_TRUE(pcl_vts::readPlyPoints(path, whole, whole_info).ok());
+    ASSERT_EQ(whole.size(), 1500u);
+    for (const std::size_t chunk :
+         {std::size_t{1}, std::size_t{33}, std::size_t{1} << 20}) {
+      SCOPED_TRACE(chunk);
+      std::vector<double> streamed;
+      pcl_vts::PlyPointInfo info;
+      const pcl_vts::Status s = pcl_vts::readPlyPointChunks(
+          path, chunk,
+          [&](const double* xyz, std::size_t n) {
+            EXPECT_LE(n, chunk);
+            streamed.insert(streamed.end(), xyz, xyz + 3 * n);
+            return pcl_vts::Status::success();
+          },
+          info);
+      ASSERT_TRUE(s.ok()) << s.toString();
+      EXPECT_EQ(streamed, whole);
+      EXPECT_EQ(info.vertices, 500u);
+      EXPECT_EQ(info.faces, whole_info.faces);
+    }
+  }
+  std::size_t got = 0;
+  pcl_vts::PlyPointInfo info;
+  const pcl_vts::Status s = pcl_vts::readPlyPointChunks(
+      write("t.ply", ascii.substr(0, ascii.size() - 40)), 10,
+      [&](const double*, std::size_t n) {
+        got += n;
+        return pcl_vts::Status::success();
+      },
+      info);
+  EXPECT_EQ(s.code, StatusCode::IO_ERROR);
+  EXPECT_NE(s.message.find("truncated"), std::string::npos) << s.message;
+  EXPECT_GT(got, 0u);
+}
+
 TEST_F(PointReaders, PlyBadInputsAreErrors)
 {
   const std::string head =

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,5 +36,17 @@ PCL_VTS_IO_EXPORT Status readPlyPoints(const std::string& path,
 PCL_VTS_IO_EXPORT Status parsePlyPoints(const std::uint8_t* data, std::size_t size,
                                         const std::string& name,
                                         std::vector<double>& xyz, PlyPointInfo& info);
+
+/// Receives vertices, xyz triples in file order, a chunk at a time.
+using PlyChunkSink = std::function<Status(const double* xyz, std::size_t n)>;
+
+/// Same as readPlyPoints, but the vertices go to `sink` in chunks of at most
+/// chunk_points, and the file's pages are released behind the reader: memory stays
+/// bounded by the chunk whatever the file's size. A body error after some chunks
+/// went out is returned; a sink error stops the read and is returned.
+PCL_VTS_IO_EXPORT Status readPlyPointChunks(const std::string& path,
+                                            std::size_t chunk_points,
+                                            const PlyChunkSink& sink,
+                                            PlyPointInfo& info);
 
 } // namespace pcl_vts

@@ -79,10 +79,10 @@ PCL_VTS_IO_EXPORT Status loadPointCloud(const std::string& path,
 using PointChunkSink = std::function<Status(const double* xyz, std::size_t n)>;
 
 /// Reads path like loadPointCloud, but hands the kept points to `sink`: LAS, LAZ, XYZ
-/// text, ASCII grids and GeoTIFF chunk by chunk (at most chunk_points each, the
+/// text, ASCII grids, PLY and GeoTIFF chunk by chunk (at most chunk_points each, the
 /// file's pages released behind the reader, or the raster read row by row, so memory
-/// stays bounded whatever the file's size); PCD and PLY in one piece after reading
-/// the file whole. A sink error stops the read and is returned.
+/// stays bounded whatever the file's size); PCD (through PCL) in one piece after
+/// reading the file whole. A sink error stops the read and is returned.
 PCL_VTS_IO_EXPORT Status streamPointCloud(const std::string& path,
                                           const CloudLoadOptions& options,
                                           std::size_t chunk_points,
