@@ -269,8 +269,10 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
       const std::size_t batch = std::min<std::size_t>(threads, chunks.size() - first);
       runTeam(static_cast<unsigned>(batch), [&](unsigned w) {
         try {
+          // Only what is read here: the layered scheme skips the other fields.
           if (!laz::decodeChunk(data, chunks[first + w], laszip, info.record_length,
-                                decoded[w], errors[w]) &&
+                                decoded[w], errors[w],
+                                laz::LazFields::POSITION_CLASS_RETURNS) &&
               errors[w].empty())
             errors[w] = "undecodable";
         } catch (const std::bad_alloc&) {

@@ -349,14 +349,20 @@ TEST_F(LazReader, TruncatedFilesFailOrReadTheSamePoints)
 TEST_F(LazReader, CorruptBytesAreMostlyDetectedAndNeverCrash)
 {
   // Arithmetic-coded bytes carry no checksum; the reader's checks are the chunk table,
-  // the layer sizes and that each stream decodes exactly to its last byte. A flipped
-  // byte that none of those notices gives different points (counted here, to keep the
-  // detection rate honest), never a crash.
+  // the layer sizes and that each decoded stream ends exactly on its last byte. The
+  // reader decodes only the layers of x, y, z, returns and class, so a flip in another
+  // layer (GPS time, intensity, colour) cannot change the points and goes unseen; a
+  // flip that changes the points without an error is what is counted against it.
   for (const char* name : {"point-time.laz", "1_4_w_evlr.laz", "autzen_trim.laz"}) {
     SCOPED_TRACE(name);
     const std::vector<std::uint8_t> intact = fileBytes(DATA + "/laz/" + name);
     const Layout l = layoutOf(intact);
-    std::size_t detected = 0, tries = 0;
+    std::vector<double> reference;
+    LasInfo reference_info;
+    ASSERT_TRUE(parseLasCloud(intact.data(), intact.size(), name, LasReadOptions{},
+                              reference, reference_info)
+                    .ok());
+    std::size_t detected = 0, harmless = 0, tries = 0;
     for (std::size_t at = l.offset; at < intact.size();
          at += 1 + (intact.size() - l.offset) / 150) {
       std::vector<std::uint8_t> bytes = intact;
@@ -369,9 +375,15 @@ TEST_F(LazReader, CorruptBytesAreMostlyDetectedAndNeverCrash)
       if (!s.ok()) {
         ++detected;
         EXPECT_EQ(s.code, StatusCode::IO_ERROR) << s.message;
+      } else if (xyz == reference && info.class_counts == reference_info.class_counts) {
+        ++harmless;
       }
     }
-    std::printf("[ detected ] %s: %zu of %zu flipped bytes\n", name, detected, tries);
-    EXPECT_GE(detected * 10, tries * 9);
+    std::printf(
+        "[ detected ] %s: %zu of %zu flipped bytes, %zu more left the points as "
+        "they were\n",
+        name, detected, tries, harmless);
+    EXPECT_GE((detected + harmless) * 10, tries * 9);
+    EXPECT_GE(detected * 10, tries * 7);
   }
 }

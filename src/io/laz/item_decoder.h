@@ -56,10 +56,14 @@ class LayeredItemDecoder {
   virtual bool overran() const = 0;
 };
 
-std::unique_ptr<LayeredItemDecoder> makePoint14V3();
+/// position_only: x, y, z, returns and class only (the layers of the other fields
+/// are not decoded, their bytes in the record are the chunk's first values).
+std::unique_ptr<LayeredItemDecoder> makePoint14V3(bool position_only = false);
 std::unique_ptr<LayeredItemDecoder> makeRgb14V3(bool with_nir);
 std::unique_ptr<LayeredItemDecoder> makeBytes14V3(std::size_t count);
 std::unique_ptr<LayeredItemDecoder> makeWavePacket14V3();
+/// An item read past: `layers` layers counted, nothing decoded.
+std::unique_ptr<LayeredItemDecoder> makeSkippedItem(std::size_t layers);
 
 } // namespace laz
 } // namespace pcl_vts

@@ -163,11 +163,19 @@ class Point14V3 final : public LayeredItemDecoder {
     context = current_ = p.channel();
     channel(current_).begin(p);
   }
+  explicit Point14V3(bool position_only)
+      : position_only_(position_only)
+  {}
   std::size_t layers() const override { return COUNT; }
   void startLayers(const std::uint8_t* const* data, const std::uint32_t* sizes) override
   {
     for (int i = 0; i < COUNT; ++i)
       layer_[i].start(data[i], sizes[i]);
+    // Position, returns and class: the other layers are left undecoded, as no field
+    // read here depends on them (LASzip's selective decompression).
+    if (position_only_)
+      for (int i : {FLAGS, INTENSITY, SCAN_ANGLE, USER_DATA, POINT_SOURCE, GPS_TIME})
+        layer_[i].present = false;
   }
   bool consumedExactly() const override { return laz::consumedExactly(layer_); }
   bool overran() const override { return laz::overran(layer_); }
@@ -242,16 +250,16 @@ class Point14V3 final : public LayeredItemDecoder {
           c.intensity.decode(layer_[INTENSITY].dec, c.last_intensity[ctx], ctx >> 1));
       c.last_intensity[ctx] = p.intensity;
     }
-    if (scan_angle_changed)
+    if (scan_angle_changed && layer_[SCAN_ANGLE].present)
       p.scan_angle = static_cast<std::int16_t>(
           c.scan_angle.decode(layer_[SCAN_ANGLE].dec, p.scan_angle, gps_changed));
     if (layer_[USER_DATA].present)
       p.user_data = static_cast<std::uint8_t>(
           layer_[USER_DATA].dec.decodeSymbol(c.user_data[p.user_data / 4]));
-    if (point_source_changed)
+    if (point_source_changed && layer_[POINT_SOURCE].present)
       p.point_source = static_cast<std::uint16_t>(
           c.point_source.decode(layer_[POINT_SOURCE].dec, p.point_source, 0));
-    if (gps_changed)
+    if (gps_changed && layer_[GPS_TIME].present)
       decodeGpsTime(c);
     c.gps_changed = gps_changed;
     p.write(out);
@@ -342,6 +350,7 @@ class Point14V3 final : public LayeredItemDecoder {
     c.gps_extreme[c.gps_last] = 0;
   }
 
+  bool position_only_;
   std::array<Layer, COUNT> layer_;
   std::array<std::unique_ptr<Channel>, 4> channels_;
   unsigned current_ = 0;
@@ -580,16 +589,38 @@ class WavePacket14V3 final : public LayeredItemDecoder {
   ChannelPrediction<Packet, Models> packets_;
 };
 
+/// An item whose layers are counted but not decoded: its bytes stay as they were.
+class SkippedItem final : public LayeredItemDecoder {
+ public:
+  explicit SkippedItem(std::size_t layers)
+      : layers_(layers)
+  {}
+  void first(const std::uint8_t*, unsigned&) override {}
+  std::size_t layers() const override { return layers_; }
+  void startLayers(const std::uint8_t* const*, const std::uint32_t*) override {}
+  void next(std::uint8_t*, unsigned&) override {}
+  bool consumedExactly() const override { return true; }
+  bool overran() const override { return false; }
+
+ private:
+  std::size_t layers_;
+};
+
 } // namespace
+
+std::unique_ptr<LayeredItemDecoder> makeSkippedItem(std::size_t layers)
+{
+  return std::make_unique<SkippedItem>(layers);
+}
 
 std::unique_ptr<LayeredItemDecoder> makeWavePacket14V3()
 {
   return std::make_unique<WavePacket14V3>();
 }
 
-std::unique_ptr<LayeredItemDecoder> makePoint14V3()
+std::unique_ptr<LayeredItemDecoder> makePoint14V3(bool position_only)
 {
-  return std::make_unique<Point14V3>();
+  return std::make_unique<Point14V3>(position_only);
 }
 std::unique_ptr<LayeredItemDecoder> makeRgb14V3(bool with_nir)
 {

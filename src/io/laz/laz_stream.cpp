@@ -57,8 +57,9 @@ struct ChunkDecoders {
   std::vector<std::unique_ptr<LayeredItemDecoder>> layered;
 };
 
-ChunkDecoders makeDecoders(const LaszipVlr& vlr)
+ChunkDecoders makeDecoders(const LaszipVlr& vlr, LazFields fields)
 {
+  const bool all = fields == LazFields::ALL;
   ChunkDecoders d;
   for (const Item& item : vlr.items)
     switch (item.type) {
@@ -76,17 +77,18 @@ ChunkDecoders makeDecoders(const LaszipVlr& vlr)
                                               : makeBytesV2(item.size));
       break;
     case ITEM_POINT14:
-      d.layered.push_back(makePoint14V3());
+      d.layered.push_back(makePoint14V3(!all));
       break;
     case ITEM_RGB14:
     case ITEM_RGBNIR14:
-      d.layered.push_back(makeRgb14V3(item.type == ITEM_RGBNIR14));
+      d.layered.push_back(all ? makeRgb14V3(item.type == ITEM_RGBNIR14)
+                              : makeSkippedItem(item.type == ITEM_RGBNIR14 ? 2 : 1));
       break;
     case ITEM_BYTE14:
-      d.layered.push_back(makeBytes14V3(item.size));
+      d.layered.push_back(all ? makeBytes14V3(item.size) : makeSkippedItem(item.size));
       break;
     case ITEM_WAVEPACKET14:
-      d.layered.push_back(makeWavePacket14V3());
+      d.layered.push_back(all ? makeWavePacket14V3() : makeSkippedItem(1));
       break;
     default: // checkItems refused the others
       break;
@@ -102,9 +104,10 @@ bool fail(std::string& why, const std::string& what)
 
 bool decodePointwise(const std::uint8_t* data, const std::uint8_t* end,
                      const Chunk& chunk, const LaszipVlr& vlr,
-                     std::size_t record_length, std::uint8_t* out, std::string& why)
+                     std::size_t record_length, LazFields fields, std::uint8_t* out,
+                     std::string& why)
 {
-  ChunkDecoders d = makeDecoders(vlr);
+  ChunkDecoders d = makeDecoders(vlr, fields);
   std::size_t at = 0;
   for (std::size_t i = 0; i < d.pointwise.size(); ++i) {
     d.pointwise[i]->first(data + at);
@@ -140,9 +143,9 @@ bool decodePointwise(const std::uint8_t* data, const std::uint8_t* end,
 
 bool decodeLayered(const std::uint8_t* data, const std::uint8_t* end,
                    const Chunk& chunk, const LaszipVlr& vlr, std::size_t record_length,
-                   std::uint8_t* out, std::string& why)
+                   LazFields fields, std::uint8_t* out, std::string& why)
 {
-  ChunkDecoders d = makeDecoders(vlr);
+  ChunkDecoders d = makeDecoders(vlr, fields);
   unsigned context = 0;
   std::size_t at = 0;
   for (std::size_t i = 0; i < d.layered.size(); ++i) {
@@ -375,7 +378,7 @@ bool readChunkTable(const std::uint8_t* file, std::size_t file_size,
 
 bool decodeChunk(const std::uint8_t* file, const Chunk& chunk, const LaszipVlr& vlr,
                  std::size_t record_length, std::vector<std::uint8_t>& records,
-                 std::string& why)
+                 std::string& why, LazFields fields)
 {
   records.resize(chunk.points * record_length);
   if (chunk.points == 0)
@@ -388,9 +391,10 @@ bool decodeChunk(const std::uint8_t* file, const Chunk& chunk, const LaszipVlr& 
   const std::uint8_t* data = file + chunk.offset;
   const std::uint8_t* end = data + chunk.bytes;
   return vlr.compressor == LAYERED_CHUNKED
-             ? decodeLayered(data, end, chunk, vlr, record_length, records.data(), why)
-             : decodePointwise(data, end, chunk, vlr, record_length, records.data(),
-                               why);
+             ? decodeLayered(data, end, chunk, vlr, record_length, fields,
+                             records.data(), why)
+             : decodePointwise(data, end, chunk, vlr, record_length, fields,
+                               records.data(), why);
 }
 
 } // namespace laz

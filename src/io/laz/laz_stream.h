@@ -75,10 +75,19 @@ bool readChunkTable(const std::uint8_t* file, std::size_t file_size,
                     std::size_t points_begin, std::uint64_t count, const LaszipVlr& vlr,
                     std::vector<Chunk>& chunks, std::string& why);
 
-/// Decodes one chunk into chunk.points records of record_length bytes.
+/// Which fields of the records a decoding must give.
+enum class LazFields {
+  ALL,                   ///< every byte of every record
+  POSITION_CLASS_RETURNS ///< x, y, z, return numbers, class: the layered scheme then
+                         ///< leaves the other layers undecoded (the pointwise one
+                         ///< cannot: its fields share one stream)
+};
+
+/// Decodes one chunk into chunk.points records of record_length bytes; with
+/// POSITION_CLASS_RETURNS the other bytes are unspecified.
 bool decodeChunk(const std::uint8_t* file, const Chunk& chunk, const LaszipVlr& vlr,
                  std::size_t record_length, std::vector<std::uint8_t>& records,
-                 std::string& why);
+                 std::string& why, LazFields fields = LazFields::ALL);
 
 } // namespace laz
 } // namespace pcl_vts
