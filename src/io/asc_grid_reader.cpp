@@ -15,11 +15,6 @@
 namespace pcl_vts {
 namespace {
 
-Status ioError(const std::string& name, const std::string& what)
-{
-  return Status::error(StatusCode::IO_ERROR, "'" + name + "': " + what);
-}
-
 bool startsNumber(char c)
 {
   return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.';

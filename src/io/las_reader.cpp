@@ -40,11 +40,6 @@ std::string fixedString(const std::uint8_t* p, std::size_t n)
   return s;
 }
 
-Status ioError(const std::string& name, const std::string& what)
-{
-  return Status::error(StatusCode::IO_ERROR, "'" + name + "': " + what);
-}
-
 Status lazError(const std::string& name, const std::string& why)
 {
   return ioError(name, "cannot decode this LAZ file: " + why);

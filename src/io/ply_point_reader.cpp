@@ -71,11 +71,6 @@ struct Element {
 
 enum class Format { ASCII, BINARY_LE, BINARY_BE };
 
-Status ioError(const std::string& name, const std::string& what)
-{
-  return Status::error(StatusCode::IO_ERROR, "'" + name + "': " + what);
-}
-
 /// Reads one binary scalar at p (size checked by the caller).
 double loadBinary(const std::uint8_t* p, PlyType t, bool big_endian)
 {

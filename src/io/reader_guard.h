@@ -1,7 +1,8 @@
-// Private to the file readers (LAS, ASCII grid, XYZ text, PLY): the two wrappers they
-// all share. guardedParse resets the info, turns bad_alloc into a one-line IO_ERROR
-// and leaves xyz empty on any failure; readMappedFile maps the file and hands its
-// bytes to the reader's in-memory parser (the one the fuzzers drive).
+// Private to the file readers (LAS, ASCII grid, XYZ text, PLY): what they all share.
+// ioError is their error shape; guardedParse resets the info, turns bad_alloc into a
+// one-line IO_ERROR and leaves xyz empty on any failure; readMappedFile maps the file
+// and hands its bytes to the reader's in-memory parser (the one the fuzzers drive);
+// releaseReadPages drops the pages a streaming reader has passed.
 #pragma once
 
 #include "mapped_file.h"
@@ -16,6 +17,12 @@
 #include <vector>
 
 namespace pcl_vts {
+
+/// The readers' one error shape: IO_ERROR, "'name': what".
+inline Status ioError(const std::string& name, const std::string& what)
+{
+  return Status::error(StatusCode::IO_ERROR, "'" + name + "': " + what);
+}
 
 /// Runs parse() (which fills xyz and info) with the post-conditions above.
 template <typename Info, typename Parse>

@@ -13,11 +13,6 @@
 namespace pcl_vts {
 namespace {
 
-Status ioError(const std::string& name, const std::string& what)
-{
-  return Status::error(StatusCode::IO_ERROR, "'" + name + "': " + what);
-}
-
 using Field = std::pair<const char*, const char*>;
 
 /// Splits [p, end) into fields; false when a comma or semicolon has no value before
