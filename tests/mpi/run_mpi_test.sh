@@ -4,6 +4,7 @@
 # no output and no temporary file. Usage: run_mpi_test.sh PCD_TO_MESH PCD_TO_MESH_MPI WORK
 set -euo pipefail
 single=$1 mpi=$2 work=$3
+here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 # mpirun as root (CI containers) and more ranks than cores.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -38,6 +39,12 @@ compare() { # name, inputs...: 1, 2, 3 ranks against one process
 inputs=(in0.xyz in1.xyz in2.xyz in3.xyz in4.xyz)
 compare mixed "${inputs[@]}"
 compare grid grid0.xyz grid1.xyz
+# A LAZ file (../shared/data beside the project, when present): each rank decodes its
+# share of the chunks.
+laz="$here/../../../shared/data/laz/lidR_Topography.laz"
+if [ -f "$laz" ]; then
+  compare laz "$laz"
+fi
 
 # The DEM of a 2-rank run (rank 0 rasterizes it out of core from the tile results) has
 # the one-process pixels: each GeoTIFF, read back as input under the same name, meshes
@@ -105,4 +112,4 @@ set -e
 sleep 0.5
 leftovers=$(ls -A | grep '^\.pcl_vts-' || true)
 [ -z "$leftovers" ] || fail "temporary files left after a killed rank: $leftovers"
-echo "mpi: 1, 2, 3 ranks identical to one process on mixed and grid inputs, the DEM of 2 ranks too; a failing and a killed rank fail the job cleanly"
+echo "mpi: 1, 2, 3 ranks identical to one process on mixed, grid and LAZ inputs, the DEM of 2 ranks too; a failing and a killed rank fail the job cleanly"
