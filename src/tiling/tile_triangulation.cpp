@@ -134,6 +134,24 @@ void nearestRightOf(const KnownSpace& space, const Point2& a, const Point2& b,
   }
 }
 
+/// The corner k whose edge k -> k+1 is the longest of the triangle (the first of
+/// equals); out: its squared length.
+int longestEdge(const Point2* corners, double& squared)
+{
+  int k = 0;
+  squared = -1;
+  for (int e = 0; e < 3; ++e) {
+    const Point2& a = corners[e];
+    const Point2& b = corners[(e + 1) % 3];
+    const double l2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
+    if (l2 > squared) {
+      squared = l2;
+      k = e;
+    }
+  }
+  return k;
+}
+
 /// A triangle too flat for floating point to bound its circumdisk (three nearly
 /// collinear points along a straight data edge, common where coordinates are
 /// quantised). When its angle opposite the longest edge p -> q (CCW order) is surely
@@ -145,17 +163,8 @@ bool flatTriangleUnknowns(const Point2* v, const KnownSpace& space,
                           const LoadedBlocks& flags, double block_side, std::size_t cap,
                           std::vector<std::uint32_t>& hits)
 {
-  int k = 0;
-  double longest = -1;
-  for (int e = 0; e < 3; ++e) {
-    const Point2& a = v[e];
-    const Point2& b = v[(e + 1) % 3];
-    const double l2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
-    if (l2 > longest) {
-      longest = l2;
-      k = e;
-    }
-  }
+  double longest = 0;
+  const int k = longestEdge(v, longest);
   const Point2& p = v[k];
   const Point2& q = v[(k + 1) % 3];
   const Point2& m = v[(k + 2) % 3];
@@ -183,16 +192,8 @@ void keepFirstReachedFrom(const KnownSpace& space, const Point2* corners,
                           std::size_t cap, std::size_t first,
                           std::vector<std::uint32_t>& hits)
 {
-  int k = 0;
-  double longest = -1;
-  for (int e = 0; e < 3; ++e) {
-    const double dx = corners[(e + 1) % 3].x - corners[e].x,
-                 dy = corners[(e + 1) % 3].y - corners[e].y;
-    if (dx * dx + dy * dy > longest) {
-      longest = dx * dx + dy * dy;
-      k = e;
-    }
-  }
+  double longest = 0;
+  const int k = longestEdge(corners, longest);
   keepFirstReached(space, corners[k], corners[(k + 1) % 3], cap, first, hits);
 }
 
