@@ -20,16 +20,8 @@ bool startsNumber(char c)
   return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.';
 }
 
-/// Where the points go: the whole array (sink == nullptr), or chunks handed to a
-/// sink, with the mapped pages behind the reader released.
-struct AscOutput {
-  const AscChunkSink* sink = nullptr;
-  std::size_t chunk_points = 0;
-};
-
 Status parseAscImpl(const char* p, const char* end, const std::string& name,
-                    std::vector<double>& xyz, AscGridInfo& info,
-                    const AscOutput& output = AscOutput())
+                    std::vector<double>& xyz, AscGridInfo& info, PointOutput& output)
 {
   if (p == end)
     return ioError(name, "the file is empty (0 bytes)");
@@ -122,25 +114,16 @@ Status parseAscImpl(const char* p, const char* end, const std::string& name,
                              " x " + std::to_string(info.nrows) + " cells, only " +
                              std::to_string(left) + " bytes of values follow");
   xyz.clear();
-  xyz.reserve(3 * (output.sink ? output.chunk_points : cells));
-  std::size_t handed = 0;
-  const std::uint8_t* released = reinterpret_cast<const std::uint8_t*>(p);
-  const auto handOver = [&](const char* consumed) {
-    handed += xyz.size() / 3;
-    const Status s =
-        xyz.empty() ? Status::success() : (*output.sink)(xyz.data(), xyz.size() / 3);
-    xyz.clear();
-    releaseReadPages(released, reinterpret_cast<const std::uint8_t*>(consumed));
-    return s;
-  };
+  xyz.reserve(3 * output.reserve(cells));
+  output.begin(p);
   std::size_t cell = 0;
   for (;;) {
     while (p != end && text::isSpace(*p))
       ++p;
     if (p == end)
       break;
-    if (output.sink && xyz.size() >= 3 * output.chunk_points)
-      if (Status s = handOver(p); !s.ok())
+    if (output.full(xyz))
+      if (Status s = output.handOver(xyz, p); !s.ok())
         return s;
     const char* q = p;
     while (q != end && !text::isSpace(*q))
@@ -168,10 +151,8 @@ Status parseAscImpl(const char* p, const char* end, const std::string& name,
   if (cell != cells)
     return ioError(name, "truncated: " + std::to_string(cell) + " values, ncols x " +
                              "nrows = " + std::to_string(cells));
-  if (output.sink)
-    if (Status s = handOver(end); !s.ok())
-      return s;
-  info.points = output.sink ? handed : xyz.size() / 3;
+  if (Status s = output.finish(xyz, end, info.points); !s.ok())
+    return s;
   if (info.points == 0)
     return Status::error(StatusCode::EMPTY_INPUT,
                          "'" + name + "': all " + std::to_string(cells) +
@@ -186,24 +167,21 @@ Status parseAscGrid(const std::uint8_t* data, std::size_t size, const std::strin
 {
   return guardedParse(name, xyz, info, [&] {
     const char* p = reinterpret_cast<const char*>(data);
-    return parseAscImpl(p, p + size, name, xyz, info);
+    PointOutput whole;
+    return parseAscImpl(p, p + size, name, xyz, info, whole);
   });
 }
 
 Status readAscGridChunks(const std::string& path, std::size_t chunk_points,
                          const AscChunkSink& sink, AscGridInfo& info)
 {
-  std::vector<double> chunk;
-  AscOutput output;
-  output.sink = &sink;
-  output.chunk_points = std::max<std::size_t>(chunk_points, 1);
-  return readMappedFile(path, chunk, info,
-                        [&](const std::uint8_t* data, std::size_t size) {
-                          return guardedParse(path, chunk, info, [&] {
-                            const char* p = reinterpret_cast<const char*>(data);
-                            return parseAscImpl(p, p + size, path, chunk, info, output);
-                          });
-                        });
+  return readMappedFileInChunks(path, sink, chunk_points, info,
+                                [&](const std::uint8_t* data, std::size_t size,
+                                    std::vector<double>& chunk, PointOutput& output) {
+                                  const char* p = reinterpret_cast<const char*>(data);
+                                  return parseAscImpl(p, p + size, path, chunk, info,
+                                                      output);
+                                });
 }
 
 Status readAscGrid(const std::string& path, std::vector<double>& xyz, AscGridInfo& info)

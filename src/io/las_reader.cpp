@@ -78,14 +78,6 @@ std::string classList(const std::vector<std::uint8_t>& classes)
   return s;
 }
 
-/// Where kept points go: the whole array (sink == nullptr), or chunks handed to a
-/// sink, with the mapped pages behind the reader released when `release` is set.
-struct LasOutput {
-  const LasChunkSink* sink = nullptr;
-  std::size_t chunk_points = 0;
-  bool release = false;
-};
-
 /// Grows info's bounds by the points of xyz.
 void growBounds(const std::vector<double>& xyz, LasInfo& info)
 {
@@ -98,7 +90,7 @@ void growBounds(const std::vector<double>& xyz, LasInfo& info)
 
 Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::string& name,
                     const LasReadOptions& options, std::vector<double>& xyz,
-                    LasInfo& info, const LasOutput& output = LasOutput())
+                    LasInfo& info, PointOutput& output)
 {
   if (size == 0)
     return ioError(name, "the file is empty (0 bytes)");
@@ -212,24 +204,16 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
   // LAS: count * record_length <= size, so the reservation is bounded by the file;
   // a LAZ count is only bounded by its chunk table, so reserve no more than size.
   xyz.clear();
-  xyz.reserve(output.sink ? 3 * output.chunk_points
-                          : 3 * static_cast<std::size_t>(std::min<std::uint64_t>(
-                                    count, compressed ? size : count)));
+  xyz.reserve(3 * output.reserve(static_cast<std::size_t>(
+                      std::min<std::uint64_t>(count, compressed ? size : count))));
   for (int a = 0; a < 3; ++a) {
     info.min[a] = std::numeric_limits<double>::infinity();
     info.max[a] = -std::numeric_limits<double>::infinity();
   }
-  std::uint64_t kept = 0;
-  const std::uint8_t* released = data;
-  const auto handOver = [&](const std::uint8_t* consumed) {
+  output.begin(data);
+  const auto handOver = [&](const std::uint8_t* consumed) { // bounds, then the sink
     growBounds(xyz, info);
-    kept += xyz.size() / 3;
-    const Status s =
-        xyz.empty() ? Status::success() : (*output.sink)(xyz.data(), xyz.size() / 3);
-    xyz.clear();
-    if (output.release) // whole pages already read: drop them from memory
-      releaseReadPages(released, consumed);
-    return s;
+    return output.handOver(xyz, consumed);
   };
   const auto take = [&](const std::uint8_t* record) {
     const std::uint8_t returns = record[14];
@@ -250,7 +234,7 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
   const std::uint8_t* record = data + info.offset_to_points;
   if (!compressed) {
     for (std::uint64_t i = 0; i < count; ++i, record += info.record_length) {
-      if (output.sink && xyz.size() >= 3 * output.chunk_points)
+      if (output.full(xyz))
         if (Status s = handOver(record); !s.ok())
           return s;
       take(record);
@@ -281,7 +265,7 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
         const std::uint8_t* r = decoded[w].data();
         for (std::uint64_t i = 0; i < chunks[first + w].points;
              ++i, r += info.record_length) {
-          if (output.sink && xyz.size() >= 3 * output.chunk_points)
+          if (output.full(xyz))
             if (Status s = handOver(data + chunks[first + w].offset); !s.ok())
               return s;
           take(r);
@@ -292,13 +276,10 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
     }
   }
   info.points_read = count;
-  if (output.sink) {
-    if (Status s = handOver(record); !s.ok())
-      return s;
-  } else {
-    growBounds(xyz, info);
-    kept = xyz.size() / 3;
-  }
+  growBounds(xyz, info);
+  std::size_t kept = 0;
+  if (Status s = output.finish(xyz, record, kept); !s.ok())
+    return s;
   info.points_kept = kept;
   if (info.points_kept == 0) {
     std::string present;
@@ -361,7 +342,8 @@ Status parseLasCloud(const std::uint8_t* data, std::size_t size,
                      std::vector<double>& xyz, LasInfo& info)
 {
   return guardedParse(name, xyz, info, [&] {
-    return parseLasImpl(data, size, name, options, xyz, info);
+    PointOutput whole;
+    return parseLasImpl(data, size, name, options, xyz, info, whole);
   });
 }
 
@@ -369,17 +351,12 @@ Status readLasCloudChunks(const std::string& path, const LasReadOptions& options
                           std::size_t chunk_points, const LasChunkSink& sink,
                           LasInfo& info)
 {
-  std::vector<double> chunk;
-  LasOutput output;
-  output.sink = &sink;
-  output.chunk_points = std::max<std::size_t>(chunk_points, 1);
-  output.release = true;
-  return readMappedFile(
-      path, chunk, info, [&](const std::uint8_t* data, std::size_t size) {
-        return guardedParse(path, chunk, info, [&] {
-          return parseLasImpl(data, size, path, options, chunk, info, output);
-        });
-      });
+  return readMappedFileInChunks(path, sink, chunk_points, info,
+                                [&](const std::uint8_t* data, std::size_t size,
+                                    std::vector<double>& chunk, PointOutput& output) {
+                                  return parseLasImpl(data, size, path, options, chunk,
+                                                      info, output);
+                                });
 }
 
 Status readLasCloud(const std::string& path, const LasReadOptions& options,

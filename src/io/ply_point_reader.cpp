@@ -188,16 +188,8 @@ class BodyCursor {
   std::string why_;
 };
 
-/// Where the vertices go: the whole array (sink == nullptr), or chunks handed to a
-/// sink, with the mapped pages behind the reader released.
-struct PlyOutput {
-  const PlyChunkSink* sink = nullptr;
-  std::size_t chunk_points = 0;
-};
-
 Status parsePlyImpl(const char* p, const char* end, const std::string& name,
-                    std::vector<double>& xyz, PlyPointInfo& info,
-                    const PlyOutput& output = PlyOutput())
+                    std::vector<double>& xyz, PlyPointInfo& info, PointOutput& output)
 {
   if (p == end)
     return ioError(name, "the file is empty (0 bytes)");
@@ -299,16 +291,7 @@ Status parsePlyImpl(const char* p, const char* end, const std::string& name,
     return Status::error(StatusCode::EMPTY_INPUT, "'" + name + "' holds 0 vertices");
 
   BodyCursor body(p, end, format);
-  std::size_t handed = 0;
-  const std::uint8_t* released = reinterpret_cast<const std::uint8_t*>(p);
-  const auto handOver = [&](const char* consumed) {
-    handed += xyz.size() / 3;
-    const Status s =
-        xyz.empty() ? Status::success() : (*output.sink)(xyz.data(), xyz.size() / 3);
-    xyz.clear();
-    releaseReadPages(released, reinterpret_cast<const std::uint8_t*>(consumed));
-    return s;
-  };
+  output.begin(p);
   // Each value takes at least one byte (binary) or two characters (ascii).
   const std::size_t min_bytes_per_value = format == Format::ASCII ? 2 : 1;
   for (const Element& e : elements) {
@@ -325,13 +308,12 @@ Status parsePlyImpl(const char* p, const char* end, const std::string& name,
     const bool is_vertex = &e == &vertex;
     if (is_vertex) {
       xyz.clear();
-      xyz.reserve(
-          3 * static_cast<std::size_t>(output.sink ? output.chunk_points : e.count));
+      xyz.reserve(3 * output.reserve(static_cast<std::size_t>(e.count)));
     }
     double point[3] = {0.0, 0.0, 0.0};
     for (std::uint64_t i = 0; i < e.count; ++i) {
-      if (is_vertex && output.sink && xyz.size() >= 3 * output.chunk_points)
-        if (Status s = handOver(body.at()); !s.ok())
+      if (is_vertex && output.full(xyz))
+        if (Status s = output.handOver(xyz, body.at()); !s.ok())
           return s;
       for (std::size_t k = 0; k < e.properties.size(); ++k) {
         const Property& prop = e.properties[k];
@@ -368,10 +350,8 @@ Status parsePlyImpl(const char* p, const char* end, const std::string& name,
     if (is_vertex)
       break;
   }
-  if (output.sink)
-    if (Status s = handOver(body.at()); !s.ok())
-      return s;
-  info.vertices = output.sink ? handed : xyz.size() / 3;
+  if (Status s = output.finish(xyz, body.at(), info.vertices); !s.ok())
+    return s;
   return Status::success();
 }
 
@@ -383,24 +363,21 @@ Status parsePlyPoints(const std::uint8_t* data, std::size_t size,
 {
   return guardedParse(name, xyz, info, [&] {
     const char* p = reinterpret_cast<const char*>(data);
-    return parsePlyImpl(p, p + size, name, xyz, info);
+    PointOutput whole;
+    return parsePlyImpl(p, p + size, name, xyz, info, whole);
   });
 }
 
 Status readPlyPointChunks(const std::string& path, std::size_t chunk_points,
                           const PlyChunkSink& sink, PlyPointInfo& info)
 {
-  std::vector<double> chunk;
-  PlyOutput output;
-  output.sink = &sink;
-  output.chunk_points = std::max<std::size_t>(chunk_points, 1);
-  return readMappedFile(path, chunk, info,
-                        [&](const std::uint8_t* data, std::size_t size) {
-                          return guardedParse(path, chunk, info, [&] {
-                            const char* p = reinterpret_cast<const char*>(data);
-                            return parsePlyImpl(p, p + size, path, chunk, info, output);
-                          });
-                        });
+  return readMappedFileInChunks(path, sink, chunk_points, info,
+                                [&](const std::uint8_t* data, std::size_t size,
+                                    std::vector<double>& chunk, PointOutput& output) {
+                                  const char* p = reinterpret_cast<const char*>(data);
+                                  return parsePlyImpl(p, p + size, path, chunk, info,
+                                                      output);
+                                });
 }
 
 Status readPlyPoints(const std::string& path, std::vector<double>& xyz,

@@ -335,66 +335,61 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
                         std::size_t chunk_points, const PointChunkSink& sink,
                         CloudDescription& description)
 {
-  CloudFileFormat format;
-  if (cloudFileFormatFromExtension(path, format) && format == CloudFileFormat::LAS) {
-    description = CloudDescription();
-    description.format = CloudFileFormat::LAS;
+  CloudFileFormat format = CloudFileFormat::PCD;
+  const bool las_filters =
+      !options.classes.empty() || options.returns != LasReturnFilter::ALL;
+  // PCD (through PCL) is parsed whole and handed over in one piece; so is any other
+  // format with LAS filters, for loadPointCloud to refuse them.
+  if (!cloudFileFormatFromExtension(path, format) || format == CloudFileFormat::PCD ||
+      (format != CloudFileFormat::LAS && las_filters)) {
+    std::vector<double> xyz;
+    if (Status s = loadPointCloud(path, options, xyz, description); !s.ok())
+      return s;
+    return sink(xyz.data(), xyz.size() / 3);
+  }
+  description = CloudDescription();
+  description.format = format;
+  CloudDescription& d = description;
+  Status s;
+  switch (format) {
+  case CloudFileFormat::LAS: {
     LasReadOptions las;
     las.classes = options.classes;
     las.returns = options.returns;
     las.threads = options.threads == 0 ? allCores() : options.threads;
     LasInfo info;
-    if (Status s = readLasCloudChunks(path, las, chunk_points, sink, info); !s.ok())
-      return s;
-    describeLas(info, options, description);
-    return describeCrs(path, description);
+    if ((s = readLasCloudChunks(path, las, chunk_points, sink, info)).ok())
+      describeLas(info, options, d);
+    break;
   }
-  if (cloudFileFormatFromExtension(path, format) && format == CloudFileFormat::XYZ &&
-      options.classes.empty() && options.returns == LasReturnFilter::ALL) {
-    description = CloudDescription();
-    description.format = CloudFileFormat::XYZ;
+  case CloudFileFormat::XYZ: {
     XyzTextInfo info;
-    if (Status s = readXyzTextChunks(path, chunk_points, sink, info); !s.ok())
-      return s;
-    describeXyz(info, description);
-    return describeCrs(path, description);
+    if ((s = readXyzTextChunks(path, chunk_points, sink, info)).ok())
+      describeXyz(info, d);
+    break;
   }
-  if (cloudFileFormatFromExtension(path, format) && format == CloudFileFormat::ASC &&
-      options.classes.empty() && options.returns == LasReturnFilter::ALL) {
-    description = CloudDescription();
-    description.format = CloudFileFormat::ASC;
+  case CloudFileFormat::ASC: {
     AscGridInfo info;
-    if (Status s = readAscGridChunks(path, chunk_points, sink, info); !s.ok())
-      return s;
-    describeAsc(info, description);
-    return describeCrs(path, description);
+    if ((s = readAscGridChunks(path, chunk_points, sink, info)).ok())
+      describeAsc(info, d);
+    break;
   }
-  if (cloudFileFormatFromExtension(path, format) &&
-      format == CloudFileFormat::GEOTIFF && options.classes.empty() &&
-      options.returns == LasReturnFilter::ALL) {
-    description = CloudDescription();
-    description.format = CloudFileFormat::GEOTIFF;
+  case CloudFileFormat::GEOTIFF: {
     GeoTiffInfo info;
-    if (Status s = readGeoTiffChunks(path, chunk_points, sink, info); !s.ok())
-      return s;
-    describeGeoTiff(info, description);
-    return describeCrs(path, description);
+    if ((s = readGeoTiffChunks(path, chunk_points, sink, info)).ok())
+      describeGeoTiff(info, d);
+    break;
   }
-  if (cloudFileFormatFromExtension(path, format) && format == CloudFileFormat::PLY &&
-      options.classes.empty() && options.returns == LasReturnFilter::ALL) {
-    description = CloudDescription();
-    description.format = CloudFileFormat::PLY;
+  case CloudFileFormat::PLY: {
     PlyPointInfo info;
-    if (Status s = readPlyPointChunks(path, chunk_points, sink, info); !s.ok())
-      return s;
-    describePly(info, description);
-    return describeCrs(path, description);
+    if ((s = readPlyPointChunks(path, chunk_points, sink, info)).ok())
+      describePly(info, d);
+    break;
   }
-  // PCD (through PCL) is parsed whole, and handed over in one piece.
-  std::vector<double> xyz;
-  if (Status s = loadPointCloud(path, options, xyz, description); !s.ok())
-    return s;
-  return sink(xyz.data(), xyz.size() / 3);
+  case CloudFileFormat::PCD:
+    break; // read whole above
+  }
+  return s.ok() ? describeCrs(path, d) : s;
 }
 
 } // namespace pcl_vts

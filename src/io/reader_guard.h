@@ -2,7 +2,7 @@
 // ioError is their error shape; guardedParse resets the info, turns bad_alloc into a
 // one-line IO_ERROR and leaves xyz empty on any failure; readMappedFile maps the file
 // and hands its bytes to the reader's in-memory parser (the one the fuzzers drive);
-// releaseReadPages drops the pages a streaming reader has passed.
+// PointOutput and readMappedFileInChunks are the streaming reads.
 #pragma once
 
 #include "mapped_file.h"
@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <new>
 #include <string>
 #include <sys/mman.h>
@@ -44,20 +45,62 @@ Status guardedParse(const std::string& name, std::vector<double>& xyz, Info& inf
   return status;
 }
 
-/// Drops from memory the whole pages of a mapped file between `released` and
-/// `consumed` (already parsed), and moves `released` to `consumed`: a streaming
-/// reader's memory then stays bounded by its chunk whatever the file's size.
-inline void releaseReadPages(const std::uint8_t*& released,
-                             const std::uint8_t* consumed)
-{
-  const std::uintptr_t page = 4096;
-  const auto end = reinterpret_cast<std::uintptr_t>(consumed) & ~(page - 1);
-  const auto begin =
-      (reinterpret_cast<std::uintptr_t>(released) + page - 1) & ~(page - 1);
-  if (end > begin)
-    ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
-  released = consumed;
-}
+/// Where a reader's points go: the whole array (no sink), or chunks of at most
+/// chunk_points handed to a sink as the parse goes, with the whole pages of the mapped
+/// file behind the reader dropped from memory: a streaming reader then stays bounded
+/// by its chunk whatever the file's size. One for the LAS, ASCII grid, XYZ and PLY
+/// readers.
+class PointOutput {
+ public:
+  using Sink = std::function<Status(const double* xyz, std::size_t n)>;
+
+  PointOutput() = default;
+  PointOutput(const Sink& sink, std::size_t chunk_points)
+      : sink_(&sink)
+      , chunk_points_(chunk_points == 0 ? 1 : chunk_points)
+  {}
+
+  bool streaming() const { return sink_ != nullptr; }
+  /// Points to reserve: one chunk when streaming, else all `total`.
+  std::size_t reserve(std::size_t total) const { return sink_ ? chunk_points_ : total; }
+  /// The parse starts at `data` (the first page that may be dropped).
+  void begin(const void* data) { released_ = static_cast<const std::uint8_t*>(data); }
+  /// xyz holds a full chunk: time to hand it over.
+  bool full(const std::vector<double>& xyz) const
+  {
+    return sink_ && xyz.size() >= 3 * chunk_points_;
+  }
+  /// Hands xyz to the sink and empties it; the file up to `consumed` is parsed.
+  Status handOver(std::vector<double>& xyz, const void* consumed)
+  {
+    handed_ += xyz.size() / 3;
+    const Status s =
+        xyz.empty() ? Status::success() : (*sink_)(xyz.data(), xyz.size() / 3);
+    xyz.clear();
+    const std::uintptr_t page = 4096;
+    const auto end = reinterpret_cast<std::uintptr_t>(consumed) & ~(page - 1);
+    const auto start =
+        (reinterpret_cast<std::uintptr_t>(released_) + page - 1) & ~(page - 1);
+    if (released_ && end > start)
+      ::madvise(reinterpret_cast<void*>(start), end - start, MADV_DONTNEED);
+    released_ = static_cast<const std::uint8_t*>(consumed);
+    return s;
+  }
+  /// At the end of the parse: hands the rest over when streaming. Out: the points
+  /// delivered in all (handed over, or held in xyz).
+  Status finish(std::vector<double>& xyz, const void* consumed, std::size_t& points)
+  {
+    Status s = sink_ ? handOver(xyz, consumed) : Status::success();
+    points = sink_ ? handed_ : xyz.size() / 3;
+    return s;
+  }
+
+ private:
+  const Sink* sink_ = nullptr;
+  std::size_t chunk_points_ = 0;
+  std::size_t handed_ = 0;
+  const std::uint8_t* released_ = nullptr;
+};
 
 /// Maps path and returns parse_bytes(data, size); a file that cannot be opened or
 /// mapped is an IO_ERROR naming it.
@@ -71,6 +114,21 @@ Status readMappedFile(const std::string& path, std::vector<double>& xyz, Info& i
   if (Status s = file.open(path); !s.ok())
     return s;
   return parse_bytes(file.data(), file.size());
+}
+
+/// readMappedFile for a streaming read: parse(data, size, chunk, output) fills and
+/// hands over `chunk` through `output` (sink, chunk_points), guarded as guardedParse.
+template <typename Info, typename Parse>
+Status readMappedFileInChunks(const std::string& path, const PointOutput::Sink& sink,
+                              std::size_t chunk_points, Info& info, Parse&& parse)
+{
+  std::vector<double> chunk;
+  PointOutput output(sink, chunk_points);
+  return readMappedFile(
+      path, chunk, info, [&](const std::uint8_t* data, std::size_t size) {
+        return guardedParse(path, chunk, info,
+                            [&] { return parse(data, size, chunk, output); });
+      });
 }
 
 } // namespace pcl_vts

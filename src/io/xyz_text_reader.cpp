@@ -50,13 +50,6 @@ std::string columnName(const Field& f)
   return s;
 }
 
-/// Where the points go: the whole array (sink == nullptr), or chunks handed to a
-/// sink, with the mapped pages behind the reader released.
-struct XyzOutput {
-  const XyzChunkSink* sink = nullptr;
-  std::size_t chunk_points = 0;
-};
-
 /// The first byte of [p, end) that no text file holds, or end.
 const char* firstBinaryByte(const char* p, const char* end)
 {
@@ -69,12 +62,12 @@ const char* firstBinaryByte(const char* p, const char* end)
 }
 
 Status parseXyzImpl(const char* p, const char* end, const std::string& name,
-                    std::vector<double>& xyz, XyzTextInfo& info,
-                    const XyzOutput& output = XyzOutput())
+                    std::vector<double>& xyz, XyzTextInfo& info, PointOutput& output)
 {
   if (p == end)
     return ioError(name, "the file is empty (0 bytes)");
   const char* const begin = p;
+  output.begin(p);
   const auto binary = [&](const char* c) {
     return ioError(name, "not a text file: byte " +
                              std::to_string(static_cast<unsigned char>(*c)) +
@@ -82,19 +75,9 @@ Status parseXyzImpl(const char* p, const char* end, const std::string& name,
   };
   // Whole, the file is checked first; streamed, line by line as it is read (a binary
   // file then fails at its first such line, after the points before it went out).
-  if (!output.sink)
+  if (!output.streaming())
     if (const char* c = firstBinaryByte(p, end); c != end)
       return binary(c);
-  std::size_t handed = 0;
-  const std::uint8_t* released = reinterpret_cast<const std::uint8_t*>(p);
-  const auto handOver = [&](const char* consumed) {
-    handed += xyz.size() / 3;
-    const Status s =
-        xyz.empty() ? Status::success() : (*output.sink)(xyz.data(), xyz.size() / 3);
-    xyz.clear();
-    releaseReadPages(released, reinterpret_cast<const std::uint8_t*>(consumed));
-    return s;
-  };
   if (end - p >= 3 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0)
     p += 3; // UTF-8 byte order mark
   info.column = {0, 1, 2};
@@ -104,13 +87,13 @@ Status parseXyzImpl(const char* p, const char* end, const std::string& name,
   std::vector<Field> fields;
   xyz.clear();
   while (p != end) {
-    if (output.sink && xyz.size() >= 3 * output.chunk_points)
-      if (Status s = handOver(p); !s.ok())
+    if (output.full(xyz))
+      if (Status s = output.handOver(xyz, p); !s.ok())
         return s;
     const char* eol = p;
     while (eol != end && *eol != '\n')
       ++eol;
-    if (output.sink)
+    if (output.streaming())
       if (const char* c = firstBinaryByte(p, eol); c != eol)
         return binary(c);
     const char* line = p;
@@ -165,11 +148,8 @@ Status parseXyzImpl(const char* p, const char* end, const std::string& name,
       xyz.push_back(v);
     }
   }
-  if (output.sink) {
-    if (Status s = handOver(end); !s.ok())
-      return s;
-  }
-  info.points = output.sink ? handed : xyz.size() / 3;
+  if (Status s = output.finish(xyz, end, info.points); !s.ok())
+    return s;
   if (info.points == 0)
     return Status::error(StatusCode::EMPTY_INPUT,
                          "'" + name + "' holds 0 points" +
@@ -186,24 +166,21 @@ Status parseXyzText(const std::uint8_t* data, std::size_t size, const std::strin
 {
   return guardedParse(name, xyz, info, [&] {
     const char* p = reinterpret_cast<const char*>(data);
-    return parseXyzImpl(p, p + size, name, xyz, info);
+    PointOutput whole;
+    return parseXyzImpl(p, p + size, name, xyz, info, whole);
   });
 }
 
 Status readXyzTextChunks(const std::string& path, std::size_t chunk_points,
                          const XyzChunkSink& sink, XyzTextInfo& info)
 {
-  std::vector<double> chunk;
-  XyzOutput output;
-  output.sink = &sink;
-  output.chunk_points = std::max<std::size_t>(chunk_points, 1);
-  return readMappedFile(path, chunk, info,
-                        [&](const std::uint8_t* data, std::size_t size) {
-                          return guardedParse(path, chunk, info, [&] {
-                            const char* p = reinterpret_cast<const char*>(data);
-                            return parseXyzImpl(p, p + size, path, chunk, info, output);
-                          });
-                        });
+  return readMappedFileInChunks(path, sink, chunk_points, info,
+                                [&](const std::uint8_t* data, std::size_t size,
+                                    std::vector<double>& chunk, PointOutput& output) {
+                                  const char* p = reinterpret_cast<const char*>(data);
+                                  return parseXyzImpl(p, p + size, path, chunk, info,
+                                                      output);
+                                });
 }
 
 Status readXyzText(const std::string& path, std::vector<double>& xyz, XyzTextInfo& info)

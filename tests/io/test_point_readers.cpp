@@ -200,6 +200,32 @@ TEST_F(PointReaders, XyzTextBadInputsAreErrors)
   expectEachFails(*this, "bad.xyz", cases, &pcl_vts::readXyzText);
 }
 
+/// What a streaming reader handed over: the points in order, in how many chunks.
+struct Streamed {
+  std::vector<double> xyz;
+  std::size_t chunks = 0;
+  pcl_vts::Status status;
+};
+
+/// Reads path with a chunked reader (readXyzTextChunks, ...), each chunk checked to
+/// hold at most chunk_points points.
+template <typename Read, typename Info>
+Streamed readInChunks(Read read, const std::string& path, std::size_t chunk_points,
+                      Info& info)
+{
+  Streamed out;
+  out.status = read(
+      path, chunk_points,
+      [&](const double* xyz, std::size_t n) {
+        EXPECT_LE(n, chunk_points);
+        out.xyz.insert(out.xyz.end(), xyz, xyz + 3 * n);
+        ++out.chunks;
+        return pcl_vts::Status::success();
+      },
+      info);
+  return out;
+}
+
 TEST_F(PointReaders, XyzTextStreamedInChunksEqualsTheWholeRead)
 {
   // A header in another column order, comments, CRLF, blank lines: every chunk size
@@ -220,21 +246,12 @@ TEST_F(PointReaders, XyzTextStreamedInChunksEqualsTheWholeRead)
   for (const std::size_t chunk :
        {std::size_t{1}, std::size_t{7}, std::size_t{1000}, std::size_t{1} << 20}) {
     SCOPED_TRACE(chunk);
-    std::vector<double> streamed;
-    std::size_t calls = 0;
     pcl_vts::XyzTextInfo info;
-    const pcl_vts::Status s = pcl_vts::readXyzTextChunks(
-        path, chunk,
-        [&](const double* xyz, std::size_t n) {
-          EXPECT_LE(n, chunk);
-          streamed.insert(streamed.end(), xyz, xyz + 3 * n);
-          ++calls;
-          return pcl_vts::Status::success();
-        },
-        info);
-    ASSERT_TRUE(s.ok()) << s.toString();
-    EXPECT_EQ(streamed, whole);
-    EXPECT_EQ(calls, (1000 + chunk - 1) / chunk);
+    const Streamed streamed =
+        readInChunks(&pcl_vts::readXyzTextChunks, path, chunk, info);
+    ASSERT_TRUE(streamed.status.ok()) << streamed.status.toString();
+    EXPECT_EQ(streamed.xyz, whole);
+    EXPECT_EQ(streamed.chunks, (1000 + chunk - 1) / chunk);
     EXPECT_EQ(info.points, 1000u);
     EXPECT_EQ(info.column, whole_info.column);
     EXPECT_EQ(info.header, whole_info.header);
@@ -280,18 +297,11 @@ TEST_F(PointReaders, AscGridStreamedInChunksEqualsTheWholeRead)
   for (const std::size_t chunk :
        {std::size_t{1}, std::size_t{50}, std::size_t{1} << 20}) {
     SCOPED_TRACE(chunk);
-    std::vector<double> streamed;
     pcl_vts::AscGridInfo info;
-    const pcl_vts::Status s = pcl_vts::readAscGridChunks(
-        path, chunk,
-        [&](const double* xyz, std::size_t n) {
-          EXPECT_LE(n, chunk);
-          streamed.insert(streamed.end(), xyz, xyz + 3 * n);
-          return pcl_vts::Status::success();
-        },
-        info);
-    ASSERT_TRUE(s.ok()) << s.toString();
-    EXPECT_EQ(streamed, whole);
+    const Streamed streamed =
+        readInChunks(&pcl_vts::readAscGridChunks, path, chunk, info);
+    ASSERT_TRUE(streamed.status.ok()) << streamed.status.toString();
+    EXPECT_EQ(streamed.xyz, whole);
     EXPECT_EQ(info.points, whole_info.points);
     EXPECT_EQ(info.nodata_cells, whole_info.nodata_cells);
   }
@@ -455,18 +465,11 @@ TEST_F(PointReaders, PlyStreamedInChunksEqualsTheWholeRead)
     for (const std::size_t chunk :
          {std::size_t{1}, std::size_t{33}, std::size_t{1} << 20}) {
       SCOPED_TRACE(chunk);
-      std::vector<double> streamed;
       pcl_vts::PlyPointInfo info;
-      const pcl_vts::Status s = pcl_vts::readPlyPointChunks(
-          path, chunk,
-          [&](const double* xyz, std::size_t n) {
-            EXPECT_LE(n, chunk);
-            streamed.insert(streamed.end(), xyz, xyz + 3 * n);
-            return pcl_vts::Status::success();
-          },
-          info);
-      ASSERT_TRUE(s.ok()) << s.toString();
-      EXPECT_EQ(streamed, whole);
+      const Streamed streamed =
+          readInChunks(&pcl_vts::readPlyPointChunks, path, chunk, info);
+      ASSERT_TRUE(streamed.status.ok()) << streamed.status.toString();
+      EXPECT_EQ(streamed.xyz, whole);
       EXPECT_EQ(info.vertices, 500u);
       EXPECT_EQ(info.faces, whole_info.faces);
     }
