@@ -1845,16 +1845,54 @@ TEST_F(PcdToMesh, ATemporaryFolderThatIsFullFailsCleanly)
   expectFailure(r, 4, "--temp-dir", before);
 }
 
-/// Peak RSS in KiB of the last command run with timed (GNU time's %M).
-std::size_t peakKiB(const fs::path& file)
+/// Memory tests: each run under GNU time, its peak measured over the process alone
+/// (`--help`: PCL's, VTK's and GDAL's libraries mapped, not the job's memory).
+class PcdToMeshMemory : public PcdToMesh {
+ protected:
+  void SetUp() override
+  {
+    PcdToMesh::SetUp();
+    if (std::system("test -x /usr/bin/time") != 0)
+      GTEST_SKIP() << "GNU time (Debian package time) is not installed";
+    ASSERT_EQ(run({"--help"}, timed()).exit_code, 0);
+    process_kib_ = peakKiB();
+  }
+
+  /// Runs args; out: its peak RSS over the process alone, in KiB.
+  CliResult runMeasured(const std::vector<std::string>& args,
+                        std::size_t& job_kib) const
+  {
+    const CliResult r = run(args, timed());
+    const std::size_t peak = peakKiB();
+    job_kib = peak - std::min(peak, process_kib_);
+    return r;
+  }
+
+  std::size_t process_kib_ = 0;
+
+ private:
+  std::string timed() const
+  {
+    return "/usr/bin/time -f %M -o " + shellQuote((root_ / "logs" / "rss").string());
+  }
+  std::size_t peakKiB() const
+  {
+    return static_cast<std::size_t>(
+        std::strtoull(readText(root_ / "logs" / "rss").c_str(), nullptr, 10));
+  }
+};
+
+/// The "largest tile N points" of a tiled run's summary; 0 when it is absent.
+std::size_t largestTile(const std::string& out)
 {
-  return static_cast<std::size_t>(std::strtoull(readText(file).c_str(), nullptr, 10));
+  const std::size_t at = out.find("largest tile ");
+  return at == std::string::npos ? 0
+                                 : static_cast<std::size_t>(std::strtoull(
+                                       out.c_str() + at + 13, nullptr, 10));
 }
 
-TEST_F(PcdToMesh, TiledRunStaysWithinTheMemoryLimit)
+TEST_F(PcdToMeshMemory, TiledRunStaysWithinTheMemoryLimit)
 {
-  if (std::system("test -x /usr/bin/time") != 0)
-    GTEST_SKIP() << "GNU time (Debian package time) is not installed";
   // 2.25e6 points in 8 LAS files of 1 km² (a LiDAR delivery in miniature): 7 of
   // 250000 and one of 500000, twice as dense and larger than the job's share of the
   // limit if it were read whole. (An L-shaped delivery, with a 1 km² void in a
@@ -1871,26 +1909,19 @@ TEST_F(PcdToMesh, TiledRunStaysWithinTheMemoryLimit)
     writeBytes(work(args.back()),
                lasFile(points, {}, 0.01, {500000.0, 4100000.0, 0.0}));
   }
-  const std::string timed =
-      "/usr/bin/time -f %M -o " + shellQuote((root_ / "logs" / "rss").string());
-  // The process alone (PCL's and VTK's libraries mapped): not the job's memory.
-  ASSERT_EQ(run({"--help"}, timed).exit_code, 0);
-  const std::size_t baseline = peakKiB(root_ / "logs" / "rss");
   args.insert(args.end(), {"out.ply", "--no-trim", "--no-fill", "--memory-limit", "64M",
                            "--threads", "2", "--temp-dir", "."});
-  const CliResult r = run(args, timed);
+  std::size_t job_kib = 0;
+  const CliResult r = runMeasured(args, job_kib);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("Meshing tiled"), std::string::npos) << r.out;
-  const std::size_t peak = peakKiB(root_ / "logs" / "rss");
-  EXPECT_LT(peak - std::min(peak, baseline), 64u * 1024u)
-      << "peak " << peak << " KiB, the process alone " << baseline << " KiB";
+  EXPECT_LT(job_kib, 64u * 1024u)
+      << "the process alone takes " << process_kib_ << " KiB";
   EXPECT_EQ(summaryValue(r.out, "points read"), 2250000u);
 }
 
-TEST_F(PcdToMesh, OneTextFileLargerThanTheLimitIsNeverHeldWhole)
+TEST_F(PcdToMeshMemory, OneTextFileLargerThanTheLimitIsNeverHeldWhole)
 {
-  if (std::system("test -x /usr/bin/time") != 0)
-    GTEST_SKIP() << "GNU time (Debian package time) is not installed";
   // 600000 points in one XYZ file (17 MB of text, 14 MB as doubles): deciding between
   // memory and tiles once read the file whole, and the tiles read it whole again.
   // Both now stream it: the job stays far below a 24M limit.
@@ -1905,26 +1936,20 @@ TEST_F(PcdToMesh, OneTextFileLargerThanTheLimitIsNeverHeldWhole)
     text += line;
   }
   writeBytes(work("big.xyz"), text);
-  const std::string timed =
-      "/usr/bin/time -f %M -o " + shellQuote((root_ / "logs" / "rss").string());
-  ASSERT_EQ(run({"--help"}, timed).exit_code, 0);
-  const std::size_t baseline = peakKiB(root_ / "logs" / "rss");
+  std::size_t job_kib = 0;
   const CliResult r =
-      run({"big.xyz", "out.ply", "--no-trim", "--no-fill", "--memory-limit", "24M",
-           "--threads", "2", "--temp-dir", "."},
-          timed);
+      runMeasured({"big.xyz", "out.ply", "--no-trim", "--no-fill", "--memory-limit",
+                   "24M", "--threads", "2", "--temp-dir", "."},
+                  job_kib);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("Meshing tiled"), std::string::npos) << r.out;
   EXPECT_EQ(summaryValue(r.out, "points read"), 600000u);
-  const std::size_t peak = peakKiB(root_ / "logs" / "rss");
-  EXPECT_LT(peak - std::min(peak, baseline), 24u * 1024u)
-      << "peak " << peak << " KiB, the process alone " << baseline << " KiB";
+  EXPECT_LT(job_kib, 24u * 1024u)
+      << "the process alone takes " << process_kib_ << " KiB";
 }
 
-TEST_F(PcdToMesh, AnLShapedDeliveryStaysWithinTheMemoryLimit)
+TEST_F(PcdToMeshMemory, AnLShapedDeliveryStaysWithinTheMemoryLimit)
 {
-  if (std::system("test -x /usr/bin/time") != 0)
-    GTEST_SKIP() << "GNU time (Debian package time) is not installed";
   // 1.2e6 points on 2 km x 2 km less its upper-right quarter (a delivery shaped like
   // an L), 1 cm coordinates. The triangles across the void reach the other arm, and
   // the local hulls of the first rounds had disks over the whole arm: the corner
@@ -1941,28 +1966,21 @@ TEST_F(PcdToMesh, AnLShapedDeliveryStaysWithinTheMemoryLimit)
     points.push_back({500000.0 + x, 4100000.0 + y, 100.0 + x / 1000.0});
   }
   writeBytes(work("l.las"), lasFile(points, {}, 0.01, {500000.0, 4100000.0, 0.0}));
-  const std::string timed =
-      "/usr/bin/time -f %M -o " + shellQuote((root_ / "logs" / "rss").string());
-  ASSERT_EQ(run({"--help"}, timed).exit_code, 0);
-  const std::size_t baseline = peakKiB(root_ / "logs" / "rss");
+  std::size_t job_kib = 0;
   const CliResult r =
-      run({"l.las", "out.ply", "--no-trim", "--no-fill", "--memory-limit", "64M",
-           "--threads", "2", "--temp-dir", "."},
-          timed);
+      runMeasured({"l.las", "out.ply", "--no-trim", "--no-fill", "--memory-limit",
+                   "64M", "--threads", "2", "--temp-dir", "."},
+                  job_kib);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("Meshing tiled"), std::string::npos) << r.out;
-  const std::size_t peak = peakKiB(root_ / "logs" / "rss");
-  EXPECT_LT(peak - std::min(peak, baseline), 64u * 1024u)
-      << "peak " << peak << " KiB, the process alone " << baseline << " KiB";
-  const std::size_t at = r.out.find("largest tile ");
-  ASSERT_NE(at, std::string::npos) << r.out;
-  EXPECT_LT(std::strtoull(r.out.c_str() + at + 13, nullptr, 10), 200000u) << r.out;
+  EXPECT_LT(job_kib, 64u * 1024u)
+      << "the process alone takes " << process_kib_ << " KiB";
+  EXPECT_GT(largestTile(r.out), 0u) << r.out;
+  EXPECT_LT(largestTile(r.out), 200000u) << r.out;
 }
 
-TEST_F(PcdToMesh, CurvedQuantisedBoundaryTilesStayWithinTheMemoryLimit)
+TEST_F(PcdToMeshMemory, CurvedQuantisedBoundaryTilesStayWithinTheMemoryLimit)
 {
-  if (std::system("test -x /usr/bin/time") != 0)
-    GTEST_SKIP() << "GNU time (Debian package time) is not installed";
   const std::string laz = SHARED_DATA + "/laz/las_with_several_extra_byte_bloc.laz";
   if (!fs::exists(laz))
     GTEST_SKIP() << "shared data not found at " << laz;
@@ -1971,28 +1989,22 @@ TEST_F(PcdToMesh, CurvedQuantisedBoundaryTilesStayWithinTheMemoryLimit)
   // flat for a floating-point circumdisk. Each once made its tile load every block
   // (683023 points in one tile, 160 MiB over a 64 MiB limit); now their disks are
   // bounded by the half-plane beyond the long edge and the disk on it.
-  const std::string timed =
-      "/usr/bin/time -f %M -o " + shellQuote((root_ / "logs" / "rss").string());
-  ASSERT_EQ(run({"--help"}, timed).exit_code, 0);
-  const std::size_t baseline = peakKiB(root_ / "logs" / "rss");
   const CliResult memory = runDelaunay({laz, "memory.ply", "--classes", "2"});
   ASSERT_EQ(memory.exit_code, 0) << memory.err;
   for (const std::string threads : {"1", "2"}) {
     SCOPED_TRACE("threads " + threads);
+    std::size_t job_kib = 0;
     const CliResult tiled =
-        run({laz, "tiled.ply", "--classes", "2", "--no-trim", "--no-fill",
-             "--memory-limit", "64M", "--threads", threads, "--temp-dir", "."},
-            timed);
+        runMeasured({laz, "tiled.ply", "--classes", "2", "--no-trim", "--no-fill",
+                     "--memory-limit", "64M", "--threads", threads, "--temp-dir", "."},
+                    job_kib);
     ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
     EXPECT_NE(tiled.out.find("Meshing tiled"), std::string::npos) << tiled.out;
     EXPECT_TRUE(readText(work("tiled.ply")) == readText(work("memory.ply")));
-    const std::size_t peak = peakKiB(root_ / "logs" / "rss");
-    EXPECT_LT(peak - std::min(peak, baseline), 64u * 1024u)
-        << "peak " << peak << " KiB, the process alone " << baseline << " KiB";
-    const std::size_t at = tiled.out.find("largest tile ");
-    ASSERT_NE(at, std::string::npos) << tiled.out;
-    EXPECT_LT(std::strtoull(tiled.out.c_str() + at + 13, nullptr, 10), 200000u)
-        << tiled.out;
+    EXPECT_LT(job_kib, 64u * 1024u)
+        << "the process alone takes " << process_kib_ << " KiB";
+    EXPECT_GT(largestTile(tiled.out), 0u) << tiled.out;
+    EXPECT_LT(largestTile(tiled.out), 200000u) << tiled.out;
   }
 }
 
