@@ -49,14 +49,43 @@ std::vector<TriangleId> fanOf(const TriangleMesh& mesh, HalfedgeId out, bool& cl
     if (f == start)
       break;
   }
+  if (closed) {
+    // A closed fan has no open end: start it where the corner after v is smallest
+    // in (x, y), so that ties between its gaps do not depend on the ids.
+    const VertexId v = mesh.triangles[out];
+    auto after = [&](TriangleId t) -> const Point2& {
+      HalfedgeId e = 3 * t;
+      while (mesh.triangles[e] != v)
+        ++e;
+      return mesh.xy[mesh.triangles[nextHalfedge(e)]];
+    };
+    auto first =
+        std::min_element(fan.begin(), fan.end(), [&](TriangleId s, TriangleId t) {
+          return lexLess(after(s), after(t));
+        });
+    std::rotate(fan.begin(), first, fan.end());
+  }
   return fan;
 }
 
-/// Restores the removed triangles of v's fan that separate two kept runs, all but
-/// the largest gap of a closed fan, so that v keeps one fan. Returns the triangles
-/// restored.
-std::vector<TriangleId> restoreFanGaps(const std::vector<TriangleId>& fan, bool closed,
-                                       std::vector<bool>& removed)
+/// The angle of triangle t at its corner v.
+double angleAt(const TriangleMesh& mesh, TriangleId t, VertexId v)
+{
+  HalfedgeId e = 3 * t;
+  while (mesh.triangles[e] != v)
+    ++e;
+  const Point2& o = mesh.xy[v];
+  const Point2& p = mesh.xy[mesh.triangles[nextHalfedge(e)]];
+  const Point2& q = mesh.xy[mesh.triangles[prevHalfedge(e)]];
+  const double ux = p.x - o.x, uy = p.y - o.y, wx = q.x - o.x, wy = q.y - o.y;
+  return std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy);
+}
+
+/// The removed triangles of v's fan that separate two kept runs: all gaps of an open
+/// fan, all but the widest (by angle at v) of a closed fan, so that v keeps one fan.
+std::vector<TriangleId> fanGapsToRestore(const TriangleMesh& mesh, VertexId v,
+                                         const std::vector<TriangleId>& fan,
+                                         bool closed, const std::vector<bool>& removed)
 {
   std::vector<TriangleId> restored;
   const std::size_t n = fan.size();
@@ -69,6 +98,7 @@ std::vector<TriangleId> restoreFanGaps(const std::vector<TriangleId>& fan, bool 
   // Gaps (runs of removed triangles) in order from the first kept triangle.
   struct Gap {
     std::size_t begin, length;
+    double angle; ///< the opening at v, radians
   };
   std::vector<Gap> gaps;
   const std::size_t span = closed ? n : n - first_kept;
@@ -78,8 +108,9 @@ std::vector<TriangleId> restoreFanGaps(const std::vector<TriangleId>& fan, bool 
       ++k;
       continue;
     }
-    Gap gap{k, 0};
+    Gap gap{k, 0, 0.0};
     while (k < span && removed[fan[(first_kept + k) % n]]) {
+      gap.angle += angleAt(mesh, fan[(first_kept + k) % n], v);
       ++gap.length;
       ++k;
     }
@@ -95,7 +126,7 @@ std::vector<TriangleId> restoreFanGaps(const std::vector<TriangleId>& fan, bool 
   if (closed) {
     keep_open = 0;
     for (std::size_t g = 1; g < gaps.size(); ++g)
-      if (gaps[g].length > gaps[keep_open].length)
+      if (gaps[g].angle > gaps[keep_open].angle)
         keep_open = g;
   }
   for (std::size_t g = 0; g < gaps.size(); ++g) {
@@ -103,7 +134,6 @@ std::vector<TriangleId> restoreFanGaps(const std::vector<TriangleId>& fan, bool 
       continue;
     for (std::size_t k = 0; k < gaps[g].length; ++k) {
       const TriangleId t = fan[(first_kept + gaps[g].begin + k) % n];
-      removed[t] = false;
       restored.push_back(t);
     }
   }
@@ -111,6 +141,108 @@ std::vector<TriangleId> restoreFanGaps(const std::vector<TriangleId>& fan, bool 
 }
 
 } // namespace
+
+TriangleSize classifyTriangle(const Point2& a, const Point2& b, const Point2& c,
+                              double scale, const TrimOptions& options)
+{
+  auto length = [](const Point2& p, const Point2& q) {
+    const double dx = p.x - q.x, dy = p.y - q.y;
+    return std::sqrt(dx * dx + dy * dy);
+  };
+  const double ab = length(a, b), bc = length(b, c), ca = length(c, a);
+  const double longest = std::max({ab, bc, ca});
+  const double twice_area =
+      std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+  const double radius = ab * bc * ca / (2.0 * twice_area);
+  TriangleSize size;
+  size.oversized = longest > options.trim_factor * scale ||
+                   radius > options.trim_factor * scale ||
+                   (options.max_edge > 0.0 && longest > options.max_edge);
+  if (!size.oversized)
+    return size;
+  // A data void holds a local maximum of the distance to the nearest point: a
+  // Voronoi vertex inside its own Delaunay triangle, i.e. a non-obtuse triangle.
+  // Only such triangles open a void from inside; the thin obtuse slivers along a
+  // straight hull side are left to the peel from the outline.
+  auto dot = [](const Point2& o, const Point2& p, const Point2& q) {
+    return (p.x - o.x) * (q.x - o.x) + (p.y - o.y) * (q.y - o.y);
+  };
+  size.void_seed = dot(a, b, c) >= 0.0 && dot(b, c, a) >= 0.0 && dot(c, a, b) >= 0.0;
+  return size;
+}
+
+std::size_t peelOutwardTriangles(const TriangleMesh& mesh,
+                                 const std::vector<std::uint8_t>& flags,
+                                 bool open_voids, std::vector<bool>& removed)
+{
+  const std::size_t count = mesh.triangleCount();
+  removed.assign(count, false);
+  std::vector<HalfedgeId> some_out(mesh.vertexCount(), INVALID_ID);
+  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e)
+    some_out[mesh.triangles[e]] = e;
+
+  // Peel: flood over oversized triangles from those on the outline (and from void
+  // seeds), each removal exposing its neighbours. Order does not matter for the set
+  // removed (the oversized triangles connected to a start), only for speed.
+  auto oversized = [&](TriangleId t) { return (flags[t] & OVERSIZED) != 0; };
+  std::vector<TriangleId> stack;
+  for (TriangleId t = 0; t < count; ++t) {
+    if (!oversized(t))
+      continue;
+    const bool on_boundary = mesh.halfedges[3 * t] == INVALID_ID ||
+                             mesh.halfedges[3 * t + 1] == INVALID_ID ||
+                             mesh.halfedges[3 * t + 2] == INVALID_ID;
+    if (on_boundary || (open_voids && (flags[t] & VOID_SEED) != 0))
+      stack.push_back(t);
+  }
+  while (!stack.empty()) {
+    const TriangleId t = stack.back();
+    stack.pop_back();
+    if (removed[t])
+      continue;
+    removed[t] = true;
+    for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e) {
+      const HalfedgeId twin = mesh.halfedges[e];
+      if (twin != INVALID_ID && oversized(triangleOf(twin)) &&
+          !removed[triangleOf(twin)])
+        stack.push_back(triangleOf(twin));
+    }
+  }
+
+  // A vertex whose remaining triangles form several fans would be a pinch: restore
+  // the removed triangles between its fans (a closed fan keeps its largest gap
+  // open). Rounds: every vertex of the round decides on the same state, then all
+  // its restorations apply, and the vertices of restored triangles make the next
+  // round; so no vertex goes first and the result is the geometry's.
+  std::vector<VertexId> round;
+  for (TriangleId t = 0; t < count; ++t)
+    if (removed[t])
+      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+        round.push_back(mesh.triangles[e]);
+  std::size_t restored_count = 0;
+  std::vector<TriangleId> restore;
+  while (!round.empty()) {
+    std::sort(round.begin(), round.end());
+    round.erase(std::unique(round.begin(), round.end()), round.end());
+    restore.clear();
+    for (const VertexId v : round) {
+      bool closed = false;
+      const std::vector<TriangleId> fan = fanOf(mesh, some_out[v], closed);
+      for (const TriangleId t : fanGapsToRestore(mesh, v, fan, closed, removed))
+        restore.push_back(t);
+    }
+    round.clear();
+    for (const TriangleId t : restore) {
+      if (!removed[t])
+        continue; // two vertices of the round restored it
+      removed[t] = false;
+      ++restored_count;
+      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+        round.push_back(mesh.triangles[e]);
+    }
+  }
+  return restored_count;
+}
 
 Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
                             TrimResult& result)
@@ -126,99 +258,23 @@ Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
   const PointSpacing spacing = measurePointSpacing(mesh);
   result.spacing = spacing.global_median;
 
-  // A data void holds a local maximum of the distance to the nearest point: a
-  // Voronoi vertex inside its own Delaunay triangle, i.e. a non-obtuse triangle.
-  // Only such triangles open a void from inside; the thin obtuse slivers along a
-  // straight hull side are left to the peel from the outline.
-  std::vector<TriangleId> oversized;
-  std::vector<bool> void_seed(count, false);
+  std::vector<std::uint8_t> flags(count, 0);
   for (TriangleId t = 0; t < count; ++t) {
     double scale = 0.0;
     for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
       scale = std::max(scale, spacing.local[mesh.triangles[e]]);
-    const Point2& a = mesh.xy[mesh.triangles[3 * t]];
-    const Point2& b = mesh.xy[mesh.triangles[3 * t + 1]];
-    const Point2& c = mesh.xy[mesh.triangles[3 * t + 2]];
-    auto length = [](const Point2& p, const Point2& q) {
-      const double dx = p.x - q.x, dy = p.y - q.y;
-      return std::sqrt(dx * dx + dy * dy);
-    };
-    const double ab = length(a, b), bc = length(b, c), ca = length(c, a);
-    const double longest = std::max({ab, bc, ca});
-    const double twice_area =
-        std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
-    const double radius = ab * bc * ca / (2.0 * twice_area);
-    const bool too_long = longest > options.trim_factor * scale ||
-                          radius > options.trim_factor * scale ||
-                          (options.max_edge > 0.0 && longest > options.max_edge);
-    if (!too_long)
-      continue;
-    oversized.push_back(t);
-    auto dot = [](const Point2& o, const Point2& p, const Point2& q) {
-      return (p.x - o.x) * (q.x - o.x) + (p.y - o.y) * (q.y - o.y);
-    };
-    void_seed[t] = dot(a, b, c) >= 0.0 && dot(b, c, a) >= 0.0 && dot(c, a, b) >= 0.0;
+    const TriangleSize size = classifyTriangle(
+        mesh.xy[mesh.triangles[3 * t]], mesh.xy[mesh.triangles[3 * t + 1]],
+        mesh.xy[mesh.triangles[3 * t + 2]], scale, options);
+    flags[t] = static_cast<std::uint8_t>((size.oversized ? OVERSIZED : 0) |
+                                         (size.void_seed ? VOID_SEED : 0));
   }
-
-  std::vector<bool> removed(count, false);
   std::vector<bool> had_triangle(mesh.vertexCount(), false);
-  std::vector<HalfedgeId> some_out(mesh.vertexCount(), INVALID_ID);
-  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
-    had_triangle[mesh.triangles[e]] = true;
-    some_out[mesh.triangles[e]] = e;
-  }
-
-  // Peel: flood over oversized triangles from those on the outline (and from void
-  // seeds), each removal exposing its neighbours. Order does not matter for the set
-  // removed (the oversized triangles connected to a start), only for speed.
-  std::vector<bool> is_oversized(count, false);
-  for (const TriangleId t : oversized)
-    is_oversized[t] = true;
-  std::vector<TriangleId> stack;
-  for (const TriangleId t : oversized) {
-    const bool on_boundary = mesh.halfedges[3 * t] == INVALID_ID ||
-                             mesh.halfedges[3 * t + 1] == INVALID_ID ||
-                             mesh.halfedges[3 * t + 2] == INVALID_ID;
-    if (on_boundary || (options.open_voids && void_seed[t]))
-      stack.push_back(t);
-  }
-  while (!stack.empty()) {
-    const TriangleId t = stack.back();
-    stack.pop_back();
-    if (removed[t])
-      continue;
-    removed[t] = true;
-    for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e) {
-      const HalfedgeId twin = mesh.halfedges[e];
-      if (twin != INVALID_ID && is_oversized[triangleOf(twin)] &&
-          !removed[triangleOf(twin)])
-        stack.push_back(triangleOf(twin));
-    }
-  }
-
-  // A vertex whose remaining triangles form several fans would be a pinch: restore
-  // the removed triangles between its fans (a closed fan keeps its largest gap
-  // open), and repeat at the vertices of restored triangles until none is left.
-  std::vector<VertexId> work;
-  for (TriangleId t = 0; t < count; ++t)
-    if (removed[t])
-      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-        work.push_back(mesh.triangles[e]);
-  std::sort(work.begin(), work.end());
-  work.erase(std::unique(work.begin(), work.end()), work.end());
-  std::reverse(work.begin(), work.end()); // popped in increasing id order
-  while (!work.empty()) {
-    const VertexId v = work.back();
-    work.pop_back();
-    bool closed = false;
-    const std::vector<TriangleId> fan = fanOf(mesh, some_out[v], closed);
-    for (const TriangleId t : restoreFanGaps(fan, closed, removed)) {
-      ++result.kept_to_stay_manifold;
-      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-        if (mesh.triangles[e] != v)
-          work.push_back(mesh.triangles[e]);
-    }
-  }
+  for (const VertexId v : mesh.triangles)
+    had_triangle[v] = true;
+  std::vector<bool> removed;
+  result.kept_to_stay_manifold =
+      peelOutwardTriangles(mesh, flags, options.open_voids, removed);
   for (TriangleId t = 0; t < count; ++t)
     result.triangles_removed += removed[t] ? 1 : 0;
 

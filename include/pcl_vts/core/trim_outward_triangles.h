@@ -12,6 +12,8 @@
 #include <pcl_vts/core/status.h>
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 namespace pcl_vts {
 
@@ -42,6 +44,38 @@ struct TrimResult {
   /// Median nearest-neighbour spacing of the input (the scale the test used).
   double spacing = 0.0;
 };
+
+/// The static test of one triangle, the part of the trim that needs no neighbour.
+struct TriangleSize {
+  bool oversized = false;
+  /// Oversized and non-obtuse: its circumcentre, a local maximum of the distance to
+  /// the data, lies inside it, so it can open a void from inside.
+  bool void_seed = false;
+};
+
+/// Classifies triangle abc against trim_factor * scale (scale: the largest local
+/// spacing of its corners, point_spacing.h) and max_edge.
+PCL_VTS_CORE_EXPORT TriangleSize classifyTriangle(const Point2& a, const Point2& b,
+                                                  const Point2& c, double scale,
+                                                  const TrimOptions& options);
+
+/// Flags of peelOutwardTriangles' input, per triangle.
+enum TriangleSizeFlag : std::uint8_t { OVERSIZED = 1, VOID_SEED = 2 };
+
+/// The peel and the pinch repair, given each triangle's classification: sets
+/// removed[t] for the oversized triangles connected (across edges, through oversized
+/// triangles) to an oversized one on the hull or, with open_voids, to a void seed;
+/// then restores the removed triangles that would pinch a vertex. The repair visits
+/// vertices in lexicographic (x, y) order and breaks ties between the gaps of a fan
+/// by position, so the result depends on the geometry alone, not on the ids: a
+/// sub-mesh holding every triangle around each vertex of an oversized triangle gives
+/// the same answer as the whole mesh (the tiled path relies on it).
+/// \param mesh triangles with consistent halfedges; twin-less edges of oversized
+///   triangles are hull edges.
+/// \return the number of triangles restored by the repair.
+PCL_VTS_CORE_EXPORT std::size_t
+peelOutwardTriangles(const TriangleMesh& mesh, const std::vector<std::uint8_t>& flags,
+                     bool open_voids, std::vector<bool>& removed);
 
 /// Removes outward triangles of mesh in place.
 /// \param[in,out] mesh CCW triangles, consistent halfedges, every vertex with a
