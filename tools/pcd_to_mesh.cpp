@@ -182,9 +182,10 @@ void printHelp()
       "                      tiled: inputs streamed, points bucketed into temporary\n"
       "                      files, tiles meshed with halos grown until every\n"
       "                      triangle is proven, the same mesh (and the same file\n"
-      "                      bytes) as in memory, --dem rasterized out of core; the\n"
-      "                      tiled path needs --no-trim --no-fill, no preprocessing\n"
-      "                      and no --contours\n"
+      "                      bytes) as in memory, trimmed and --dem rasterized out\n"
+      "                      of core; the tiled path needs --no-fill (and\n"
+      "                      --tile-output --no-trim), no preprocessing and no\n"
+      "                      --contours\n"
       "  --temp-dir DIR      folder for the tiled path's temporary files, removed at\n"
       "                      the end, on error and on Ctrl-C (default: the output's\n"
       "                      folder)\n"
@@ -829,18 +830,15 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
 {
   const std::string why = "the input (" + opt.input + ") does not fit --memory-limit " +
                           mib(opt.memory_limit) + " in memory";
-  if (comm.size() > 1 && (!opt.no_trim || !opt.no_fill))
+  const bool forced = opt.tile_level >= 0 || !opt.tile_output.empty();
+  if (!opt.no_fill)
     return out.fail(EXIT_USAGE,
-                    "trimming and hole filling do not run on MPI ranks yet: "
-                    "add --no-trim --no-fill");
-  if (opt.tile_level < 0 && opt.tile_output.empty() && (!opt.no_trim || !opt.no_fill))
-    return out.fail(EXIT_USAGE,
-                    why + ", and trimming and hole filling do not run tiled "
-                          "yet: add --no-trim --no-fill, or raise --memory-limit");
-  if (!opt.no_trim || !opt.no_fill)
-    return out.fail(EXIT_USAGE,
-                    "--tile-level and --tile-output need --no-trim --no-fill: "
-                    "trimming and hole filling do not run tiled yet");
+                    (forced ? std::string("a tiled run") : why) +
+                        ": hole filling does not run tiled yet (trimming does): add "
+                        "--no-fill" +
+                        (forced ? "" : ", or raise --memory-limit"));
+  if (!opt.tile_output.empty() && !opt.no_trim)
+    return out.fail(EXIT_USAGE, "--tile-output writes untrimmed tiles: add --no-trim");
   if (!opt.tile_output.empty()) {
     struct stat st {};
     if (::stat(opt.tile_output.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) ||
@@ -906,7 +904,9 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   pcl_vts::MeshWriteOptions write_options;
   write_options.ascii = opt.ascii;
   write_options.force_double = opt.force_double;
-  write_options.comment = "pcl_vts pcd_to_mesh: Delaunay triangulation of " + opt.input;
+  write_options.comment =
+      std::string("pcl_vts pcd_to_mesh: ") +
+      (opt.no_trim ? "Delaunay triangulation of " : "surface mesh of ") + opt.input;
   if (!opt.gis.crs().empty()) // as the in-memory path writes it: the same bytes
     write_options.comment += "; crs: " + opt.gis.crsName();
 
@@ -948,7 +948,7 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
                               : "input unusable: " + s.toString());
   }
   out.done(1e3 * (report.seconds_scan + report.seconds_bucket + report.seconds_mesh +
-                  report.seconds_write),
+                  report.seconds_trim + report.seconds_write),
            std::to_string(report.triangles) + " triangles");
   for (const std::string& note : input.notes)
     out.line("  %s\n", note.c_str());
@@ -963,7 +963,8 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   out.line(
       "  triangulate  [done, %.1f ms : %llu triangles, %.2f points loaded per point, "
       "largest tile %llu points, %.2f rounds per tile (at most %u)]\n",
-      1e3 * report.seconds_mesh, static_cast<unsigned long long>(report.triangles),
+      1e3 * report.seconds_mesh,
+      static_cast<unsigned long long>(report.triangles + report.trim.triangles_removed),
       static_cast<double>(report.points_loaded) /
           static_cast<double>(
               std::max<std::uint64_t>(1, report.points - report.non_finite_dropped)),
@@ -971,7 +972,14 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
       static_cast<double>(report.rounds) /
           static_cast<double>(std::max<std::uint64_t>(1, report.tiles)),
       report.max_rounds);
-  out.line("  trim         [off : --no-trim]\n");
+  if (opt.no_trim)
+    out.line("  trim         [off : --no-trim]\n");
+  else
+    out.line(
+        "  trim         [done, %.1f ms : %zu outward triangles removed, %zu points "
+        "left without triangles, %zu kept to stay manifold]\n",
+        1e3 * report.seconds_trim, report.trim.triangles_removed,
+        report.trim.vertices_lost, report.trim.kept_to_stay_manifold);
   out.line("  fill         [off : --no-fill]\n");
   out.line("  write        [done, %.1f ms : %s, %llu bytes]\n",
            1e3 * report.seconds_write,

@@ -26,11 +26,7 @@ std::string ioFailure(const char* what, const std::string& path, int err)
   return std::string("cannot ") + what + " '" + path + "': " + why;
 }
 
-/// A tile's result file read whole.
-struct TileMeshData {
-  std::vector<double> xyz;
-  std::vector<std::uint32_t> triangles;
-};
+} // namespace
 
 Status readTileResult(const std::string& path, TileMeshData& data)
 {
@@ -53,8 +49,6 @@ Status readTileResult(const std::string& path, TileMeshData& data)
                                                    "': shorter than its header says");
   return Status::success();
 }
-
-} // namespace
 
 std::string resultPath(const std::string& folder, std::uint32_t tile)
 {

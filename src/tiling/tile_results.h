@@ -17,6 +17,14 @@ namespace pcl_vts {
 /// "<folder>/result_<tile>.bin".
 std::string resultPath(const std::string& folder, std::uint32_t tile);
 
+/// A tile's result file read whole.
+struct TileMeshData {
+  std::vector<double> xyz;              ///< the tile's vertices
+  std::vector<std::uint32_t> triangles; ///< the triangles it owns, global ids
+};
+
+Status readTileResult(const std::string& path, TileMeshData& data);
+
 /// Writes one tile's result: a header (vertex count, triangle count, all float-exact),
 /// the vertices (3 doubles) and the owned triangles (3 uint32), canonical order.
 Status writeTileResult(const std::string& path, const TileResult& tile);

@@ -8,6 +8,7 @@
 #include "tile_levels.h"
 #include "tile_results.h"
 #include "tile_triangulation.h"
+#include "tiled_trim.h"
 
 #include <pcl_vts/core/atomic_file.h>
 #include <pcl_vts/core/stopwatch.h>
@@ -53,6 +54,19 @@ struct Job {
   std::vector<std::uint64_t> first_vertex;
   std::vector<std::uint32_t> occupied_tiles;
   std::vector<std::uint32_t> meshed_here; ///< indices into occupied_tiles
+  TiledTrim trim;                         ///< rank 0's, when trimming
+
+  /// Where every vertex id lives.
+  VertexOwners owners() const
+  {
+    VertexOwners owners;
+    owners.tiles = occupied_tiles;
+    const int shift = 2 * (levels.block - levels.tile);
+    for (std::uint32_t t : occupied_tiles)
+      owners.first.push_back(first_vertex[std::size_t{t} << shift]);
+    owners.first.push_back(first_vertex.back());
+    return owners;
+  }
 
   void progress(const char* phase, std::uint64_t done, std::uint64_t total) const
   {
@@ -196,6 +210,7 @@ Status meshTiles(Job& job, const BlockStore& store)
   context.space = &space;
   context.block_first_vertex = &job.first_vertex;
   context.options = job.options.vts;
+  context.options.reconstruction = noPostPasses(); // they run on the whole mesh, later
   const unsigned all_threads = job.workers;
   const unsigned workers =
       std::max(1u, std::min<unsigned>(
@@ -258,12 +273,7 @@ Status meshTiles(Job& job, const BlockStore& store)
 Status writeTileOutputs(Job& job)
 {
   job.progress("writing tiles", 0, 0);
-  VertexOwners owners;
-  owners.tiles = job.occupied_tiles;
-  const int shift = 2 * (job.levels.block - job.levels.tile);
-  for (std::uint32_t t : job.occupied_tiles)
-    owners.first.push_back(job.first_vertex[std::size_t{t} << shift]);
-  owners.first.push_back(job.first_vertex.back());
+  const VertexOwners owners = job.owners();
   Status status;
   std::string my_lines;
   for (std::size_t i = 0; i < job.meshed_here.size() && status.ok(); ++i) {
@@ -297,6 +307,19 @@ Status writeTileOutputs(Job& job)
   return agree(job.comm, status);
 }
 
+/// 6'. Rank 0 trims the mesh (tiled_trim.h) on its threads.
+Status trim(Job& job)
+{
+  job.progress("trimming", 0, 0);
+  Status status;
+  if (job.rank == 0)
+    status = trimTiledMesh(job.folder, job.owners(),
+                           job.options.vts.reconstruction.trim_options, job.workers,
+                           job.trim);
+  job.report.trim = job.trim.result;
+  return agree(job.comm, status);
+}
+
 /// 7. Rank 0 writes the mesh, atomically, from the result files in tile order.
 Status writeOutput(Job& job, const std::string& output,
                    const MeshWriteOptions& write_options)
@@ -311,12 +334,13 @@ Status writeOutput(Job& job, const std::string& output,
                              "tiles wrote " + std::to_string(mesh.vertexCount()) +
                                  " vertices, the block index counts " +
                                  std::to_string(job.report.vertices));
-    job.report.triangles = mesh.triangleCount();
+    const TrimmedMesh trimmed(mesh, job.trim.removed);
+    job.report.triangles = trimmed.triangleCount();
     if (status.ok())
-      status = writeMesh(output, mesh, write_options, &job.report.written);
+      status = writeMesh(output, trimmed, write_options, &job.report.written);
     if (status.ok() && job.options.after_write) {
       job.progress("writing products", 0, 0);
-      status = job.options.after_write(mesh, job.folder);
+      status = job.options.after_write(trimmed, job.folder);
     }
   }
   status = agree(job.comm, status);
@@ -345,12 +369,15 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
 {
   report = TiledMeshReport{};
   // Argument checks: the same answer on every rank, no agreement needed.
-  if (options.vts.reconstruction.trim || options.vts.reconstruction.fill)
-    return Status::error(
-        StatusCode::INVALID_PARAMETER,
-        "trimming and hole filling do not run tiled yet: turn them off "
-        "(--no-trim --no-fill) or raise the memory limit so the job "
-        "runs in memory");
+  const ReconstructionOptions& post = options.vts.reconstruction;
+  if (post.fill)
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "hole filling does not run tiled yet: turn it off (--no-fill) "
+                         "or raise the memory limit so the job runs in memory");
+  if (post.trim && !options.tile_output.empty())
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "per-tile meshes (--tile-output) are not trimmed yet: add "
+                         "--no-trim");
   if (Status s = validateOptions(options.vts); !s.ok())
     return s;
   MeshFileFormat format;
@@ -403,6 +430,13 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   if (!options.tile_output.empty() && !(status = writeTileOutputs(job)).ok())
     return status;
   report.seconds_mesh = watch.seconds();
+
+  if (options.vts.reconstruction.trim) {
+    watch.restart();
+    if (!(status = trim(job)).ok())
+      return status;
+    report.seconds_trim = watch.seconds();
+  }
 
   watch.restart();
   status = writeOutput(job, output, write_options);

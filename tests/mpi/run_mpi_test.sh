@@ -23,12 +23,13 @@ awk 'BEGIN { for (y = 0; y < 120; ++y) for (x = 0; x < 120; ++x) {
     if ((x - 60) * (x - 60) + (y - 50) * (y - 50) < 400) continue
     printf "%d %d %d\n", x, y, (x * 7 + y * 3) % 11 > (y < 60 ? "grid0.xyz" : "grid1.xyz") } }'
 
+post=(--no-trim --no-fill) # the post-passes of compare's runs
 compare() { # name, inputs...: 1, 2, 3 ranks against one process
   local name=$1
   shift
-  "$single" "$@" "$name.ply" --no-trim --no-fill --quiet || fail "$name: single-process run"
+  "$single" "$@" "$name.ply" "${post[@]}" --quiet || fail "$name: single-process run"
   for ranks in 1 2 3; do
-    mpirun -np "$ranks" "$mpi" "$@" "$name.mpi$ranks.ply" --no-trim --no-fill \
+    mpirun -np "$ranks" "$mpi" "$@" "$name.mpi$ranks.ply" "${post[@]}" \
       --threads 1 --temp-dir . > "out$ranks.txt" 2> "err$ranks.txt" ||
       fail "$name, $ranks ranks: exit $? $(cat "err$ranks.txt")"
     cmp -s "$name.ply" "$name.mpi$ranks.ply" ||
@@ -39,6 +40,11 @@ compare() { # name, inputs...: 1, 2, 3 ranks against one process
 inputs=(in0.xyz in1.xyz in2.xyz in3.xyz in4.xyz)
 compare mixed "${inputs[@]}"
 compare grid grid0.xyz grid1.xyz
+# Trimmed across ranks (rank 0 trims from the tile results): the one-process trim.
+post=(--no-fill)
+compare trimmed grid0.xyz grid1.xyz
+compare trimmed_mixed "${inputs[@]}"
+post=(--no-trim --no-fill)
 # A LAZ file (../shared/data beside the project, when present): each rank decodes its
 # share of the chunks.
 laz="$here/../../../shared/data/laz/lidR_Topography.laz"

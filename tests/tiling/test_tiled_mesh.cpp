@@ -158,26 +158,64 @@ class TiledMeshTest : public TempFolderTest {
  protected:
   /// Writes the in-memory run in canonical order; false (with a message) if it fails.
   Status writeInMemory(const std::vector<double>& xyz, const std::string& path,
-                       TriangleMesh* canonical = nullptr)
+                       TriangleMesh* canonical = nullptr, const VtsOptions& vts = {},
+                       ReconstructionDiagnostics* post = nullptr)
   {
     VtsResult result;
-    Status s = runVtsPipeline(xyz.data(), xyz.size() / 3, VtsOptions{}, result);
+    Status s = runVtsPipeline(xyz.data(), xyz.size() / 3, vts, result);
     if (!s.ok())
       return s;
     canonicalMesh(result.mesh, nullptr);
     if (canonical != nullptr)
       *canonical = result.mesh;
+    if (post != nullptr)
+      *post = result.reconstruction;
     return writeMesh(path, result.mesh, MeshWriteOptions{});
   }
 
   Status writeTiled(const std::vector<double>& xyz, const std::string& path,
-                    int tile_level, int block_level, TiledMeshReport& report)
+                    int tile_level, int block_level, TiledMeshReport& report,
+                    const VtsOptions& vts = {})
   {
     TiledMeshOptions options;
+    options.vts = vts;
     options.temp_parent = root_.string();
     options.tile_level = tile_level;
     options.block_level = block_level;
     return runTiledMesh(feedOf(xyz), options, path, MeshWriteOptions{}, report);
+  }
+
+  /// Runs the job on `ranks` in-process ranks (rank r gets options(r)); their statuses.
+  static std::vector<Status> runRanks(int ranks, const PointInputs& inputs,
+                                      const TiledMeshOptions& options,
+                                      const std::string& path)
+  {
+    InProcessRanks all(ranks);
+    std::vector<Status> status(static_cast<std::size_t>(ranks));
+    std::vector<std::thread> team;
+    for (int r = 0; r < ranks; ++r)
+      team.emplace_back([&, r] {
+        InProcessRanks::Comm comm(all, r);
+        TiledMeshReport report;
+        status[static_cast<std::size_t>(r)] =
+            runTiledMesh(inputs, options, path, MeshWriteOptions{}, report, comm);
+      });
+    for (std::thread& t : team)
+      t.join();
+    return status;
+  }
+
+  /// xyz as five sources, so that ranks read different inputs.
+  static PointInputs fiveSources(const std::vector<double>& xyz)
+  {
+    PointInputs inputs;
+    inputs.count = 5;
+    inputs.read = [&xyz](std::size_t k, const PointSink& sink) {
+      const std::size_t points = xyz.size() / 3;
+      const std::size_t a = points * k / 5, b = points * (k + 1) / 5;
+      return b > a ? sink(&xyz[3 * a], b - a) : Status::success();
+    };
+    return inputs;
   }
 
   std::size_t entriesIn(const std::filesystem::path& folder) const
@@ -229,13 +267,7 @@ TEST_P(TiledEqualsInMemory, SameBytesForEveryThreadAndRankCount)
   const Status memory = writeInMemory(xyz, reference);
   const std::string expected = memory.ok() ? slurp(reference) : std::string();
   // Five sources, so that ranks read different inputs (the parts must join in order).
-  PointInputs inputs;
-  inputs.count = 5;
-  inputs.read = [&](std::size_t k, const PointSink& sink) {
-    const std::size_t points = xyz.size() / 3;
-    const std::size_t a = points * k / 5, b = points * (k + 1) / 5;
-    return b > a ? sink(&xyz[3 * a], b - a) : Status::success();
-  };
+  const PointInputs inputs = fiveSources(xyz);
   std::string first_index; // --tile-output's index: the same for every rank count
   for (const auto& [ranks, threads] :
        std::vector<std::pair<int, unsigned>>{{1, 3}, {2, 1}, {3, 2}}) {
@@ -245,24 +277,13 @@ TEST_P(TiledEqualsInMemory, SameBytesForEveryThreadAndRankCount)
     SCOPED_TRACE(std::to_string(ranks) + " ranks, " + std::to_string(threads) +
                  " threads");
     const std::string path = (root_ / "tiled.ply").string();
-    InProcessRanks all(ranks);
-    std::vector<Status> status(static_cast<std::size_t>(ranks));
-    std::vector<std::thread> team;
-    for (int r = 0; r < ranks; ++r)
-      team.emplace_back([&, r] {
-        InProcessRanks::Comm comm(all, r);
-        TiledMeshOptions options;
-        options.temp_parent = root_.string();
-        options.tile_level = 2;
-        options.block_level = 5;
-        options.threads = threads;
-        options.tile_output = tiles.string();
-        TiledMeshReport report;
-        status[static_cast<std::size_t>(r)] =
-            runTiledMesh(inputs, options, path, MeshWriteOptions{}, report, comm);
-      });
-    for (std::thread& t : team)
-      t.join();
+    TiledMeshOptions options;
+    options.temp_parent = root_.string();
+    options.tile_level = 2;
+    options.block_level = 5;
+    options.threads = threads;
+    options.tile_output = tiles.string();
+    const std::vector<Status> status = runRanks(ranks, inputs, options, path);
     for (const Status& s : status) {
       ASSERT_EQ(s.ok(), memory.ok()) << s.toString();
       if (!s.ok()) {
@@ -278,6 +299,61 @@ TEST_P(TiledEqualsInMemory, SameBytesForEveryThreadAndRankCount)
     }
     std::filesystem::remove_all(tiles);
     EXPECT_EQ(entriesIn(root_), memory.ok() ? 2u : 0u) << "temporary files left behind";
+  }
+}
+
+// Trimming (no fill) across tiles: the same bytes and counts as the in-memory trim,
+// at the default factor and at an aggressive one (many pinches to repair), for tilings
+// down to tiny tiles and for ranks and threads.
+TEST_P(TiledEqualsInMemory, TrimmedSameBytesForEveryTilingRankAndThreadCount)
+{
+  const std::size_t n = GetParam() == Distribution::CIRCLE ? 300 : 5000;
+  const std::vector<double> xyz = generatePoints(GetParam(), n, 13);
+  const PointInputs inputs = fiveSources(xyz);
+  for (const double factor : {3.0, 1.4}) {
+    SCOPED_TRACE("trim factor " + std::to_string(factor));
+    VtsOptions vts;
+    vts.reconstruction.trim = true;
+    vts.reconstruction.trim_options.trim_factor = factor;
+    const std::string reference = (root_ / "memory.ply").string();
+    TriangleMesh canonical;
+    ReconstructionDiagnostics post;
+    const Status memory = writeInMemory(xyz, reference, &canonical, vts, &post);
+    ASSERT_EQ(memory.ok(), GetParam() != Distribution::COLLINEAR) << memory.toString();
+    if (!memory.ok())
+      continue;
+    const std::string expected = slurp(reference);
+    for (const auto& [tile_level, block_level] :
+         std::vector<std::pair<int, int>>{{0, 2}, {2, 4}, {3, 6}}) {
+      SCOPED_TRACE("tile level " + std::to_string(tile_level));
+      const std::string path = (root_ / "tiled.ply").string();
+      TiledMeshReport report;
+      const Status tiled = writeTiled(xyz, path, tile_level, block_level, report, vts);
+      ASSERT_TRUE(tiled.ok()) << tiled.toString();
+      EXPECT_EQ(report.triangles, canonical.triangleCount());
+      EXPECT_EQ(report.trim.triangles_removed, post.trim.triangles_removed);
+      EXPECT_EQ(report.trim.vertices_lost, post.trim.vertices_lost);
+      EXPECT_EQ(report.trim.kept_to_stay_manifold, post.trim.kept_to_stay_manifold);
+      EXPECT_TRUE(slurp(path) == expected)
+          << "tiled file differs from the in-memory file";
+      EXPECT_EQ(entriesIn(root_), 2u) << "temporary files left behind";
+    }
+    for (const auto& [ranks, threads] :
+         std::vector<std::pair<int, unsigned>>{{1, 3}, {3, 1}}) {
+      SCOPED_TRACE(std::to_string(ranks) + " ranks, " + std::to_string(threads) +
+                   " threads");
+      TiledMeshOptions options;
+      options.vts = vts;
+      options.temp_parent = root_.string();
+      options.tile_level = 3;
+      options.block_level = 5;
+      options.threads = threads;
+      const std::string path = (root_ / "ranks.ply").string();
+      for (const Status& s : runRanks(ranks, inputs, options, path))
+        ASSERT_TRUE(s.ok()) << s.toString();
+      EXPECT_TRUE(slurp(path) == expected) << "differs from the in-memory file";
+      std::filesystem::remove(path);
+    }
   }
 }
 
@@ -444,15 +520,22 @@ TEST_F(TiledMeshTest, NonFinitePointsAreDroppedAndCounted)
   EXPECT_EQ(report.vertices, 2998u);
 }
 
-TEST_F(TiledMeshTest, TrimAndFillAreRefusedNotSilentlySkipped)
+TEST_F(TiledMeshTest, FillAndTrimmedTileMeshesAreRefusedNotSilentlySkipped)
 {
   const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 1000, 1);
   TiledMeshOptions options;
   options.temp_parent = root_.string();
-  options.vts.reconstruction.trim = true;
+  options.vts.reconstruction.fill = true;
   TiledMeshReport report;
-  const Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
-                                MeshWriteOptions{}, report);
+  Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
+                          MeshWriteOptions{}, report);
+  EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER);
+  EXPECT_NE(s.message.find("--no-fill"), std::string::npos);
+  options.vts.reconstruction.fill = false;
+  options.vts.reconstruction.trim = true;
+  options.tile_output = root_.string();
+  s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(), MeshWriteOptions{},
+                   report);
   EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER);
   EXPECT_NE(s.message.find("--no-trim"), std::string::npos);
   EXPECT_EQ(entriesIn(root_), 0u);

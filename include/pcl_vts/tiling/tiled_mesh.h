@@ -90,7 +90,9 @@ struct TiledMeshReport {
   std::uint64_t rounds = 0;          ///< triangulations run, all tiles together
   std::uint64_t temp_bytes = 0;
   int tile_level = 0, block_level = 0;
-  double seconds_scan = 0, seconds_bucket = 0, seconds_mesh = 0, seconds_write = 0;
+  TrimResult trim; ///< when trimming (its spacing is left 0)
+  double seconds_scan = 0, seconds_bucket = 0, seconds_mesh = 0, seconds_trim = 0,
+         seconds_write = 0;
   MeshWriteInfo written;
 };
 

@@ -1,0 +1,488 @@
+// Trimming a tiled mesh, one sweep over the tiles per step (tiled_trim.h):
+//   send (each triangle to the tiles of its other corners) -> own spacing ->
+//   local spacing -> classify -> gather the fans of the oversized -> peel in memory.
+#include "tiled_trim.h"
+
+#include <pcl_vts/core/point_spacing.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <type_traits>
+#include <unistd.h>
+
+namespace pcl_vts {
+namespace {
+
+Status ioFailure(const char* what, const std::string& path, int err)
+{
+  std::string why = std::strerror(err);
+  if (err == ENOSPC || err == EDQUOT || err == EFBIG)
+    why += " (the temporary folder is full: choose another with --temp-dir)";
+  return Status::error(StatusCode::IO_ERROR,
+                       std::string("cannot ") + what + " '" + path + "': " + why);
+}
+
+/// Fixed-size records indexed by global vertex id, in one scratch file: each tile
+/// writes its range; neighbours in other tiles are read back one by one.
+class VertexRecords {
+ public:
+  VertexRecords(const VertexRecords&) = delete;
+  VertexRecords& operator=(const VertexRecords&) = delete;
+  VertexRecords(std::string path, std::size_t doubles)
+      : path_(std::move(path))
+      , bytes_(doubles * sizeof(double))
+  {}
+  ~VertexRecords()
+  {
+    if (fd_ >= 0)
+      ::close(fd_);
+  }
+  Status create()
+  {
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    return fd_ < 0 ? ioFailure("create", path_, errno) : Status::success();
+  }
+  Status write(std::uint64_t first, const std::vector<double>& values) const
+  {
+    return transfer(first, reinterpret_cast<const char*>(values.data()),
+                    values.size() * sizeof(double));
+  }
+  Status read(std::uint64_t first, std::size_t count, double* out) const
+  {
+    return transfer(first, reinterpret_cast<char*>(out), count * bytes_);
+  }
+
+ private:
+  /// pwrite from const bytes, pread into the others, to the last byte.
+  template <typename Byte>
+  Status transfer(std::uint64_t first, Byte* bytes, std::size_t size) const
+  {
+    constexpr bool writing = std::is_const_v<Byte>;
+    const auto offset = static_cast<off_t>(first * bytes_);
+    for (std::size_t done = 0; done < size;) {
+      ssize_t n;
+      if constexpr (writing)
+        n = ::pwrite(fd_, bytes + done, size - done, offset + static_cast<off_t>(done));
+      else
+        n = ::pread(fd_, bytes + done, size - done, offset + static_cast<off_t>(done));
+      if (n < 0 && errno == EINTR)
+        continue;
+      if (n <= 0)
+        return writing ? ioFailure("write", path_, n < 0 ? errno : ENOSPC)
+                       : Status::error(StatusCode::IO_ERROR,
+                                       "cannot read back '" + path_ + "'");
+      done += static_cast<std::size_t>(n);
+    }
+    return Status::success();
+  }
+
+  std::string path_;
+  std::size_t bytes_;
+  int fd_ = -1;
+};
+
+std::string crossPath(const std::string& folder, std::size_t k)
+{
+  return folder + "/trim_around_" + std::to_string(k) + ".bin";
+}
+
+Status appendTriangles(const std::string& path, const std::vector<std::uint32_t>& ids)
+{
+  std::FILE* file = std::fopen(path.c_str(), "ab");
+  if (file == nullptr)
+    return ioFailure("create", path, errno);
+  const bool ok =
+      std::fwrite(ids.data(), sizeof(std::uint32_t), ids.size(), file) == ids.size();
+  const int err = errno;
+  if (std::fclose(file) != 0 || !ok)
+    return ioFailure("write", path, ok ? errno : err);
+  return Status::success();
+}
+
+Status readTriangles(const std::string& path, std::vector<std::uint32_t>& ids)
+{
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr)
+    return errno == ENOENT ? Status::success() : ioFailure("open", path, errno);
+  std::uint32_t buffer[3 * 1024];
+  std::size_t n;
+  while ((n = std::fread(buffer, sizeof(std::uint32_t), 3 * 1024, file)) > 0)
+    ids.insert(ids.end(), buffer, buffer + n);
+  const bool failed = std::ferror(file) != 0 || ids.size() % 3 != 0;
+  std::fclose(file);
+  return failed ? Status::error(StatusCode::IO_ERROR, "cannot read back '" + path + "'")
+                : Status::success();
+}
+
+/// Runs visit(k) for every tile on `workers` threads; the first failure wins.
+template <typename Visit>
+Status forEachTile(std::size_t tiles, unsigned workers, const Visit& visit)
+{
+  std::atomic<std::size_t> next{0};
+  std::mutex mutex;
+  Status failure;
+  const auto work = [&]() {
+    for (std::size_t k; (k = next++) < tiles;) {
+      Status s = visit(k);
+      if (s.ok())
+        continue;
+      const std::lock_guard<std::mutex> lock(mutex);
+      if (failure.ok())
+        failure = s;
+      next = tiles;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned w = 1; w < std::min<std::size_t>(workers, tiles); ++w)
+    pool.emplace_back(work);
+  work();
+  for (std::thread& thread : pool)
+    thread.join();
+  return failure;
+}
+
+/// One tile's vertices and every triangle around them: those it owns and those
+/// other tiles own and sent it.
+struct TileAround {
+  std::uint64_t lo = 0, hi = 0; ///< its vertex ids
+  TileMeshData data;
+  std::vector<std::uint32_t> around; ///< owned, then sent
+  /// Neighbours of each vertex lo + i: ids[start[i] .. start[i + 1]), sorted.
+  std::vector<std::size_t> start;
+  std::vector<std::uint32_t> ring;
+};
+
+Status loadAround(const std::string& folder, const VertexOwners& owners, std::size_t k,
+                  TileAround& tile)
+{
+  tile.lo = owners.first[k];
+  tile.hi = owners.first[k + 1];
+  if (Status s = readTileResult(resultPath(folder, owners.tiles[k]), tile.data);
+      !s.ok())
+    return s;
+  tile.around = tile.data.triangles;
+  if (Status s = readTriangles(crossPath(folder, k), tile.around); !s.ok())
+    return s;
+  // The rings: both other corners of every triangle around a vertex, once each.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::size_t t = 0; t < tile.around.size(); t += 3)
+    for (int j = 0; j < 3; ++j) {
+      const std::uint32_t v = tile.around[t + j];
+      if (v < tile.lo || v >= tile.hi)
+        continue;
+      const auto i = static_cast<std::uint32_t>(v - tile.lo);
+      pairs.emplace_back(i, tile.around[t + (j + 1) % 3]);
+      pairs.emplace_back(i, tile.around[t + (j + 2) % 3]);
+    }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const std::size_t n = static_cast<std::size_t>(tile.hi - tile.lo);
+  tile.start.assign(n + 1, 0);
+  tile.ring.clear();
+  for (const auto& [i, w] : pairs) {
+    ++tile.start[i + 1];
+    tile.ring.push_back(w);
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    tile.start[i + 1] += tile.start[i];
+  return Status::success();
+}
+
+/// Values of the vertices a tile looks at: its own range read at once, the others
+/// (neighbours in other tiles) one by one.
+class Lookup {
+ public:
+  Lookup(const VertexRecords& file, std::size_t doubles)
+      : file_(file)
+      , doubles_(doubles)
+  {}
+  Status load(const TileAround& tile, const std::vector<std::uint32_t>& ids)
+  {
+    lo_ = tile.lo;
+    hi_ = tile.hi;
+    mine_.resize(static_cast<std::size_t>(hi_ - lo_) * doubles_);
+    if (Status s = file_.read(lo_, static_cast<std::size_t>(hi_ - lo_), mine_.data());
+        !s.ok())
+      return s;
+    foreign_.clear();
+    for (const std::uint32_t id : ids)
+      if (id < lo_ || id >= hi_)
+        foreign_.emplace(id, 0);
+    values_.resize(foreign_.size() * doubles_);
+    std::size_t slot = 0;
+    for (auto& [id, at] : foreign_) {
+      at = slot;
+      if (Status s = file_.read(id, 1, values_.data() + slot * doubles_); !s.ok())
+        return s;
+      ++slot;
+    }
+    return Status::success();
+  }
+  const double* operator[](std::uint32_t id) const
+  {
+    if (id >= lo_ && id < hi_)
+      return mine_.data() + static_cast<std::size_t>(id - lo_) * doubles_;
+    return values_.data() + foreign_.at(id) * doubles_;
+  }
+
+ private:
+  const VertexRecords& file_;
+  std::size_t doubles_;
+  std::uint64_t lo_ = 0, hi_ = 0;
+  std::vector<double> mine_, values_;
+  std::map<std::uint32_t, std::size_t> foreign_;
+};
+
+/// Step 1: positions by id, and every triangle sent to the tiles of its corners
+/// that do not own it.
+Status sendTriangles(const std::string& folder, const VertexOwners& owners,
+                     const VertexRecords& positions)
+{
+  TileMeshData data;
+  std::map<std::size_t, std::vector<std::uint32_t>> outbox;
+  std::vector<double> xy;
+  for (std::size_t k = 0; k + 1 < owners.first.size(); ++k) {
+    if (Status s = readTileResult(resultPath(folder, owners.tiles[k]), data); !s.ok())
+      return s;
+    xy.clear();
+    for (std::size_t v = 0; v < data.xyz.size(); v += 3)
+      xy.insert(xy.end(), {data.xyz[v], data.xyz[v + 1]});
+    if (Status s = positions.write(owners.first[k], xy); !s.ok())
+      return s;
+    outbox.clear();
+    for (std::size_t t = 0; t < data.triangles.size(); t += 3) {
+      std::size_t sent = k;
+      for (int j = 1; j < 3; ++j) { // corner 0, the smallest, is k's own
+        const std::size_t u = owners.tileOf(data.triangles[t + j]);
+        if (u == k || u == sent)
+          continue; // owned here, or sent already
+        sent = u;
+        std::vector<std::uint32_t>& box = outbox[u];
+        box.insert(box.end(), data.triangles.begin() + static_cast<std::ptrdiff_t>(t),
+                   data.triangles.begin() + static_cast<std::ptrdiff_t>(t + 3));
+      }
+    }
+    for (const auto& [u, ids] : outbox)
+      if (Status s = appendTriangles(crossPath(folder, u), ids); !s.ok())
+        return s;
+  }
+  return Status::success();
+}
+
+double distance(const double* p, const double* q)
+{
+  const double dx = p[0] - q[0], dy = p[1] - q[1];
+  return std::sqrt(dx * dx + dy * dy); // as measurePointSpacing
+}
+
+/// Steps 2 and 3: per vertex the median of its edges (own), then the median of its
+/// own and its neighbours' (local), as measurePointSpacing.
+Status measureSpacing(const std::string& folder, const VertexOwners& owners,
+                      unsigned workers, const VertexRecords& positions,
+                      const VertexRecords& own, const VertexRecords& local)
+{
+  const std::size_t tiles = owners.tiles.size();
+  for (const bool second : {false, true}) {
+    Status s = forEachTile(tiles, workers, [&](std::size_t k) {
+      TileAround tile;
+      if (Status r = loadAround(folder, owners, k, tile); !r.ok())
+        return r;
+      Lookup lookup(second ? own : positions, second ? 1 : 2);
+      if (Status r = lookup.load(tile, tile.ring); !r.ok())
+        return r;
+      const std::size_t n = static_cast<std::size_t>(tile.hi - tile.lo);
+      std::vector<double> out(n, 0.0), values;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (tile.start[i] == tile.start[i + 1])
+          continue; // no triangle: 0, as in memory
+        const auto v = static_cast<std::uint32_t>(tile.lo + i);
+        values.clear();
+        if (second)
+          values.push_back(*lookup[v]);
+        for (std::size_t q = tile.start[i]; q < tile.start[i + 1]; ++q)
+          values.push_back(second ? *lookup[tile.ring[q]]
+                                  : distance(lookup[v], lookup[tile.ring[q]]));
+        out[i] = medianOf(values);
+      }
+      return (second ? local : own).write(tile.lo, out);
+    });
+    if (!s.ok())
+      return s;
+  }
+  return Status::success();
+}
+
+/// Step 4: the oversized triangles of every tile, with their flags, in tile order.
+Status classify(const std::string& folder, const VertexOwners& owners, unsigned workers,
+                const TrimOptions& options, const VertexRecords& positions,
+                const VertexRecords& local, std::vector<TriangleKey>& oversized,
+                std::vector<std::uint8_t>& flags)
+{
+  const std::size_t tiles = owners.tiles.size();
+  std::vector<std::vector<std::pair<TriangleKey, std::uint8_t>>> found(tiles);
+  Status s = forEachTile(tiles, workers, [&](std::size_t k) {
+    TileAround tile;
+    tile.lo = owners.first[k];
+    tile.hi = owners.first[k + 1];
+    if (Status r = readTileResult(resultPath(folder, owners.tiles[k]), tile.data);
+        !r.ok())
+      return r;
+    Lookup xy(positions, 2), spacing(local, 1);
+    if (Status r = xy.load(tile, tile.data.triangles); !r.ok())
+      return r;
+    if (Status r = spacing.load(tile, tile.data.triangles); !r.ok())
+      return r;
+    const std::vector<std::uint32_t>& ids = tile.data.triangles;
+    for (std::size_t t = 0; t < ids.size(); t += 3) {
+      const double scale =
+          std::max({*spacing[ids[t]], *spacing[ids[t + 1]], *spacing[ids[t + 2]]});
+      const double* p[3] = {xy[ids[t]], xy[ids[t + 1]], xy[ids[t + 2]]};
+      const TriangleSize size =
+          classifyTriangle(Point2{p[0][0], p[0][1]}, Point2{p[1][0], p[1][1]},
+                           Point2{p[2][0], p[2][1]}, scale, options);
+      if (size.oversized)
+        found[k].push_back(
+            {TriangleKey{ids[t], ids[t + 1], ids[t + 2]},
+             static_cast<std::uint8_t>(OVERSIZED | (size.void_seed ? VOID_SEED : 0))});
+    }
+    return Status::success();
+  });
+  for (const auto& tile : found)
+    for (const auto& [key, flag] : tile) {
+      oversized.push_back(key);
+      flags.push_back(flag);
+    }
+  return s;
+}
+
+/// Step 5: every triangle with a corner in `corners` (sorted), in tile order.
+Status gatherFans(const std::string& folder, const VertexOwners& owners,
+                  unsigned workers, const std::vector<std::uint32_t>& corners,
+                  std::vector<TriangleKey>& fans)
+{
+  const std::size_t tiles = owners.tiles.size();
+  std::vector<std::vector<TriangleKey>> found(tiles);
+  Status s = forEachTile(tiles, workers, [&](std::size_t k) {
+    TileMeshData data;
+    if (Status r = readTileResult(resultPath(folder, owners.tiles[k]), data); !r.ok())
+      return r;
+    for (std::size_t t = 0; t < data.triangles.size(); t += 3) {
+      const TriangleKey key{data.triangles[t], data.triangles[t + 1],
+                            data.triangles[t + 2]};
+      if (std::any_of(key.begin(), key.end(), [&](std::uint32_t v) {
+            return std::binary_search(corners.begin(), corners.end(), v);
+          }))
+        found[k].push_back(key);
+    }
+    return Status::success();
+  });
+  for (const auto& tile : found)
+    fans.insert(fans.end(), tile.begin(), tile.end());
+  return s;
+}
+
+} // namespace
+
+Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
+                     const TrimOptions& options, unsigned workers, TiledTrim& trim)
+{
+  trim = TiledTrim{};
+  if (Status s = validateTrimOptions(options); !s.ok())
+    return s;
+  VertexRecords positions(folder + "/trim_xy.bin", 2), own(folder + "/trim_own.bin", 1),
+      local(folder + "/trim_local.bin", 1);
+  for (VertexRecords* file : {&positions, &own, &local})
+    if (Status s = file->create(); !s.ok())
+      return s;
+  if (Status s = sendTriangles(folder, owners, positions); !s.ok())
+    return s;
+  if (Status s = measureSpacing(folder, owners, workers, positions, own, local);
+      !s.ok())
+    return s;
+  std::vector<TriangleKey> oversized;
+  std::vector<std::uint8_t> oversized_flags;
+  if (Status s = classify(folder, owners, workers, options, positions, local, oversized,
+                          oversized_flags);
+      !s.ok())
+    return s;
+  if (oversized.empty())
+    return Status::success();
+  if (!std::is_sorted(oversized.begin(), oversized.end()))
+    return Status::error(StatusCode::INTERNAL_ERROR,
+                         "the tile results are not in the global triangle order");
+
+  // The sub-mesh: the oversized triangles and every triangle around their corners,
+  // vertices renumbered in increasing global id, triangles in the global order.
+  std::vector<std::uint32_t> corners;
+  for (const TriangleKey& key : oversized)
+    corners.insert(corners.end(), key.begin(), key.end());
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  std::vector<TriangleKey> fans;
+  if (Status s = gatherFans(folder, owners, workers, corners, fans); !s.ok())
+    return s;
+  std::vector<std::uint32_t> ids;
+  for (const TriangleKey& key : fans)
+    ids.insert(ids.end(), key.begin(), key.end());
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  TriangleMesh mesh;
+  mesh.xy.resize(ids.size());
+  mesh.z.assign(ids.size(), 0.0);
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    double p[2] = {0.0, 0.0};
+    if (Status s = positions.read(ids[i], 1, p); !s.ok())
+      return s;
+    mesh.xy[i] = Point2{p[0], p[1]};
+  }
+  auto localId = [&](std::uint32_t id) {
+    return static_cast<VertexId>(std::lower_bound(ids.begin(), ids.end(), id) -
+                                 ids.begin());
+  };
+  std::vector<std::uint8_t> flags(fans.size(), 0);
+  for (std::size_t t = 0; t < fans.size(); ++t) {
+    for (const std::uint32_t v : fans[t])
+      mesh.triangles.push_back(localId(v));
+    const auto at = std::lower_bound(oversized.begin(), oversized.end(), fans[t]);
+    if (at != oversized.end() && *at == fans[t])
+      flags[t] = oversized_flags[static_cast<std::size_t>(at - oversized.begin())];
+  }
+  if (!mesh.rebuildHalfedges())
+    return Status::error(StatusCode::INTERNAL_ERROR,
+                         "the triangles around the oversized ones are not manifold");
+  std::vector<bool> removed;
+  trim.result.kept_to_stay_manifold =
+      peelOutwardTriangles(mesh, flags, options.open_voids, removed);
+  std::vector<bool> keeps(ids.size(), false);
+  for (std::size_t t = 0; t < fans.size(); ++t) {
+    if (removed[t])
+      trim.removed.push_back(fans[t]);
+    else
+      for (int j = 0; j < 3; ++j)
+        keeps[mesh.triangles[3 * t + j]] = true;
+  }
+  trim.result.triangles_removed = trim.removed.size();
+  // A corner of an oversized triangle has its whole fan here: lost if none is kept.
+  for (const std::uint32_t v : corners)
+    trim.result.vertices_lost += keeps[localId(v)] ? 0 : 1;
+  return Status::success();
+}
+
+Status TrimmedMesh::forEachTriangle(const TriangleVisit& visit) const
+{
+  return base_.forEachTriangle([&](VertexId a, VertexId b, VertexId c) {
+    const TriangleKey key{a, b, c};
+    if (!std::binary_search(removed_.begin(), removed_.end(), key))
+      visit(a, b, c);
+  });
+}
+
+} // namespace pcl_vts

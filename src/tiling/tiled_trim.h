@@ -1,0 +1,63 @@
+// Trimming a tiled mesh (docs/scaling.md, "Post-passes"): the in-memory trim
+// (trim_outward_triangles.h) run on the tile results, with the same answer.
+//
+// The static test of a triangle needs the local spacing of its corners, i.e. two
+// rings of neighbours: it is computed in sweeps over the tiles, each vertex by the tile
+// that holds it, from the triangles around it (its own tile's and those that other
+// tiles own and send it), with the neighbours' values read back from files indexed by
+// vertex id. The peel and the pinch repair then run in memory on the oversized
+// triangles and every triangle around their corners: all they look at, and their
+// answer depends on positions only (peelOutwardTriangles). Memory: one tile per
+// worker, plus the oversized triangles and their fans.
+#pragma once
+#include "tile_results.h"
+
+#include <pcl_vts/core/trim_outward_triangles.h>
+#include <pcl_vts/io/mesh_writer.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl_vts {
+
+/// A triangle as the tile results store it: global ids, smallest first.
+using TriangleKey = std::array<std::uint32_t, 3>;
+
+struct TiledTrim {
+  std::vector<TriangleKey> removed; ///< sorted
+  TrimResult result;                ///< spacing is left 0 (a global median)
+};
+
+/// Trims the mesh of the tile results in folder (scratch files go there too).
+/// `workers` tiles are handled at once.
+Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
+                     const TrimOptions& options, unsigned workers, TiledTrim& trim);
+
+/// A mesh less some of its triangles, streamed.
+class TrimmedMesh : public MeshSource {
+ public:
+  TrimmedMesh(const MeshSource& base, const std::vector<TriangleKey>& removed)
+      : base_(base)
+      , removed_(removed)
+  {}
+  std::uint64_t vertexCount() const override { return base_.vertexCount(); }
+  std::uint64_t triangleCount() const override
+  {
+    return base_.triangleCount() - removed_.size();
+  }
+  bool exactInFloat() const override { return base_.exactInFloat(); }
+  bool hasInsertedFlags() const override { return base_.hasInsertedFlags(); }
+  Status forEachVertex(const VertexVisit& visit) const override
+  {
+    return base_.forEachVertex(visit);
+  }
+  Status forEachTriangle(const TriangleVisit& visit) const override;
+
+ private:
+  const MeshSource& base_;
+  const std::vector<TriangleKey>& removed_;
+};
+
+} // namespace pcl_vts
