@@ -43,6 +43,31 @@ double twiceSignedArea(const TriangleMesh& mesh, const std::vector<VertexId>& cy
   return sum;
 }
 
+/// Rotates the loop to start at its vertex smallest in (x, y) (of two visits of one
+/// vertex, the one followed by the smaller vertex): where a walk starts depends on the
+/// halfedge ids, this does not, and the area sum is then the same for any ids.
+void startAtSmallestVertex(const TriangleMesh& mesh, BoundaryLoop& loop)
+{
+  const std::size_t n = loop.vertices.size();
+  auto before = [&](std::size_t i, std::size_t j) {
+    const Point2& a = mesh.xy[loop.vertices[i]];
+    const Point2& b = mesh.xy[loop.vertices[j]];
+    if (lexLess(a, b) || lexLess(b, a))
+      return lexLess(a, b);
+    return lexLess(mesh.xy[loop.vertices[(i + 1) % n]],
+                   mesh.xy[loop.vertices[(j + 1) % n]]);
+  };
+  std::size_t first = 0;
+  for (std::size_t i = 1; i < n; ++i)
+    if (before(i, first))
+      first = i;
+  const auto shift = static_cast<std::ptrdiff_t>(first);
+  std::rotate(loop.vertices.begin(), loop.vertices.begin() + shift,
+              loop.vertices.end());
+  std::rotate(loop.halfedges.begin(), loop.halfedges.begin() + shift,
+              loop.halfedges.end());
+}
+
 void labelComponents(const TriangleMesh& mesh, BoundaryLoops& loops)
 {
   const std::size_t count = mesh.triangleCount();
@@ -104,6 +129,7 @@ Status findBoundaryLoops(const TriangleMesh& mesh, BoundaryLoops& loops)
       loop.vertices.push_back(mesh.triangles[e]);
       e = nextBoundaryHalfedge(mesh, e);
     } while (e != start);
+    startAtSmallestVertex(mesh, loop);
     loop.twice_area = twiceSignedArea(mesh, loop.vertices);
     std::vector<VertexId> sorted = loop.vertices;
     std::sort(sorted.begin(), sorted.end());

@@ -157,9 +157,23 @@ std::vector<VertexId> rimRings(const Adjacency& adj, const std::vector<VertexId>
   return samples;
 }
 
+/// The samples in position order: the spline's sums then run in an order that does
+/// not depend on ids, so the same hole gets the same z in any mesh holding it.
+void sortByPosition(const TriangleMesh& mesh, std::vector<VertexId>& samples)
+{
+  std::sort(samples.begin(), samples.end(),
+            [&](VertexId a, VertexId b) { return lexLess(mesh.xy[a], mesh.xy[b]); });
+}
+
 } // namespace
 
 Status fillHoles(TriangleMesh& mesh, const FillOptions& options, FillResult& result)
+{
+  return fillHolesOfPart(mesh, options, nullptr, result);
+}
+
+Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
+                       const MeshPart* part, FillResult& result)
 {
   result = FillResult{};
   Status status = validateFillOptions(options);
@@ -169,31 +183,39 @@ Status fillHoles(TriangleMesh& mesh, const FillOptions& options, FillResult& res
   status = findBoundaryLoops(mesh, loops);
   if (!status.ok())
     return status;
-  if (loops.holeCount() == 0) {
+  // A loop runs counter-clockwise around its piece's outside, clockwise inside a
+  // hole; in a part of a mesh, loops through cut edges are neither.
+  auto real = [&](const BoundaryLoop& loop) {
+    return part == nullptr || part->real_boundary(loop.halfedges.front());
+  };
+  auto isHole = [&](const BoundaryLoop& loop) {
+    return real(loop) && !(loop.twice_area > 0.0);
+  };
+  if (std::none_of(loops.loops.begin(), loops.loops.end(), isHole)) {
     result.inserted.assign(mesh.vertexCount(), 0);
     return Status::success();
   }
   const PointSpacing spacing = measurePointSpacing(mesh);
-  const double global_h = spacing.global_median;
+  const double global_h =
+      part != nullptr ? part->global_spacing : spacing.global_median;
   result.max_hole_area = options.max_hole_area > 0.0
                              ? options.max_hole_area
                              : FillOptions::AUTO_HOLE_AREA_FACTOR * global_h * global_h;
   const Adjacency adj = buildAdjacency(mesh);
   const std::size_t input_vertices = mesh.vertexCount();
 
-  // One point strictly inside a triangle of each piece: a piece lies inside a hole
-  // of another piece entirely or not at all (pieces do not overlap).
-  std::vector<Point2> piece_probe(loops.componentCount(), Point2{0.0, 0.0});
-  std::vector<bool> probe_set(loops.componentCount(), false);
-  for (TriangleId t = 0; t < mesh.triangleCount(); ++t) {
-    const std::uint32_t c = loops.triangle_component[t];
-    if (probe_set[c])
+  // One point strictly inside a triangle of each piece, the one along the start of
+  // its outer loop: a piece lies inside a hole of another piece entirely or not at
+  // all (pieces do not overlap).
+  std::vector<Point2> piece_probe;
+  for (const BoundaryLoop& loop : loops.loops) {
+    if (!real(loop) || !(loop.twice_area > 0.0))
       continue;
+    const TriangleId t = triangleOf(loop.halfedges.front());
     const Point2& a = mesh.xy[mesh.triangles[3 * t]];
     const Point2& b = mesh.xy[mesh.triangles[3 * t + 1]];
     const Point2& d = mesh.xy[mesh.triangles[3 * t + 2]];
-    piece_probe[c] = {(a.x + b.x + d.x) / 3.0, (a.y + b.y + d.y) / 3.0};
-    probe_set[c] = true;
+    piece_probe.push_back({(a.x + b.x + d.x) / 3.0, (a.y + b.y + d.y) / 3.0});
   }
 
   std::vector<std::uint32_t> stamp(input_vertices, 0);
@@ -202,7 +224,7 @@ Status fillHoles(TriangleMesh& mesh, const FillOptions& options, FillResult& res
   std::vector<HalfedgeId> new_halfedges;
   const std::size_t input_corners = mesh.triangles.size();
   for (const BoundaryLoop& loop : loops.loops) {
-    if (loop.is_outer)
+    if (!isHole(loop))
       continue;
     ++result.holes_found;
     const double area = -0.5 * loop.twice_area;
@@ -222,10 +244,11 @@ Status fillHoles(TriangleMesh& mesh, const FillOptions& options, FillResult& res
     points.reserve(size);
     for (const VertexId v : rim)
       points.push_back(mesh.xy[v]);
-    bool encloses_piece = false;
-    for (std::size_t c = 0; c < loops.componentCount() && !encloses_piece; ++c)
-      encloses_piece =
-          c != loop.component && windingNumber(points, size, piece_probe[c]) != 0;
+    // (Its own piece's probe is outside it.)
+    const bool encloses_piece =
+        std::any_of(piece_probe.begin(), piece_probe.end(), [&](const Point2& p) {
+          return windingNumber(points, size, p) != 0;
+        });
     if (encloses_piece) {
       ++result.holes_skipped;
       continue;
@@ -250,10 +273,11 @@ Status fillHoles(TriangleMesh& mesh, const FillOptions& options, FillResult& res
 
     std::vector<Point2> sample_xy;
     std::vector<double> sample_z;
-    const std::vector<VertexId> samples = rimRings(
+    std::vector<VertexId> samples = rimRings(
         adj, rim,
         options.z_method == HoleZMethod::THIN_PLATE_SPLINE ? options.rim_rings : 0,
         stamp, ++mark);
+    sortByPosition(mesh, samples);
     const std::size_t stride = (samples.size() + FillOptions::MAX_SPLINE_SAMPLES - 1) /
                                FillOptions::MAX_SPLINE_SAMPLES;
     for (std::size_t k = 0; k < samples.size(); k += std::max<std::size_t>(stride, 1)) {

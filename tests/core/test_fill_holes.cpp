@@ -4,6 +4,7 @@
 // covered >= 99 % and their loops gone, larger ones left open, inserted points
 // flagged, z error against the true surface compared with a flat-rim fill.
 #include "support/generators.h"
+#include "support/mesh_shuffle.h"
 #include "support/pipeline_checks.h"
 #include "support/surface_checks.h"
 
@@ -288,6 +289,25 @@ TEST(FillHoles, AutomaticLimitFillsSmallVoidsAndIsDeterministic)
   ASSERT_TRUE(fillHoles(a, FillOptions{}, again).ok());
   EXPECT_EQ(again.holes_found, 1u);
   EXPECT_EQ(again.points_inserted, 0u);
+}
+
+// The tiled path fills holes on a part of the mesh, with other ids: the inserted
+// points (x, y and the spline's z) and the patches must depend on positions only.
+TEST(FillHoles, DependsOnPositionsNotOnIds)
+{
+  for (const std::uint32_t seed : {3u, 8u}) {
+    const test::SyntheticTerrain terrain = test::makeSyntheticTerrain(seed);
+    TriangleMesh a = trimmedTerrain(terrain);
+    TriangleMesh b = test::shuffledIds(a, seed);
+    FillResult ra, rb;
+    ASSERT_TRUE(fillHoles(a, FillOptions{}, ra).ok());
+    ASSERT_TRUE(fillHoles(b, FillOptions{}, rb).ok());
+    ASSERT_GT(ra.holes_filled, 2u);
+    EXPECT_EQ(ra.holes_filled, rb.holes_filled);
+    EXPECT_EQ(ra.points_inserted, rb.points_inserted);
+    EXPECT_EQ(test::verticesByPosition(a), test::verticesByPosition(b));
+    EXPECT_EQ(test::trianglesByPosition(a), test::trianglesByPosition(b));
+  }
 }
 
 TEST(FillHoles, HoleAroundAnIslandOrThroughAPinchIsLeftAlone)

@@ -4,6 +4,7 @@
 // vertex, counts lost vertices, is deterministic; works untuned on real DEMs.
 #include "support/asc_reader.h"
 #include "support/generators.h"
+#include "support/mesh_shuffle.h"
 #include "support/pipeline_checks.h"
 #include "support/surface_checks.h"
 
@@ -13,13 +14,9 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <numeric>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -152,23 +149,6 @@ TEST(TrimOutwardTriangles, AggressiveFactorNeverPinchesAVertex)
   }
 }
 
-/// The kept triangles as sorted corner positions: what does not depend on ids.
-std::vector<std::array<double, 6>> keptByPosition(const TriangleMesh& mesh)
-{
-  std::vector<std::array<double, 6>> kept;
-  for (TriangleId t = 0; t < mesh.triangleCount(); ++t) {
-    std::array<std::pair<double, double>, 3> c;
-    for (int k = 0; k < 3; ++k)
-      c[k] = {mesh.xy[mesh.triangles[3 * t + k]].x,
-              mesh.xy[mesh.triangles[3 * t + k]].y};
-    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-    kept.push_back(
-        {c[0].first, c[0].second, c[1].first, c[1].second, c[2].first, c[2].second});
-  }
-  std::sort(kept.begin(), kept.end());
-  return kept;
-}
-
 // The tiled path trims a sub-mesh whose ids differ from the in-memory mesh's: the
 // peel and the pinch repair must depend on positions only.
 TEST(TrimOutwardTriangles, DependsOnPositionsNotOnIds)
@@ -183,26 +163,7 @@ TEST(TrimOutwardTriangles, DependsOnPositionsNotOnIds)
       const TriangleMesh input =
           triangulate(test::generatePoints(distribution, 3000, 9));
       // Same triangles: vertex ids shuffled, triangles shuffled, corners rotated.
-      std::mt19937 random(17);
-      std::vector<VertexId> id(input.vertexCount());
-      std::iota(id.begin(), id.end(), 0);
-      std::shuffle(id.begin(), id.end(), random);
-      TriangleMesh shuffled;
-      shuffled.xy.resize(input.vertexCount());
-      shuffled.z.resize(input.vertexCount());
-      for (VertexId v = 0; v < input.vertexCount(); ++v) {
-        shuffled.xy[id[v]] = input.xy[v];
-        shuffled.z[id[v]] = input.z[v];
-      }
-      std::vector<TriangleId> order(input.triangleCount());
-      std::iota(order.begin(), order.end(), 0);
-      std::shuffle(order.begin(), order.end(), random);
-      for (const TriangleId t : order) {
-        const int r = static_cast<int>(random() % 3);
-        for (int k = 0; k < 3; ++k)
-          shuffled.triangles.push_back(id[input.triangles[3 * t + (k + r) % 3]]);
-      }
-      ASSERT_TRUE(shuffled.rebuildHalfedges());
+      TriangleMesh shuffled = test::shuffledIds(input, 17);
       TriangleMesh a = input;
       TrimOptions options;
       options.trim_factor = factor;
@@ -211,7 +172,7 @@ TEST(TrimOutwardTriangles, DependsOnPositionsNotOnIds)
       ASSERT_TRUE(trimOutwardTriangles(shuffled, options, rb).ok());
       EXPECT_EQ(ra.triangles_removed, rb.triangles_removed);
       EXPECT_EQ(ra.kept_to_stay_manifold, rb.kept_to_stay_manifold);
-      EXPECT_EQ(keptByPosition(a), keptByPosition(shuffled));
+      EXPECT_EQ(test::trianglesByPosition(a), test::trianglesByPosition(shuffled));
       repaired += ra.kept_to_stay_manifold;
     }
   }

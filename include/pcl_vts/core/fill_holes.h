@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace pcl_vts {
@@ -72,5 +73,23 @@ struct FillResult {
 /// Deterministic.
 PCL_VTS_CORE_EXPORT Status fillHoles(TriangleMesh& mesh, const FillOptions& options,
                                      FillResult& result);
+
+/// What a part of a mesh does not show about the whole (the tiled path fills holes
+/// on the triangles around them only).
+struct MeshPart {
+  /// The whole mesh's median spacing (PointSpacing::global_median).
+  double global_spacing = 0.0;
+  /// False for a twin-less halfedge that the part cut, not a boundary of the whole.
+  std::function<bool(HalfedgeId)> real_boundary;
+};
+
+/// fillHoles on a part of a mesh holding every triangle around each vertex within
+/// rim_rings + 1 rings of every real boundary loop: the holes are found, measured,
+/// filled and given z exactly as in the whole mesh, because fillHoles depends on
+/// positions only (where a loop starts, the order of the spline samples); loops
+/// through cut edges are ignored. part == nullptr: the whole mesh (fillHoles).
+PCL_VTS_CORE_EXPORT Status fillHolesOfPart(TriangleMesh& mesh,
+                                           const FillOptions& options,
+                                           const MeshPart* part, FillResult& result);
 
 } // namespace pcl_vts
