@@ -182,10 +182,10 @@ void printHelp()
       "                      tiled: inputs streamed, points bucketed into temporary\n"
       "                      files, tiles meshed with halos grown until every\n"
       "                      triangle is proven, the same mesh (and the same file\n"
-      "                      bytes) as in memory, trimmed and --dem rasterized out\n"
-      "                      of core; the tiled path needs --no-fill (and\n"
-      "                      --tile-output --no-trim), no preprocessing and no\n"
-      "                      --contours\n"
+      "                      bytes) as in memory, trimmed, filled and --dem\n"
+      "                      rasterized out of core; the tiled path takes no\n"
+      "                      preprocessing and no --contours (and --tile-output\n"
+      "                      needs --no-trim --no-fill)\n"
       "  --temp-dir DIR      folder for the tiled path's temporary files, removed at\n"
       "                      the end, on error and on Ctrl-C (default: the output's\n"
       "                      folder)\n"
@@ -830,15 +830,10 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
 {
   const std::string why = "the input (" + opt.input + ") does not fit --memory-limit " +
                           mib(opt.memory_limit) + " in memory";
-  const bool forced = opt.tile_level >= 0 || !opt.tile_output.empty();
-  if (!opt.no_fill)
+  if (!opt.tile_output.empty() && (!opt.no_trim || !opt.no_fill))
     return out.fail(EXIT_USAGE,
-                    (forced ? std::string("a tiled run") : why) +
-                        ": hole filling does not run tiled yet (trimming does): add "
-                        "--no-fill" +
-                        (forced ? "" : ", or raise --memory-limit"));
-  if (!opt.tile_output.empty() && !opt.no_trim)
-    return out.fail(EXIT_USAGE, "--tile-output writes untrimmed tiles: add --no-trim");
+                    "--tile-output writes the tiles untrimmed and unfilled: add "
+                    "--no-trim --no-fill");
   if (!opt.tile_output.empty()) {
     struct stat st {};
     if (::stat(opt.tile_output.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) ||
@@ -906,7 +901,8 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   write_options.force_double = opt.force_double;
   write_options.comment =
       std::string("pcl_vts pcd_to_mesh: ") +
-      (opt.no_trim ? "Delaunay triangulation of " : "surface mesh of ") + opt.input;
+      (opt.no_trim && opt.no_fill ? "Delaunay triangulation of " : "surface mesh of ") +
+      opt.input;
   if (!opt.gis.crs().empty()) // as the in-memory path writes it: the same bytes
     write_options.comment += "; crs: " + opt.gis.crsName();
 
@@ -948,7 +944,7 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
                               : "input unusable: " + s.toString());
   }
   out.done(1e3 * (report.seconds_scan + report.seconds_bucket + report.seconds_mesh +
-                  report.seconds_trim + report.seconds_write),
+                  report.seconds_trim + report.seconds_fill + report.seconds_write),
            std::to_string(report.triangles) + " triangles");
   for (const std::string& note : input.notes)
     out.line("  %s\n", note.c_str());
@@ -980,7 +976,15 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
         "left without triangles, %zu kept to stay manifold]\n",
         1e3 * report.seconds_trim, report.trim.triangles_removed,
         report.trim.vertices_lost, report.trim.kept_to_stay_manifold);
-  out.line("  fill         [off : --no-fill]\n");
+  if (opt.no_fill)
+    out.line("  fill         [off : --no-fill]\n");
+  else
+    out.line(
+        "  fill         [done, %.1f ms : %zu holes found, %zu filled, %zu left open "
+        "(larger than %.6g), %zu points inserted]\n",
+        1e3 * report.seconds_fill, report.fill.holes_found, report.fill.holes_filled,
+        report.fill.holes_left_open, report.fill.max_hole_area,
+        report.fill.points_inserted);
   out.line("  write        [done, %.1f ms : %s, %llu bytes]\n",
            1e3 * report.seconds_write,
            pcl_vts::meshFileFormatName(report.written.format),

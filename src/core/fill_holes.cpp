@@ -186,7 +186,8 @@ Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
   // A loop runs counter-clockwise around its piece's outside, clockwise inside a
   // hole; in a part of a mesh, loops through cut edges are neither.
   auto real = [&](const BoundaryLoop& loop) {
-    return part == nullptr || part->real_boundary(loop.halfedges.front());
+    return part == nullptr || std::all_of(loop.halfedges.begin(), loop.halfedges.end(),
+                                          part->real_boundary);
   };
   auto isHole = [&](const BoundaryLoop& loop) {
     return real(loop) && !(loop.twice_area > 0.0);

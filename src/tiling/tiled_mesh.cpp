@@ -8,6 +8,7 @@
 #include "tile_levels.h"
 #include "tile_results.h"
 #include "tile_triangulation.h"
+#include "tiled_fill.h"
 #include "tiled_trim.h"
 
 #include <pcl_vts/core/atomic_file.h>
@@ -55,6 +56,7 @@ struct Job {
   std::vector<std::uint32_t> occupied_tiles;
   std::vector<std::uint32_t> meshed_here; ///< indices into occupied_tiles
   TiledTrim trim;                         ///< rank 0's, when trimming
+  TiledFill fill;                         ///< rank 0's, when filling
 
   /// Where every vertex id lives.
   VertexOwners owners() const
@@ -320,6 +322,19 @@ Status trim(Job& job)
   return agree(job.comm, status);
 }
 
+/// 6''. Rank 0 fills the holes of the trimmed mesh (tiled_fill.h) on its threads.
+Status fill(Job& job)
+{
+  job.progress("filling", 0, 0);
+  Status status;
+  if (job.rank == 0)
+    status = fillTiledMesh(job.folder, job.owners(), job.frame,
+                           job.options.vts.reconstruction.fill_options, job.trim,
+                           job.workers, job.fill);
+  job.report.fill = job.fill.result;
+  return agree(job.comm, status);
+}
+
 /// 7. Rank 0 writes the mesh, atomically, from the result files in tile order.
 Status writeOutput(Job& job, const std::string& output,
                    const MeshWriteOptions& write_options)
@@ -335,12 +350,16 @@ Status writeOutput(Job& job, const std::string& output,
                                  " vertices, the block index counts " +
                                  std::to_string(job.report.vertices));
     const TrimmedMesh trimmed(mesh, job.trim.removed);
-    job.report.triangles = trimmed.triangleCount();
+    const FilledMesh filled(trimmed, job.fill);
+    const MeshSource& final_mesh = job.options.vts.reconstruction.fill
+                                       ? static_cast<const MeshSource&>(filled)
+                                       : trimmed;
+    job.report.triangles = final_mesh.triangleCount();
     if (status.ok())
-      status = writeMesh(output, trimmed, write_options, &job.report.written);
+      status = writeMesh(output, final_mesh, write_options, &job.report.written);
     if (status.ok() && job.options.after_write) {
       job.progress("writing products", 0, 0);
-      status = job.options.after_write(trimmed, job.folder);
+      status = job.options.after_write(final_mesh, job.folder);
     }
   }
   status = agree(job.comm, status);
@@ -370,14 +389,11 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   report = TiledMeshReport{};
   // Argument checks: the same answer on every rank, no agreement needed.
   const ReconstructionOptions& post = options.vts.reconstruction;
-  if (post.fill)
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "hole filling does not run tiled yet: turn it off (--no-fill) "
-                         "or raise the memory limit so the job runs in memory");
-  if (post.trim && !options.tile_output.empty())
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "per-tile meshes (--tile-output) are not trimmed yet: add "
-                         "--no-trim");
+  if ((post.trim || post.fill) && !options.tile_output.empty())
+    return Status::error(
+        StatusCode::INVALID_PARAMETER,
+        "per-tile meshes (--tile-output) are not trimmed or filled yet: "
+        "add --no-trim --no-fill");
   if (Status s = validateOptions(options.vts); !s.ok())
     return s;
   MeshFileFormat format;
@@ -431,11 +447,17 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     return status;
   report.seconds_mesh = watch.seconds();
 
-  if (options.vts.reconstruction.trim) {
+  if (post.trim) {
     watch.restart();
     if (!(status = trim(job)).ok())
       return status;
     report.seconds_trim = watch.seconds();
+  }
+  if (post.fill) {
+    watch.restart();
+    if (!(status = fill(job)).ok())
+      return status;
+    report.seconds_fill = watch.seconds();
   }
 
   watch.restart();

@@ -1,152 +1,32 @@
 // Trimming a tiled mesh, one sweep over the tiles per step (tiled_trim.h):
 //   send (each triangle to the tiles of its other corners) -> own spacing ->
 //   local spacing -> classify -> gather the fans of the oversized -> peel in memory.
+#include "tile_sweep.h"
 #include "tiled_trim.h"
 
 #include <pcl_vts/core/point_spacing.h>
 
 #include <algorithm>
-#include <atomic>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <fcntl.h>
 #include <map>
-#include <mutex>
-#include <thread>
-#include <type_traits>
-#include <unistd.h>
 
 namespace pcl_vts {
-namespace {
 
-Status ioFailure(const char* what, const std::string& path, int err)
+std::string positionsPath(const std::string& folder)
 {
-  std::string why = std::strerror(err);
-  if (err == ENOSPC || err == EDQUOT || err == EFBIG)
-    why += " (the temporary folder is full: choose another with --temp-dir)";
-  return Status::error(StatusCode::IO_ERROR,
-                       std::string("cannot ") + what + " '" + path + "': " + why);
+  return folder + "/post_xyz.bin";
 }
 
-/// Fixed-size records indexed by global vertex id, in one scratch file: each tile
-/// writes its range; neighbours in other tiles are read back one by one.
-class VertexRecords {
- public:
-  VertexRecords(const VertexRecords&) = delete;
-  VertexRecords& operator=(const VertexRecords&) = delete;
-  VertexRecords(std::string path, std::size_t doubles)
-      : path_(std::move(path))
-      , bytes_(doubles * sizeof(double))
-  {}
-  ~VertexRecords()
-  {
-    if (fd_ >= 0)
-      ::close(fd_);
-  }
-  Status create()
-  {
-    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-    return fd_ < 0 ? ioFailure("create", path_, errno) : Status::success();
-  }
-  Status write(std::uint64_t first, const std::vector<double>& values) const
-  {
-    return transfer(first, reinterpret_cast<const char*>(values.data()),
-                    values.size() * sizeof(double));
-  }
-  Status read(std::uint64_t first, std::size_t count, double* out) const
-  {
-    return transfer(first, reinterpret_cast<char*>(out), count * bytes_);
-  }
+std::string ownSpacingPath(const std::string& folder)
+{
+  return folder + "/post_own.bin";
+}
 
- private:
-  /// pwrite from const bytes, pread into the others, to the last byte.
-  template <typename Byte>
-  Status transfer(std::uint64_t first, Byte* bytes, std::size_t size) const
-  {
-    constexpr bool writing = std::is_const_v<Byte>;
-    const auto offset = static_cast<off_t>(first * bytes_);
-    for (std::size_t done = 0; done < size;) {
-      ssize_t n;
-      if constexpr (writing)
-        n = ::pwrite(fd_, bytes + done, size - done, offset + static_cast<off_t>(done));
-      else
-        n = ::pread(fd_, bytes + done, size - done, offset + static_cast<off_t>(done));
-      if (n < 0 && errno == EINTR)
-        continue;
-      if (n <= 0)
-        return writing ? ioFailure("write", path_, n < 0 ? errno : ENOSPC)
-                       : Status::error(StatusCode::IO_ERROR,
-                                       "cannot read back '" + path_ + "'");
-      done += static_cast<std::size_t>(n);
-    }
-    return Status::success();
-  }
-
-  std::string path_;
-  std::size_t bytes_;
-  int fd_ = -1;
-};
+namespace {
 
 std::string crossPath(const std::string& folder, std::size_t k)
 {
   return folder + "/trim_around_" + std::to_string(k) + ".bin";
-}
-
-Status appendTriangles(const std::string& path, const std::vector<std::uint32_t>& ids)
-{
-  std::FILE* file = std::fopen(path.c_str(), "ab");
-  if (file == nullptr)
-    return ioFailure("create", path, errno);
-  const bool ok =
-      std::fwrite(ids.data(), sizeof(std::uint32_t), ids.size(), file) == ids.size();
-  const int err = errno;
-  if (std::fclose(file) != 0 || !ok)
-    return ioFailure("write", path, ok ? errno : err);
-  return Status::success();
-}
-
-Status readTriangles(const std::string& path, std::vector<std::uint32_t>& ids)
-{
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr)
-    return errno == ENOENT ? Status::success() : ioFailure("open", path, errno);
-  std::uint32_t buffer[3 * 1024];
-  std::size_t n;
-  while ((n = std::fread(buffer, sizeof(std::uint32_t), 3 * 1024, file)) > 0)
-    ids.insert(ids.end(), buffer, buffer + n);
-  const bool failed = std::ferror(file) != 0 || ids.size() % 3 != 0;
-  std::fclose(file);
-  return failed ? Status::error(StatusCode::IO_ERROR, "cannot read back '" + path + "'")
-                : Status::success();
-}
-
-/// Runs visit(k) for every tile on `workers` threads; the first failure wins.
-template <typename Visit>
-Status forEachTile(std::size_t tiles, unsigned workers, const Visit& visit)
-{
-  std::atomic<std::size_t> next{0};
-  std::mutex mutex;
-  Status failure;
-  const auto work = [&]() {
-    for (std::size_t k; (k = next++) < tiles;) {
-      Status s = visit(k);
-      if (s.ok())
-        continue;
-      const std::lock_guard<std::mutex> lock(mutex);
-      if (failure.ok())
-        failure = s;
-      next = tiles;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned w = 1; w < std::min<std::size_t>(workers, tiles); ++w)
-    pool.emplace_back(work);
-  work();
-  for (std::thread& thread : pool)
-    thread.join();
-  return failure;
 }
 
 /// One tile's vertices and every triangle around them: those it owns and those
@@ -248,14 +128,10 @@ Status sendTriangles(const std::string& folder, const VertexOwners& owners,
 {
   TileMeshData data;
   std::map<std::size_t, std::vector<std::uint32_t>> outbox;
-  std::vector<double> xy;
   for (std::size_t k = 0; k + 1 < owners.first.size(); ++k) {
     if (Status s = readTileResult(resultPath(folder, owners.tiles[k]), data); !s.ok())
       return s;
-    xy.clear();
-    for (std::size_t v = 0; v < data.xyz.size(); v += 3)
-      xy.insert(xy.end(), {data.xyz[v], data.xyz[v + 1]});
-    if (Status s = positions.write(owners.first[k], xy); !s.ok())
+    if (Status s = positions.write(owners.first[k], data.xyz); !s.ok())
       return s;
     outbox.clear();
     for (std::size_t t = 0; t < data.triangles.size(); t += 3) {
@@ -295,7 +171,7 @@ Status measureSpacing(const std::string& folder, const VertexOwners& owners,
       TileAround tile;
       if (Status r = loadAround(folder, owners, k, tile); !r.ok())
         return r;
-      Lookup lookup(second ? own : positions, second ? 1 : 2);
+      Lookup lookup(second ? own : positions, second ? 1 : 3);
       if (Status r = lookup.load(tile, tile.ring); !r.ok())
         return r;
       const std::size_t n = static_cast<std::size_t>(tile.hi - tile.lo);
@@ -335,7 +211,7 @@ Status classify(const std::string& folder, const VertexOwners& owners, unsigned 
     if (Status r = readTileResult(resultPath(folder, owners.tiles[k]), tile.data);
         !r.ok())
       return r;
-    Lookup xy(positions, 2), spacing(local, 1);
+    Lookup xy(positions, 3), spacing(local, 1);
     if (Status r = xy.load(tile, tile.data.triangles); !r.ok())
       return r;
     if (Status r = spacing.load(tile, tile.data.triangles); !r.ok())
@@ -397,7 +273,7 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
   trim = TiledTrim{};
   if (Status s = validateTrimOptions(options); !s.ok())
     return s;
-  VertexRecords positions(folder + "/trim_xy.bin", 2), own(folder + "/trim_own.bin", 1),
+  VertexRecords positions(positionsPath(folder), 3), own(ownSpacingPath(folder), 1),
       local(folder + "/trim_local.bin", 1);
   for (VertexRecords* file : {&positions, &own, &local})
     if (Status s = file->create(); !s.ok())
@@ -438,10 +314,11 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
   mesh.xy.resize(ids.size());
   mesh.z.assign(ids.size(), 0.0);
   for (std::size_t i = 0; i < ids.size(); ++i) {
-    double p[2] = {0.0, 0.0};
+    double p[3] = {0.0, 0.0, 0.0};
     if (Status s = positions.read(ids[i], 1, p); !s.ok())
       return s;
     mesh.xy[i] = Point2{p[0], p[1]};
+    mesh.z[i] = p[2];
   }
   auto localId = [&](std::uint32_t id) {
     return static_cast<VertexId>(std::lower_bound(ids.begin(), ids.end(), id) -
@@ -473,6 +350,7 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
   // A corner of an oversized triangle has its whole fan here: lost if none is kept.
   for (const std::uint32_t v : corners)
     trim.result.vertices_lost += keeps[localId(v)] ? 0 : 1;
+  trim.corners = std::move(corners);
   return Status::success();
 }
 

@@ -27,8 +27,16 @@ using TriangleKey = std::array<std::uint32_t, 3>;
 
 struct TiledTrim {
   std::vector<TriangleKey> removed; ///< sorted
-  TrimResult result;                ///< spacing is left 0 (a global median)
+  /// Every corner of an oversized triangle, sorted: the removed triangles' corners
+  /// among them (hole rims are made of their edges).
+  std::vector<std::uint32_t> corners;
+  TrimResult result; ///< spacing is left 0 (a global median)
 };
+
+/// The scratch files trimTiledMesh leaves for hole filling: every vertex's x, y, z
+/// and its spacing (median edge, before the trim), indexed by id (tile_sweep.h).
+std::string positionsPath(const std::string& folder);
+std::string ownSpacingPath(const std::string& folder);
 
 /// Trims the mesh of the tile results in folder (scratch files go there too).
 /// `workers` tiles are handled at once.

@@ -40,10 +40,13 @@ compare() { # name, inputs...: 1, 2, 3 ranks against one process
 inputs=(in0.xyz in1.xyz in2.xyz in3.xyz in4.xyz)
 compare mixed "${inputs[@]}"
 compare grid grid0.xyz grid1.xyz
-# Trimmed across ranks (rank 0 trims from the tile results): the one-process trim.
+# Trimmed, then trimmed and filled across ranks (rank 0 runs the post-passes from the
+# tile results): the one-process bytes.
 post=(--no-fill)
 compare trimmed grid0.xyz grid1.xyz
-compare trimmed_mixed "${inputs[@]}"
+post=()
+compare surface grid0.xyz grid1.xyz
+compare surface_mixed "${inputs[@]}"
 post=(--no-trim --no-fill)
 # A LAZ file (../shared/data beside the project, when present): each rank decodes its
 # share of the chunks.

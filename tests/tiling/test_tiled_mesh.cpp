@@ -3,6 +3,7 @@
 // to tiny tiles; temporary files gone afterwards; bad conditions fail cleanly.
 #include "support/cgal_oracle.h"
 #include "support/generators.h"
+#include "support/synthetic_terrain.h"
 #include "support/temp_folder_test.h"
 
 #include <pcl_vts/tiling/tiled_mesh.h>
@@ -165,12 +166,17 @@ class TiledMeshTest : public TempFolderTest {
     Status s = runVtsPipeline(xyz.data(), xyz.size() / 3, vts, result);
     if (!s.ok())
       return s;
-    canonicalMesh(result.mesh, nullptr);
+    // As pcd_to_mesh writes it: filled meshes mark their inserted points.
+    std::vector<std::uint8_t>& inserted = result.reconstruction.fill.inserted;
+    const bool filled = vts.reconstruction.fill;
+    canonicalMesh(result.mesh, filled ? &inserted : nullptr);
     if (canonical != nullptr)
       *canonical = result.mesh;
     if (post != nullptr)
       *post = result.reconstruction;
-    return writeMesh(path, result.mesh, MeshWriteOptions{});
+    MeshWriteOptions options;
+    options.inserted = filled ? &inserted : nullptr;
+    return writeMesh(path, result.mesh, options);
   }
 
   Status writeTiled(const std::vector<double>& xyz, const std::string& path,
@@ -302,23 +308,35 @@ TEST_P(TiledEqualsInMemory, SameBytesForEveryThreadAndRankCount)
   }
 }
 
-// Trimming (no fill) across tiles: the same bytes and counts as the in-memory trim,
-// at the default factor and at an aggressive one (many pinches to repair), for tilings
-// down to tiny tiles and for ranks and threads.
-TEST_P(TiledEqualsInMemory, TrimmedSameBytesForEveryTilingRankAndThreadCount)
+// The post-passes across tiles: the same bytes and counts as in memory, for trimming
+// alone at the default factor and at an aggressive one (many pinches to repair), and
+// for trimming and filling (the default pipeline; a small largest-hole limit too), for
+// tilings down to tiny tiles and for ranks and threads.
+TEST_P(TiledEqualsInMemory, PostPassesSameBytesForEveryTilingRankAndThreadCount)
 {
-  const std::size_t n = GetParam() == Distribution::CIRCLE ? 300 : 5000;
+  const std::size_t n = GetParam() == Distribution::CIRCLE ? 300 : 3000;
   const std::vector<double> xyz = generatePoints(GetParam(), n, 13);
   const PointInputs inputs = fiveSources(xyz);
-  for (const double factor : {3.0, 1.4}) {
-    SCOPED_TRACE("trim factor " + std::to_string(factor));
+  struct Post {
+    double trim_factor;
+    bool fill;
+    double max_hole_area;
+  };
+  for (const Post& post :
+       {Post{3.0, false, 0.0}, Post{1.4, false, 0.0}, Post{3.0, true, 0.0},
+        Post{1.6, true, 0.0}, Post{1.6, true, 40.0}}) {
+    SCOPED_TRACE(
+        "trim factor " + std::to_string(post.trim_factor) +
+        (post.fill ? ", fill up to " + std::to_string(post.max_hole_area) : ""));
     VtsOptions vts;
     vts.reconstruction.trim = true;
-    vts.reconstruction.trim_options.trim_factor = factor;
+    vts.reconstruction.fill = post.fill;
+    vts.reconstruction.trim_options.trim_factor = post.trim_factor;
+    vts.reconstruction.fill_options.max_hole_area = post.max_hole_area;
     const std::string reference = (root_ / "memory.ply").string();
     TriangleMesh canonical;
-    ReconstructionDiagnostics post;
-    const Status memory = writeInMemory(xyz, reference, &canonical, vts, &post);
+    ReconstructionDiagnostics done;
+    const Status memory = writeInMemory(xyz, reference, &canonical, vts, &done);
     ASSERT_EQ(memory.ok(), GetParam() != Distribution::COLLINEAR) << memory.toString();
     if (!memory.ok())
       continue;
@@ -331,9 +349,13 @@ TEST_P(TiledEqualsInMemory, TrimmedSameBytesForEveryTilingRankAndThreadCount)
       const Status tiled = writeTiled(xyz, path, tile_level, block_level, report, vts);
       ASSERT_TRUE(tiled.ok()) << tiled.toString();
       EXPECT_EQ(report.triangles, canonical.triangleCount());
-      EXPECT_EQ(report.trim.triangles_removed, post.trim.triangles_removed);
-      EXPECT_EQ(report.trim.vertices_lost, post.trim.vertices_lost);
-      EXPECT_EQ(report.trim.kept_to_stay_manifold, post.trim.kept_to_stay_manifold);
+      EXPECT_EQ(report.trim.triangles_removed, done.trim.triangles_removed);
+      EXPECT_EQ(report.trim.vertices_lost, done.trim.vertices_lost);
+      EXPECT_EQ(report.trim.kept_to_stay_manifold, done.trim.kept_to_stay_manifold);
+      EXPECT_EQ(report.fill.holes_found, done.fill.holes_found);
+      EXPECT_EQ(report.fill.holes_filled, done.fill.holes_filled);
+      EXPECT_EQ(report.fill.points_inserted, done.fill.points_inserted);
+      EXPECT_EQ(report.fill.max_hole_area, done.fill.max_hole_area);
       EXPECT_TRUE(slurp(path) == expected)
           << "tiled file differs from the in-memory file";
       EXPECT_EQ(entriesIn(root_), 2u) << "temporary files left behind";
@@ -520,24 +542,47 @@ TEST_F(TiledMeshTest, NonFinitePointsAreDroppedAndCounted)
   EXPECT_EQ(report.vertices, 2998u);
 }
 
-TEST_F(TiledMeshTest, FillAndTrimmedTileMeshesAreRefusedNotSilentlySkipped)
+// The default pipeline on the synthetic terrain of docs/reconstruction.md (a notch,
+// voids filled and one left open): holes cross tile borders and corners at 16 and
+// 256 tiles, and the tiled run still writes the in-memory bytes.
+TEST_F(TiledMeshTest, DefaultPipelineFillsHolesAcrossTilesAsInMemory)
+{
+  const SyntheticTerrain terrain = makeSyntheticTerrain(5);
+  VtsOptions vts;
+  vts.reconstruction = ReconstructionOptions{};
+  const std::string reference = (root_ / "memory.ply").string();
+  ReconstructionDiagnostics done;
+  ASSERT_TRUE(writeInMemory(terrain.xyz, reference, nullptr, vts, &done).ok());
+  ASSERT_GE(done.fill.holes_filled, 3u);
+  ASSERT_GE(done.fill.holes_left_open, 1u);
+  for (const auto& [tile_level, block_level] :
+       std::vector<std::pair<int, int>>{{2, 5}, {4, 7}}) {
+    SCOPED_TRACE("tile level " + std::to_string(tile_level));
+    const std::string path = (root_ / "tiled.ply").string();
+    TiledMeshReport report;
+    ASSERT_TRUE(
+        writeTiled(terrain.xyz, path, tile_level, block_level, report, vts).ok());
+    EXPECT_EQ(report.fill.holes_filled, done.fill.holes_filled);
+    EXPECT_EQ(report.fill.points_inserted, done.fill.points_inserted);
+    EXPECT_TRUE(slurp(path) == slurp(reference)) << "differs from the in-memory file";
+  }
+}
+
+TEST_F(TiledMeshTest, PostPassesOnTileMeshesAreRefusedNotSilentlySkipped)
 {
   const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 1000, 1);
   TiledMeshOptions options;
   options.temp_parent = root_.string();
-  options.vts.reconstruction.fill = true;
-  TiledMeshReport report;
-  Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
-                          MeshWriteOptions{}, report);
-  EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER);
-  EXPECT_NE(s.message.find("--no-fill"), std::string::npos);
-  options.vts.reconstruction.fill = false;
-  options.vts.reconstruction.trim = true;
   options.tile_output = root_.string();
-  s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(), MeshWriteOptions{},
-                   report);
-  EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER);
-  EXPECT_NE(s.message.find("--no-trim"), std::string::npos);
+  TiledMeshReport report;
+  for (const bool trim : {false, true}) {
+    options.vts.reconstruction.trim = trim;
+    options.vts.reconstruction.fill = !trim;
+    const Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
+                                  MeshWriteOptions{}, report);
+    EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER);
+    EXPECT_NE(s.message.find("--no-trim --no-fill"), std::string::npos);
+  }
   EXPECT_EQ(entriesIn(root_), 0u);
 }
 

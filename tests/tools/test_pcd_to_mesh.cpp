@@ -1737,30 +1737,29 @@ TEST_F(PcdToMesh, TiledRunWritesTheInMemoryBytesAndLeavesNoTemporaryFile)
   EXPECT_EQ(workFiles().size(), names.size() + 4);
 }
 
-TEST_F(PcdToMesh, AJobAboveTheMemoryLimitRunsTiledOrSaysWhatItNeeds)
+TEST_F(PcdToMesh, AJobAboveTheMemoryLimitRunsTiledWithTheInMemoryBytes)
 {
   const std::vector<std::string> names =
       splitIntoXyzFiles(utmCloud(120000, 3), 2, work_);
-  const auto before = workFiles();
   // 120000 points need about 38 MB in memory: a 24M limit sends the job to the tiles.
-  expectFailure(run({names[0], names[1], "out.ply", "--memory-limit", "24M"}), 1,
-                "--no-fill", before);
   const CliResult tiled =
       runDelaunay({names[0], names[1], "tiled.ply", "--memory-limit", "24M"});
   ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
   EXPECT_NE(tiled.out.find("Meshing tiled"), std::string::npos) << tiled.out;
   ASSERT_EQ(runDelaunay({names[0], names[1], "memory.ply"}).exit_code, 0);
   EXPECT_TRUE(readText(work("tiled.ply")) == readText(work("memory.ply")));
-  // Trimmed (no fill): tiled too, the same bytes as the in-memory trim.
-  const CliResult trimmed =
-      run({names[0], names[1], "tiled_trim.ply", "--no-fill", "--memory-limit", "24M"});
-  ASSERT_EQ(trimmed.exit_code, 0) << trimmed.err;
-  EXPECT_NE(trimmed.out.find("Meshing tiled"), std::string::npos) << trimmed.out;
-  EXPECT_NE(trimmed.out.find("outward triangles removed"), std::string::npos)
-      << trimmed.out;
-  ASSERT_EQ(run({names[0], names[1], "memory_trim.ply", "--no-fill"}).exit_code, 0);
-  EXPECT_TRUE(readText(work("tiled_trim.ply")) == readText(work("memory_trim.ply")));
-  EXPECT_FALSE(readText(work("tiled_trim.ply")) == readText(work("tiled.ply")));
+  // The default pipeline (trim, fill): tiled too, the bytes of the in-memory run.
+  const CliResult surface =
+      run({names[0], names[1], "tiled_surface.ply", "--memory-limit", "24M"});
+  ASSERT_EQ(surface.exit_code, 0) << surface.err;
+  EXPECT_NE(surface.out.find("Meshing tiled"), std::string::npos) << surface.out;
+  EXPECT_NE(surface.out.find("outward triangles removed"), std::string::npos)
+      << surface.out;
+  EXPECT_NE(surface.out.find("holes found"), std::string::npos) << surface.out;
+  ASSERT_EQ(run({names[0], names[1], "memory_surface.ply"}).exit_code, 0);
+  EXPECT_TRUE(readText(work("tiled_surface.ply")) ==
+              readText(work("memory_surface.ply")));
+  EXPECT_FALSE(readText(work("tiled_surface.ply")) == readText(work("tiled.ply")));
 }
 
 TEST_F(PcdToMesh, TileOutputWritesOneMeshPerTileAndAnIndex)
@@ -1781,10 +1780,10 @@ TEST_F(PcdToMesh, TileOutputWritesOneMeshPerTileAndAnIndex)
   const auto before = workFiles();
   expectFailure(runDelaunay({names[0], "x.ply", "--tile-output", "missing"}), 4,
                 "missing", before);
-  expectFailure(run({names[0], "x.ply", "--tile-output", "tiles"}), 1, "--no-fill",
-                before);
+  expectFailure(run({names[0], "x.ply", "--tile-output", "tiles"}), 1,
+                "--no-trim --no-fill", before);
   expectFailure(run({names[0], "x.ply", "--tile-output", "tiles", "--no-fill"}), 1,
-                "--no-trim", before);
+                "--no-trim --no-fill", before);
 }
 
 TEST_F(PcdToMesh, TiledRunsOfTheSharedRealFilesWriteTheInMemoryBytes)
@@ -1793,7 +1792,7 @@ TEST_F(PcdToMesh, TiledRunsOfTheSharedRealFilesWriteTheInMemoryBytes)
     GTEST_SKIP() << "shared data not found at " << SHARED_DATA;
   // Real LiDAR (UTM and feet, a collinear scan pattern, classes) and DEMs (exact
   // grids with NODATA holes): the tiled triangulation at 16 and 256 tiles equals the
-  // in-memory one byte for byte, untrimmed and trimmed.
+  // in-memory one byte for byte: the triangulation, trimmed, trimmed and filled.
   for (const char* rel :
        {"las/pdal/autzen_trim.las", "las/from_laz/lidR_Topography.las",
         "las/pdal/4_6_crop.las", "las/liblas/certainty3d-color-utm-feet-navd88.las",
@@ -1801,10 +1800,11 @@ TEST_F(PcdToMesh, TiledRunsOfTheSharedRealFilesWriteTheInMemoryBytes)
         "dem/topotoolbox/exampleDEM_orkhon.asc", "dem/landlab/west_bijou_gully.asc"}) {
     SCOPED_TRACE(rel);
     const std::string path = SHARED_DATA + "/" + rel;
-    for (const bool trim : {false, true}) {
+    for (const int passes : {0, 1, 2}) { // none, trim, trim and fill
       const auto post = [&](std::vector<std::string> args) {
-        args.push_back("--no-fill");
-        if (!trim)
+        if (passes < 2)
+          args.push_back("--no-fill");
+        if (passes < 1)
           args.push_back("--no-trim");
         return run(args);
       };
@@ -1815,7 +1815,7 @@ TEST_F(PcdToMesh, TiledRunsOfTheSharedRealFilesWriteTheInMemoryBytes)
             post({path, "tiled.ply", "--tile-level", level, "--temp-dir", "."});
         ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
         EXPECT_TRUE(readText(work("tiled.ply")) == readText(work("memory.ply")))
-            << "tile level " << level << (trim ? ", trimmed" : "");
+            << "tile level " << level << ", post-passes " << passes;
       }
     }
   }

@@ -79,7 +79,9 @@ PCL_VTS_CORE_EXPORT Status fillHoles(TriangleMesh& mesh, const FillOptions& opti
 struct MeshPart {
   /// The whole mesh's median spacing (PointSpacing::global_median).
   double global_spacing = 0.0;
-  /// False for a twin-less halfedge that the part cut, not a boundary of the whole.
+  /// False for a twin-less halfedge that the part cut, not a boundary of the whole;
+  /// a loop counts when all its halfedges are real. (May also say false for real
+  /// boundaries that touch no hole, such as the outline far from any.)
   std::function<bool(HalfedgeId)> real_boundary;
 };
 

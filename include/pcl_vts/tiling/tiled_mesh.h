@@ -91,8 +91,9 @@ struct TiledMeshReport {
   std::uint64_t temp_bytes = 0;
   int tile_level = 0, block_level = 0;
   TrimResult trim; ///< when trimming (its spacing is left 0)
+  FillResult fill; ///< when filling (without per-vertex flags)
   double seconds_scan = 0, seconds_bucket = 0, seconds_mesh = 0, seconds_trim = 0,
-         seconds_write = 0;
+         seconds_fill = 0, seconds_write = 0;
   MeshWriteInfo written;
 };
 

@@ -1,0 +1,103 @@
+// See tile_sweep.h.
+#include "tile_sweep.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <type_traits>
+#include <unistd.h>
+
+namespace pcl_vts {
+
+Status sweepIoFailure(const char* what, const std::string& path, int err)
+{
+  std::string why = std::strerror(err);
+  if (err == ENOSPC || err == EDQUOT || err == EFBIG)
+    why += " (the temporary folder is full: choose another with --temp-dir)";
+  return Status::error(StatusCode::IO_ERROR,
+                       std::string("cannot ") + what + " '" + path + "': " + why);
+}
+
+VertexRecords::~VertexRecords()
+{
+  if (fd_ >= 0)
+    ::close(fd_);
+}
+
+Status VertexRecords::create()
+{
+  fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  return fd_ < 0 ? sweepIoFailure("create", path_, errno) : Status::success();
+}
+
+Status VertexRecords::open()
+{
+  fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+  return fd_ < 0 ? sweepIoFailure("open", path_, errno) : Status::success();
+}
+
+Status VertexRecords::write(std::uint64_t first,
+                            const std::vector<double>& values) const
+{
+  return transfer(first, reinterpret_cast<const char*>(values.data()),
+                  values.size() * sizeof(double));
+}
+
+Status VertexRecords::read(std::uint64_t first, std::size_t count, double* out) const
+{
+  return transfer(first, reinterpret_cast<char*>(out), count * bytes_);
+}
+
+/// pwrite from const bytes, pread into the others, to the last byte.
+template <typename Byte>
+Status VertexRecords::transfer(std::uint64_t first, Byte* bytes, std::size_t size) const
+{
+  constexpr bool writing = std::is_const_v<Byte>;
+  const auto offset = static_cast<off_t>(first * bytes_);
+  for (std::size_t done = 0; done < size;) {
+    ssize_t n;
+    if constexpr (writing)
+      n = ::pwrite(fd_, bytes + done, size - done, offset + static_cast<off_t>(done));
+    else
+      n = ::pread(fd_, bytes + done, size - done, offset + static_cast<off_t>(done));
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n <= 0)
+      return writing ? sweepIoFailure("write", path_, n < 0 ? errno : ENOSPC)
+                     : Status::error(StatusCode::IO_ERROR,
+                                     "cannot read back '" + path_ + "'");
+    done += static_cast<std::size_t>(n);
+  }
+  return Status::success();
+}
+
+Status appendTriangles(const std::string& path, const std::vector<std::uint32_t>& ids)
+{
+  std::FILE* file = std::fopen(path.c_str(), "ab");
+  if (file == nullptr)
+    return sweepIoFailure("create", path, errno);
+  const bool ok =
+      std::fwrite(ids.data(), sizeof(std::uint32_t), ids.size(), file) == ids.size();
+  const int err = errno;
+  if (std::fclose(file) != 0 || !ok)
+    return sweepIoFailure("write", path, ok ? errno : err);
+  return Status::success();
+}
+
+Status readTriangles(const std::string& path, std::vector<std::uint32_t>& ids)
+{
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr)
+    return errno == ENOENT ? Status::success() : sweepIoFailure("open", path, errno);
+  std::uint32_t buffer[3 * 1024];
+  std::size_t n;
+  while ((n = std::fread(buffer, sizeof(std::uint32_t), 3 * 1024, file)) > 0)
+    ids.insert(ids.end(), buffer, buffer + n);
+  const bool failed = std::ferror(file) != 0 || ids.size() % 3 != 0;
+  std::fclose(file);
+  return failed ? Status::error(StatusCode::IO_ERROR, "cannot read back '" + path + "'")
+                : Status::success();
+}
+
+} // namespace pcl_vts
