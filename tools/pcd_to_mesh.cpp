@@ -960,7 +960,8 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
       "  triangulate  [done, %.1f ms : %llu triangles, %.2f points loaded per point, "
       "largest tile %llu points, %.2f rounds per tile (at most %u)]\n",
       1e3 * report.seconds_mesh,
-      static_cast<unsigned long long>(report.triangles + report.trim.triangles_removed),
+      static_cast<unsigned long long>(report.triangles + report.trim.triangles_removed -
+                                      report.fill.triangles_added),
       static_cast<double>(report.points_loaded) /
           static_cast<double>(
               std::max<std::uint64_t>(1, report.points - report.non_finite_dropped)),

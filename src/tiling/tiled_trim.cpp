@@ -52,27 +52,34 @@ Status loadAround(const std::string& folder, const VertexOwners& owners, std::si
   if (Status s = readTriangles(crossPath(folder, k), tile.around); !s.ok())
     return s;
   // The rings: both other corners of every triangle around a vertex, once each.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  // Counted into rows first, then each short row sorted: no sort of the whole tile.
+  const std::size_t n = static_cast<std::size_t>(tile.hi - tile.lo);
+  std::vector<std::size_t> row(n + 1, 0);
+  for (const std::uint32_t v : tile.around)
+    if (v >= tile.lo && v < tile.hi)
+      row[v - tile.lo + 1] += 2;
+  for (std::size_t i = 0; i < n; ++i)
+    row[i + 1] += row[i];
+  std::vector<std::uint32_t> all(row[n]);
+  std::vector<std::size_t> fill(row.begin(), row.end() - 1);
   for (std::size_t t = 0; t < tile.around.size(); t += 3)
-    for (int j = 0; j < 3; ++j) {
+    for (std::size_t j = 0; j < 3; ++j) {
       const std::uint32_t v = tile.around[t + j];
       if (v < tile.lo || v >= tile.hi)
         continue;
-      const auto i = static_cast<std::uint32_t>(v - tile.lo);
-      pairs.emplace_back(i, tile.around[t + (j + 1) % 3]);
-      pairs.emplace_back(i, tile.around[t + (j + 2) % 3]);
+      std::size_t& at = fill[v - tile.lo];
+      all[at++] = tile.around[t + (j + 1) % 3];
+      all[at++] = tile.around[t + (j + 2) % 3];
     }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  const std::size_t n = static_cast<std::size_t>(tile.hi - tile.lo);
   tile.start.assign(n + 1, 0);
   tile.ring.clear();
-  for (const auto& [i, w] : pairs) {
-    ++tile.start[i + 1];
-    tile.ring.push_back(w);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto first = all.begin() + static_cast<std::ptrdiff_t>(row[i]);
+    const auto last = all.begin() + static_cast<std::ptrdiff_t>(row[i + 1]);
+    std::sort(first, last);
+    tile.ring.insert(tile.ring.end(), first, std::unique(first, last));
+    tile.start[i + 1] = tile.ring.size();
   }
-  for (std::size_t i = 0; i < n; ++i)
-    tile.start[i + 1] += tile.start[i];
   return Status::success();
 }
 

@@ -1756,9 +1756,20 @@ TEST_F(PcdToMesh, AJobAboveTheMemoryLimitRunsTiledWithTheInMemoryBytes)
   EXPECT_NE(surface.out.find("outward triangles removed"), std::string::npos)
       << surface.out;
   EXPECT_NE(surface.out.find("holes found"), std::string::npos) << surface.out;
-  ASSERT_EQ(run({names[0], names[1], "memory_surface.ply"}).exit_code, 0);
+  const CliResult memory_surface = run({names[0], names[1], "memory_surface.ply"});
+  ASSERT_EQ(memory_surface.exit_code, 0);
   EXPECT_TRUE(readText(work("tiled_surface.ply")) ==
               readText(work("memory_surface.ply")));
+  // The same counts in both summaries: the triangulation's, then the post-passes'.
+  const auto counted = [](const std::string& out, const std::string& phase) {
+    const std::size_t at = out.find("  " + phase + " ");
+    const std::size_t colon = out.find(" : ", at);
+    return at == std::string::npos || colon == std::string::npos
+               ? std::string("none")
+               : out.substr(colon + 3, out.find_first_of(",]", colon) - colon - 3);
+  };
+  for (const std::string phase : {"triangulate", "trim", "fill"})
+    EXPECT_EQ(counted(surface.out, phase), counted(memory_surface.out, phase)) << phase;
   EXPECT_FALSE(readText(work("tiled_surface.ply")) == readText(work("tiled.ply")));
 }
 
