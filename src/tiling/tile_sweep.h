@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -48,10 +49,34 @@ Status appendTriangles(const std::string& path, const std::vector<std::uint32_t>
 /// Appends the triangles of a file (none when it does not exist) to ids.
 Status readTriangles(const std::string& path, std::vector<std::uint32_t>& ids);
 
+/// The tiles visited by a pass, over all its sweeps, for the progress line.
+class SweepProgress {
+ public:
+  using Report = std::function<void(std::uint64_t done, std::uint64_t total)>;
+  SweepProgress(Report report, std::uint64_t total)
+      : report_(std::move(report))
+      , total_(total)
+  {}
+  /// One more tile done (any thread).
+  void tileDone()
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    ++done_;
+    if (report_)
+      report_(done_, total_);
+  }
+
+ private:
+  Report report_;
+  std::uint64_t total_, done_ = 0;
+  std::mutex mutex_;
+};
+
 /// Runs visit(k) for k in [0, tiles) on `workers` threads; the first failure wins and
-/// stops the others at their next tile.
+/// stops the others at their next tile. Each tile done is told to `progress`.
 template <typename Visit>
-Status forEachTile(std::size_t tiles, unsigned workers, const Visit& visit)
+Status forEachTile(std::size_t tiles, unsigned workers, SweepProgress& progress,
+                   const Visit& visit)
 {
   std::atomic<std::size_t> next{0};
   std::mutex mutex;
@@ -59,8 +84,10 @@ Status forEachTile(std::size_t tiles, unsigned workers, const Visit& visit)
   const auto work = [&]() {
     for (std::size_t k; (k = next++) < tiles;) {
       Status s = visit(k);
-      if (s.ok())
+      if (s.ok()) {
+        progress.tileDone();
         continue;
+      }
       const std::lock_guard<std::mutex> lock(mutex);
       if (failure.ok())
         failure = s;

@@ -39,10 +39,10 @@ void sortUnique(std::vector<std::uint32_t>& ids)
 Status trianglesTouching(const std::string& folder, const VertexOwners& owners,
                          unsigned workers, const std::vector<std::uint32_t>& region,
                          const std::vector<TriangleKey>* removed,
-                         std::vector<TriangleKey>& found)
+                         SweepProgress& progress, std::vector<TriangleKey>& found)
 {
   std::vector<std::vector<TriangleKey>> per_tile(owners.tiles.size());
-  Status s = forEachTile(owners.tiles.size(), workers, [&](std::size_t k) {
+  Status s = forEachTile(owners.tiles.size(), workers, progress, [&](std::size_t k) {
     TileMeshData data;
     if (Status r = readTileResult(resultPath(folder, owners.tiles[k]), data); !r.ok())
       return r;
@@ -159,7 +159,9 @@ Status selectMedian(const VertexRecords& own, std::uint64_t count,
 
 Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
                      const TileFrame& frame, const FillOptions& options,
-                     const TiledTrim& trim, unsigned workers, TiledFill& fill)
+                     const TiledTrim& trim, unsigned workers,
+                     const std::function<void(std::uint64_t, std::uint64_t)>& report,
+                     TiledFill& fill)
 {
   fill = TiledFill{};
   if (Status s = validateFillOptions(options); !s.ok())
@@ -176,18 +178,19 @@ Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
   sortUnique(rims);
   std::vector<std::uint32_t> region = rims;
   std::vector<TriangleKey> triangles;
-  for (std::size_t ring = 0; ring < std::max<std::size_t>(1, options.rim_rings);
-       ++ring) {
-    if (Status s =
-            trianglesTouching(folder, owners, workers, region, nullptr, triangles);
+  const std::size_t rings = std::max<std::size_t>(1, options.rim_rings);
+  SweepProgress progress(report, (rings + 1) * owners.tiles.size());
+  for (std::size_t ring = 0; ring < rings; ++ring) {
+    if (Status s = trianglesTouching(folder, owners, workers, region, nullptr, progress,
+                                     triangles);
         !s.ok())
       return s;
     for (const TriangleKey& key : triangles)
       region.insert(region.end(), key.begin(), key.end());
     sortUnique(region);
   }
-  if (Status s =
-          trianglesTouching(folder, owners, workers, region, &trim.removed, triangles);
+  if (Status s = trianglesTouching(folder, owners, workers, region, &trim.removed,
+                                   progress, triangles);
       !s.ok())
     return s;
   std::vector<std::uint32_t> ids;

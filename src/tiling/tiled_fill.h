@@ -34,9 +34,12 @@ struct TiledFill {
 
 /// Fills the holes of the trimmed tile results in folder (after trimTiledMesh, whose
 /// scratch files it reads).
+/// `report` (may be empty) hears of each tile visited, over all the sweeps.
 Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
                      const TileFrame& frame, const FillOptions& options,
-                     const TiledTrim& trim, unsigned workers, TiledFill& fill);
+                     const TiledTrim& trim, unsigned workers,
+                     const std::function<void(std::uint64_t, std::uint64_t)>& report,
+                     TiledFill& fill);
 
 /// A streamed mesh with the inserted points and patches of a fill merged in.
 class FilledMesh : public MeshSource {

@@ -315,9 +315,13 @@ Status trim(Job& job)
   job.progress("trimming", 0, 0);
   Status status;
   if (job.rank == 0)
-    status = trimTiledMesh(job.folder, job.owners(),
-                           job.options.vts.reconstruction.trim_options, job.workers,
-                           job.trim);
+    status = trimTiledMesh(
+        job.folder, job.owners(), job.options.vts.reconstruction.trim_options,
+        job.workers,
+        [&](std::uint64_t done, std::uint64_t total) {
+          job.progress("trimming", done, total);
+        },
+        job.trim);
   job.report.trim = job.trim.result;
   return agree(job.comm, status);
 }
@@ -328,9 +332,13 @@ Status fill(Job& job)
   job.progress("filling", 0, 0);
   Status status;
   if (job.rank == 0)
-    status = fillTiledMesh(job.folder, job.owners(), job.frame,
-                           job.options.vts.reconstruction.fill_options, job.trim,
-                           job.workers, job.fill);
+    status = fillTiledMesh(
+        job.folder, job.owners(), job.frame,
+        job.options.vts.reconstruction.fill_options, job.trim, job.workers,
+        [&](std::uint64_t done, std::uint64_t total) {
+          job.progress("filling", done, total);
+        },
+        job.fill);
   job.report.fill = job.fill.result;
   return agree(job.comm, status);
 }

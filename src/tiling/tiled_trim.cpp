@@ -131,7 +131,7 @@ class Lookup {
 /// Step 1: positions by id, and every triangle sent to the tiles of its corners
 /// that do not own it.
 Status sendTriangles(const std::string& folder, const VertexOwners& owners,
-                     const VertexRecords& positions)
+                     const VertexRecords& positions, SweepProgress& progress)
 {
   TileMeshData data;
   std::map<std::size_t, std::vector<std::uint32_t>> outbox;
@@ -156,6 +156,7 @@ Status sendTriangles(const std::string& folder, const VertexOwners& owners,
     for (const auto& [u, ids] : outbox)
       if (Status s = appendTriangles(crossPath(folder, u), ids); !s.ok())
         return s;
+    progress.tileDone();
   }
   return Status::success();
 }
@@ -170,11 +171,12 @@ double distance(const double* p, const double* q)
 /// own and its neighbours' (local), as measurePointSpacing.
 Status measureSpacing(const std::string& folder, const VertexOwners& owners,
                       unsigned workers, const VertexRecords& positions,
-                      const VertexRecords& own, const VertexRecords& local)
+                      const VertexRecords& own, const VertexRecords& local,
+                      SweepProgress& progress)
 {
   const std::size_t tiles = owners.tiles.size();
   for (const bool second : {false, true}) {
-    Status s = forEachTile(tiles, workers, [&](std::size_t k) {
+    Status s = forEachTile(tiles, workers, progress, [&](std::size_t k) {
       TileAround tile;
       if (Status r = loadAround(folder, owners, k, tile); !r.ok())
         return r;
@@ -206,12 +208,12 @@ Status measureSpacing(const std::string& folder, const VertexOwners& owners,
 /// Step 4: the oversized triangles of every tile, with their flags, in tile order.
 Status classify(const std::string& folder, const VertexOwners& owners, unsigned workers,
                 const TrimOptions& options, const VertexRecords& positions,
-                const VertexRecords& local, std::vector<TriangleKey>& oversized,
-                std::vector<std::uint8_t>& flags)
+                const VertexRecords& local, SweepProgress& progress,
+                std::vector<TriangleKey>& oversized, std::vector<std::uint8_t>& flags)
 {
   const std::size_t tiles = owners.tiles.size();
   std::vector<std::vector<std::pair<TriangleKey, std::uint8_t>>> found(tiles);
-  Status s = forEachTile(tiles, workers, [&](std::size_t k) {
+  Status s = forEachTile(tiles, workers, progress, [&](std::size_t k) {
     TileAround tile;
     tile.lo = owners.first[k];
     tile.hi = owners.first[k + 1];
@@ -249,11 +251,11 @@ Status classify(const std::string& folder, const VertexOwners& owners, unsigned 
 /// Step 5: every triangle with a corner in `corners` (sorted), in tile order.
 Status gatherFans(const std::string& folder, const VertexOwners& owners,
                   unsigned workers, const std::vector<std::uint32_t>& corners,
-                  std::vector<TriangleKey>& fans)
+                  SweepProgress& progress, std::vector<TriangleKey>& fans)
 {
   const std::size_t tiles = owners.tiles.size();
   std::vector<std::vector<TriangleKey>> found(tiles);
-  Status s = forEachTile(tiles, workers, [&](std::size_t k) {
+  Status s = forEachTile(tiles, workers, progress, [&](std::size_t k) {
     TileMeshData data;
     if (Status r = readTileResult(resultPath(folder, owners.tiles[k]), data); !r.ok())
       return r;
@@ -275,25 +277,29 @@ Status gatherFans(const std::string& folder, const VertexOwners& owners,
 } // namespace
 
 Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
-                     const TrimOptions& options, unsigned workers, TiledTrim& trim)
+                     const TrimOptions& options, unsigned workers,
+                     const SweepProgress::Report& report, TiledTrim& trim)
 {
   trim = TiledTrim{};
   if (Status s = validateTrimOptions(options); !s.ok())
     return s;
   VertexRecords positions(positionsPath(folder), 3), own(ownSpacingPath(folder), 1),
-      local(folder + "/trim_local.bin", 1);
+      local(folder + "/post_local.bin", 1);
   for (VertexRecords* file : {&positions, &own, &local})
     if (Status s = file->create(); !s.ok())
       return s;
-  if (Status s = sendTriangles(folder, owners, positions); !s.ok())
+  // Five sweeps: send, two spacings, classify, gather.
+  SweepProgress progress(report, 5 * owners.tiles.size());
+  if (Status s = sendTriangles(folder, owners, positions, progress); !s.ok())
     return s;
-  if (Status s = measureSpacing(folder, owners, workers, positions, own, local);
+  if (Status s =
+          measureSpacing(folder, owners, workers, positions, own, local, progress);
       !s.ok())
     return s;
   std::vector<TriangleKey> oversized;
   std::vector<std::uint8_t> oversized_flags;
-  if (Status s = classify(folder, owners, workers, options, positions, local, oversized,
-                          oversized_flags);
+  if (Status s = classify(folder, owners, workers, options, positions, local, progress,
+                          oversized, oversized_flags);
       !s.ok())
     return s;
   if (oversized.empty())
@@ -310,7 +316,7 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
   std::sort(corners.begin(), corners.end());
   corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
   std::vector<TriangleKey> fans;
-  if (Status s = gatherFans(folder, owners, workers, corners, fans); !s.ok())
+  if (Status s = gatherFans(folder, owners, workers, corners, progress, fans); !s.ok())
     return s;
   std::vector<std::uint32_t> ids;
   for (const TriangleKey& key : fans)

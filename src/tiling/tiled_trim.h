@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,8 +41,11 @@ std::string ownSpacingPath(const std::string& folder);
 
 /// Trims the mesh of the tile results in folder (scratch files go there too).
 /// `workers` tiles are handled at once.
+/// `report` (may be empty) hears of each tile visited, over all the sweeps.
 Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
-                     const TrimOptions& options, unsigned workers, TiledTrim& trim);
+                     const TrimOptions& options, unsigned workers,
+                     const std::function<void(std::uint64_t, std::uint64_t)>& report,
+                     TiledTrim& trim);
 
 /// A mesh less some of its triangles, streamed.
 class TrimmedMesh : public MeshSource {
