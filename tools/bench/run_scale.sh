@@ -3,9 +3,12 @@
 # in memory where it fits and tiled under --memory-limit, with wall time, points per
 # minute, peak RSS and temporary disk, and a byte comparison of the two meshes.
 # Usage: run_scale.sh BUILD_DIR WORK_DIR LIMIT N...   (e.g. build /tmp/scale 2G 10000000)
+# POST: the post-pass options (default "--no-trim --no-fill", the triangulation alone;
+# POST="" runs the default pipeline, trim and fill).
 # Disk: about 28 B/point of LAS input, 24 B/point of temporary files, 60 B/point of mesh.
 set -euo pipefail
 build=$1 work=$2 limit=$3
+read -r -a post <<< "${POST---no-trim --no-fill}"
 shift 3
 mkdir -p "$work"
 echo "| points | path | wall (s) | Mpoints/min | peak RSS (MiB) | temp (MiB) | same bytes |"
@@ -20,7 +23,7 @@ for n in "$@"; do
     local label=$1 out=$2
     shift 2
     /usr/bin/time -f "%e %M" -o "$work/time.txt" "$build/pcd_to_mesh" "$data" "$out" \
-      --classes 2 --no-trim --no-fill --temp-dir "$work" "$@" > "$work/log.txt" 2>&1 || {
+      --classes 2 "${post[@]}" --temp-dir "$work" "$@" > "$work/log.txt" 2>&1 || {
       echo "| $n | $label | failed: $(tail -1 "$work/log.txt") |"
       return 1
     }
