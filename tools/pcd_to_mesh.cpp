@@ -184,8 +184,7 @@ void printHelp()
       "                      triangle is proven, the same mesh (and the same file\n"
       "                      bytes) as in memory, trimmed, filled and --dem\n"
       "                      rasterized out of core; the tiled path takes no\n"
-      "                      preprocessing and no --contours (and --tile-output\n"
-      "                      needs --no-trim --no-fill)\n"
+      "                      preprocessing and no --contours\n"
       "  --temp-dir DIR      folder for the tiled path's temporary files, removed at\n"
       "                      the end, on error and on Ctrl-C (default: the output's\n"
       "                      folder)\n"
@@ -830,10 +829,6 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
 {
   const std::string why = "the input (" + opt.input + ") does not fit --memory-limit " +
                           mib(opt.memory_limit) + " in memory";
-  if (!opt.tile_output.empty() && (!opt.no_trim || !opt.no_fill))
-    return out.fail(EXIT_USAGE,
-                    "--tile-output writes the tiles untrimmed and unfilled: add "
-                    "--no-trim --no-fill");
   if (!opt.tile_output.empty()) {
     struct stat st {};
     if (::stat(opt.tile_output.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) ||

@@ -179,31 +179,117 @@ std::size_t VertexOwners::tileOf(std::uint64_t id) const
          1;
 }
 
+namespace {
+
+/// The final ids of a run with inserted points: input ids shifted by the points
+/// inserted before them (tiled_fill.h), and back.
+struct FinalIds {
+  const TileMeshEdits* edits;
+  std::uint64_t finalOf(std::uint64_t input) const
+  {
+    if (edits == nullptr || edits->inputs_before == nullptr)
+      return input;
+    const std::vector<std::uint64_t>& before = *edits->inputs_before;
+    return input +
+           static_cast<std::uint64_t>(
+               std::upper_bound(before.begin(), before.end(), input) - before.begin());
+  }
+  /// The inserted point with final id f (its index), or SIZE_MAX for an input.
+  std::size_t insertedAt(std::uint64_t f) const
+  {
+    if (edits == nullptr || edits->inputs_before == nullptr)
+      return SIZE_MAX;
+    const std::vector<std::uint64_t>& before = *edits->inputs_before;
+    // Inserted j has final id before[j] + j, increasing in j.
+    std::size_t low = 0, high = before.size();
+    while (low < high) {
+      const std::size_t mid = (low + high) / 2;
+      if (before[mid] + mid < f)
+        low = mid + 1;
+      else
+        high = mid;
+    }
+    return low < before.size() && before[low] + low == f ? low : SIZE_MAX;
+  }
+  /// The input id of a final id that is not inserted.
+  std::uint64_t inputOf(std::uint64_t f) const
+  {
+    if (edits == nullptr || edits->inputs_before == nullptr)
+      return f;
+    const std::vector<std::uint64_t>& before = *edits->inputs_before;
+    std::size_t low = 0, high = before.size(); // inserted points with final ids < f
+    while (low < high) {
+      const std::size_t mid = (low + high) / 2;
+      if (before[mid] + mid < f)
+        low = mid + 1;
+      else
+        high = mid;
+    }
+    return f - low;
+  }
+};
+
+} // namespace
+
 /// Writes tile k's mesh (its owned triangles, every vertex they use and its own
 /// vertices, ids renumbered in global order) and returns its index line.
 Status writeTileMesh(const std::string& folder, const std::string& out_folder,
                      const TileFrame& frame, int tile_level, const VertexOwners& owners,
-                     std::size_t k, std::string& index_line)
+                     const TileMeshEdits* edits, std::size_t k, std::string& index_line)
 {
   const std::uint32_t tile = owners.tiles[k];
   TileMeshData own;
   if (Status s = readTileResult(resultPath(folder, tile), own); !s.ok())
     return s;
+  const FinalIds final_ids{edits};
+  const std::size_t tiles = owners.tiles.size();
+  const std::uint64_t inserted_count =
+      edits != nullptr && edits->inserted != nullptr ? edits->inserted->size() : 0;
+  const std::uint64_t lo = k == 0 ? 0 : final_ids.finalOf(owners.first[k]);
+  const std::uint64_t hi = k + 1 == tiles ? owners.first[tiles] + inserted_count
+                                          : final_ids.finalOf(owners.first[k + 1]);
+  // Its triangles, in final ids: those it owns less the trimmed ones, and the hole
+  // patches' whose smallest vertex is its own.
+  std::vector<TriangleKey> triangles;
+  for (std::size_t t = 0; t < own.triangles.size(); t += 3) {
+    const TriangleKey key{own.triangles[t], own.triangles[t + 1], own.triangles[t + 2]};
+    if (edits != nullptr && edits->removed != nullptr &&
+        std::binary_search(edits->removed->begin(), edits->removed->end(), key))
+      continue;
+    triangles.push_back({static_cast<std::uint32_t>(final_ids.finalOf(key[0])),
+                         static_cast<std::uint32_t>(final_ids.finalOf(key[1])),
+                         static_cast<std::uint32_t>(final_ids.finalOf(key[2]))});
+  }
+  if (edits != nullptr && edits->added != nullptr)
+    for (const TriangleKey& key : *edits->added)
+      if (key[0] >= lo && key[0] < hi)
+        triangles.push_back(key);
+  std::sort(triangles.begin(), triangles.end());
   std::vector<std::uint64_t> ids;
-  for (std::uint64_t v = owners.first[k]; v < owners.first[k + 1]; ++v)
+  for (std::uint64_t v = lo; v < hi; ++v)
     ids.push_back(v);
-  for (std::uint32_t v : own.triangles)
-    if (v < owners.first[k] || v >= owners.first[k + 1])
-      ids.push_back(v);
+  for (const TriangleKey& key : triangles)
+    for (std::uint32_t v : key)
+      if (v < lo || v >= hi)
+        ids.push_back(v);
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   TriangleMesh mesh;
   mesh.xy.resize(ids.size());
   mesh.z.resize(ids.size());
+  std::vector<std::uint8_t> flags(ids.size(), 0);
   std::size_t neighbour = SIZE_MAX;
   TileMeshData other;
   for (std::size_t i = 0; i < ids.size(); ++i) {
-    const std::size_t owner = owners.tileOf(ids[i]);
+    if (const std::size_t j = final_ids.insertedAt(ids[i]); j != SIZE_MAX) {
+      const std::array<double, 3>& p = (*edits->inserted)[j];
+      mesh.xy[i] = {p[0], p[1]};
+      mesh.z[i] = p[2];
+      flags[i] = 1;
+      continue;
+    }
+    const std::uint64_t input = final_ids.inputOf(ids[i]);
+    const std::size_t owner = owners.tileOf(input);
     const TileMeshData* data = &own;
     if (owner != k) {
       if (owner != neighbour) {
@@ -214,21 +300,26 @@ Status writeTileMesh(const std::string& folder, const std::string& out_folder,
       }
       data = &other;
     }
-    const std::size_t at = 3 * static_cast<std::size_t>(ids[i] - owners.first[owner]);
+    const std::size_t at = 3 * static_cast<std::size_t>(input - owners.first[owner]);
     mesh.xy[i] = {data->xyz[at], data->xyz[at + 1]};
     mesh.z[i] = data->xyz[at + 2];
   }
-  mesh.triangles.reserve(own.triangles.size());
-  for (std::uint32_t v : own.triangles)
-    mesh.triangles.push_back(static_cast<VertexId>(
-        std::lower_bound(ids.begin(), ids.end(), std::uint64_t{v}) - ids.begin()));
+  mesh.triangles.reserve(3 * triangles.size());
+  for (const TriangleKey& key : triangles)
+    for (std::uint32_t v : key)
+      mesh.triangles.push_back(static_cast<VertexId>(
+          std::lower_bound(ids.begin(), ids.end(), std::uint64_t{v}) - ids.begin()));
   const std::uint32_t column = gatherBits(tile), row = gatherBits(tile >> 1);
   const std::string name =
       "tile_" + std::to_string(column) + "_" + std::to_string(row) + ".ply";
   MeshWriteOptions options;
-  options.comment = "pcl_vts tile " + std::to_string(column) + " " +
-                    std::to_string(row) + " of level " + std::to_string(tile_level) +
-                    ": its triangles of the global Delaunay triangulation";
+  options.comment =
+      "pcl_vts tile " + std::to_string(column) + " " + std::to_string(row) +
+      " of level " + std::to_string(tile_level) +
+      (edits == nullptr ? ": its triangles of the global Delaunay triangulation"
+                        : ": its triangles of the global surface mesh");
+  if (edits != nullptr && edits->inserted != nullptr)
+    options.inserted = &flags; // hole filling ran: its points are marked
   if (Status s = writeMesh(out_folder + "/" + name, mesh, options); !s.ok())
     return s;
   const double cell = frame.side / static_cast<double>(1u << tile_level);

@@ -8,6 +8,7 @@
 #include <pcl_vts/io/mesh_writer.h>
 #include <pcl_vts/tiling/tile_frame.h>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -61,12 +62,28 @@ struct VertexOwners {
   std::size_t tileOf(std::uint64_t id) const;
 };
 
+/// A triangle as the tile results store it: global ids, smallest first.
+using TriangleKey = std::array<std::uint32_t, 3>;
+
+/// What the post-passes changed (tiled_trim.h, tiled_fill.h), as the tile meshes need
+/// it; null members: nothing of that kind. With inserted points the ids are final ids
+/// (the inserted points placed in the canonical order), and tile k owns the final ids
+/// from its first input vertex's to the next tile's: the points inserted between two
+/// tiles' inputs go to the first.
+struct TileMeshEdits {
+  const std::vector<TriangleKey>* removed = nullptr;         ///< input ids, sorted
+  const std::vector<std::uint64_t>* inputs_before = nullptr; ///< per inserted point
+  const std::vector<std::array<double, 3>>* inserted = nullptr;
+  const std::vector<TriangleKey>* added = nullptr; ///< final ids, sorted
+};
+
 /// Writes tile k's mesh (its owned triangles, every vertex they use and its own
 /// vertices, ids renumbered in global order) into out_folder and returns its line of
-/// index.csv.
+/// index.csv. edits: the post-passes' changes, or nullptr.
 Status writeTileMesh(const std::string& folder, const std::string& out_folder,
                      const TileFrame& frame, int tile_level, const VertexOwners& owners,
-                     std::size_t k, std::string& index_line);
+                     const TileMeshEdits* edits, std::size_t k,
+                     std::string& index_line);
 
 /// index.csv's header line.
 constexpr const char* TILE_INDEX_HEADER =

@@ -276,13 +276,30 @@ Status writeTileOutputs(Job& job)
 {
   job.progress("writing tiles", 0, 0);
   const VertexOwners owners = job.owners();
+  // After the post-passes, rank 0 holds what they changed and writes every tile.
+  const ReconstructionOptions& post = job.options.vts.reconstruction;
+  TileMeshEdits edits;
+  edits.removed = &job.trim.removed;
+  if (post.fill) {
+    edits.inputs_before = &job.fill.inputs_before;
+    edits.inserted = &job.fill.inserted;
+    edits.added = &job.fill.added;
+  }
+  const bool edited = post.trim || post.fill;
+  std::vector<std::uint32_t> mine = job.meshed_here;
+  if (edited) {
+    mine.clear();
+    for (std::uint32_t k = 0; job.rank == 0 && k < job.occupied_tiles.size(); ++k)
+      mine.push_back(k);
+  }
   Status status;
   std::string my_lines;
-  for (std::size_t i = 0; i < job.meshed_here.size() && status.ok(); ++i) {
+  for (std::size_t i = 0; i < mine.size() && status.ok(); ++i) {
     std::string line;
-    status = writeTileMesh(job.folder, job.options.tile_output, job.frame,
-                           job.levels.tile, owners, job.meshed_here[i], line);
-    my_lines += std::to_string(job.meshed_here[i]) + " " + line;
+    status =
+        writeTileMesh(job.folder, job.options.tile_output, job.frame, job.levels.tile,
+                      owners, edited ? &edits : nullptr, mine[i], line);
+    my_lines += std::to_string(mine[i]) + " " + line;
   }
   if (!(status = agree(job.comm, status)).ok())
     return status;
@@ -397,11 +414,6 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   report = TiledMeshReport{};
   // Argument checks: the same answer on every rank, no agreement needed.
   const ReconstructionOptions& post = options.vts.reconstruction;
-  if ((post.trim || post.fill) && !options.tile_output.empty())
-    return Status::error(
-        StatusCode::INVALID_PARAMETER,
-        "per-tile meshes (--tile-output) are not trimmed or filled yet: "
-        "add --no-trim --no-fill");
   if (Status s = validateOptions(options.vts); !s.ok())
     return s;
   MeshFileFormat format;
@@ -451,7 +463,8 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   watch.restart();
   if (!(status = meshTiles(job, store)).ok())
     return status;
-  if (!options.tile_output.empty() && !(status = writeTileOutputs(job)).ok())
+  const bool edited = post.trim || post.fill;
+  if (!options.tile_output.empty() && !edited && !(status = writeTileOutputs(job)).ok())
     return status;
   report.seconds_mesh = watch.seconds();
 
@@ -467,6 +480,8 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
       return status;
     report.seconds_fill = watch.seconds();
   }
+  if (!options.tile_output.empty() && edited && !(status = writeTileOutputs(job)).ok())
+    return status;
 
   watch.restart();
   status = writeOutput(job, output, write_options);

@@ -23,9 +23,6 @@
 
 namespace pcl_vts {
 
-/// A triangle as the tile results store it: global ids, smallest first.
-using TriangleKey = std::array<std::uint32_t, 3>;
-
 struct TiledTrim {
   std::vector<TriangleKey> removed; ///< sorted
   /// Every corner of an oversized triangle, sorted: the removed triangles' corners

@@ -224,6 +224,11 @@ class TiledMeshTest : public TempFolderTest {
     return inputs;
   }
 
+  /// Runs xyz tiled with --tile-output (and the post-passes when `post`), and checks
+  /// that the tile meshes hold every triangle of the whole mesh exactly once, and its
+  /// vertices.
+  void expectTileMeshesCover(const std::vector<double>& xyz, bool post);
+
   std::size_t entriesIn(const std::filesystem::path& folder) const
   {
     return static_cast<std::size_t>(
@@ -360,21 +365,30 @@ TEST_P(TiledEqualsInMemory, PostPassesSameBytesForEveryTilingRankAndThreadCount)
           << "tiled file differs from the in-memory file";
       EXPECT_EQ(entriesIn(root_), 2u) << "temporary files left behind";
     }
+    std::string first_index; // --tile-output's index: the same for every rank count
     for (const auto& [ranks, threads] :
          std::vector<std::pair<int, unsigned>>{{1, 3}, {3, 1}}) {
       SCOPED_TRACE(std::to_string(ranks) + " ranks, " + std::to_string(threads) +
                    " threads");
+      const std::filesystem::path tiles = root_ / "tiles";
+      std::filesystem::create_directory(tiles);
       TiledMeshOptions options;
       options.vts = vts;
       options.temp_parent = root_.string();
       options.tile_level = 3;
       options.block_level = 5;
       options.threads = threads;
+      options.tile_output = tiles.string();
       const std::string path = (root_ / "ranks.ply").string();
       for (const Status& s : runRanks(ranks, inputs, options, path))
         ASSERT_TRUE(s.ok()) << s.toString();
       EXPECT_TRUE(slurp(path) == expected) << "differs from the in-memory file";
+      const std::string index = slurp((tiles / "index.csv").string());
+      if (first_index.empty())
+        first_index = index;
+      EXPECT_EQ(index, first_index) << "the tile index depends on the ranks";
       std::filesystem::remove(path);
+      std::filesystem::remove_all(tiles);
     }
   }
 }
@@ -394,16 +408,18 @@ bool readBinaryPly(const std::string& path, TriangleMesh& mesh)
     return false;
   std::istringstream header(bytes.substr(0, end));
   std::size_t nv = 0, nf = 0;
-  bool dbl = false;
+  bool dbl = false, flags = false;
   for (std::string line; std::getline(header, line);) {
     std::sscanf(line.c_str(), "element vertex %zu", &nv);
     std::sscanf(line.c_str(), "element face %zu", &nf);
     if (line == "property double x")
       dbl = true;
+    if (line == "property uchar inserted")
+      flags = true; // hole filling's mark, one byte after z
   }
   const char* p = bytes.data() + end + 11;
   const std::size_t item = dbl ? 8 : 4;
-  if (bytes.size() != end + 11 + nv * 3 * item + nf * 13)
+  if (bytes.size() != end + 11 + nv * (3 * item + (flags ? 1 : 0)) + nf * 13)
     return false;
   mesh = TriangleMesh{};
   for (std::size_t v = 0; v < nv; ++v) {
@@ -418,6 +434,7 @@ bool readBinaryPly(const std::string& path, TriangleMesh& mesh)
       }
       p += item;
     }
+    p += flags ? 1 : 0;
     mesh.xy.push_back({c[0], c[1]});
     mesh.z.push_back(c[2]);
   }
@@ -433,10 +450,25 @@ bool readBinaryPly(const std::string& path, TriangleMesh& mesh)
 
 TEST_F(TiledMeshTest, TileMeshesAndIndexCoverTheMeshOnceWithSharedSeams)
 {
+  // The triangulation, and the surface mesh (trimmed, holes filled: the tile meshes
+  // then share the final mesh's inserted points and patches).
   const std::vector<double> xyz = generatePoints(Distribution::BIG_VOIDS, 5000, 17);
+  for (const bool post : {false, true}) {
+    SCOPED_TRACE(post ? "trim and fill" : "triangulation");
+    expectTileMeshesCover(xyz, post);
+  }
+}
+
+void TiledMeshTest::expectTileMeshesCover(const std::vector<double>& xyz, bool post)
+{
   const std::filesystem::path tiles = root_ / "tiles";
+  std::filesystem::remove_all(tiles);
   std::filesystem::create_directory(tiles);
   TiledMeshOptions options;
+  if (post) {
+    options.vts.reconstruction = ReconstructionOptions{};
+    options.vts.reconstruction.trim_options.trim_factor = 1.6;
+  }
   options.temp_parent = root_.string();
   options.tile_level = 2;
   options.block_level = 5;
@@ -461,6 +493,13 @@ TEST_F(TiledMeshTest, TileMeshesAndIndexCoverTheMeshOnceWithSharedSeams)
   };
   for (std::size_t t = 0; t < all.triangleCount(); ++t)
     seen[key(all, t)] = 0;
+  std::map<Corner, double> height; // each vertex's z, inserted ones included
+  for (std::size_t v = 0; v < all.vertexCount(); ++v)
+    height[{all.xy[v].x, all.xy[v].y}] = all.z[v];
+  if (post) {
+    ASSERT_GT(report.fill.points_inserted, 0u);
+    ASSERT_GT(report.trim.triangles_removed, 0u);
+  }
   std::ifstream index((tiles / "index.csv").string());
   std::string line;
   ASSERT_TRUE(std::getline(index, line));
@@ -476,6 +515,11 @@ TEST_F(TiledMeshTest, TileMeshesAndIndexCoverTheMeshOnceWithSharedSeams)
     ASSERT_TRUE(readBinaryPly((tiles / name).string(), tile)) << name;
     ASSERT_EQ(tile.triangleCount(), nt) << name;
     triangles += nt;
+    for (std::size_t v = 0; v < tile.vertexCount(); ++v) {
+      const auto it = height.find({tile.xy[v].x, tile.xy[v].y});
+      ASSERT_NE(it, height.end()) << name << ": a vertex the whole mesh does not have";
+      EXPECT_EQ(it->second, tile.z[v]) << name;
+    }
     for (std::size_t t = 0; t < tile.triangleCount(); ++t) {
       auto it = seen.find(key(tile, t));
       ASSERT_NE(it, seen.end()) << name << ": a triangle the whole mesh does not have";
@@ -566,24 +610,6 @@ TEST_F(TiledMeshTest, DefaultPipelineFillsHolesAcrossTilesAsInMemory)
     EXPECT_EQ(report.fill.points_inserted, done.fill.points_inserted);
     EXPECT_TRUE(slurp(path) == slurp(reference)) << "differs from the in-memory file";
   }
-}
-
-TEST_F(TiledMeshTest, PostPassesOnTileMeshesAreRefusedNotSilentlySkipped)
-{
-  const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 1000, 1);
-  TiledMeshOptions options;
-  options.temp_parent = root_.string();
-  options.tile_output = root_.string();
-  TiledMeshReport report;
-  for (const bool trim : {false, true}) {
-    options.vts.reconstruction.trim = trim;
-    options.vts.reconstruction.fill = !trim;
-    const Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
-                                  MeshWriteOptions{}, report);
-    EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER);
-    EXPECT_NE(s.message.find("--no-trim --no-fill"), std::string::npos);
-  }
-  EXPECT_EQ(entriesIn(root_), 0u);
 }
 
 TEST_F(TiledMeshTest, AnInputThatChangesBetweenPassesIsAnError)

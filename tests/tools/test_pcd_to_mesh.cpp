@@ -1791,10 +1791,17 @@ TEST_F(PcdToMesh, TileOutputWritesOneMeshPerTileAndAnIndex)
   const auto before = workFiles();
   expectFailure(runDelaunay({names[0], "x.ply", "--tile-output", "missing"}), 4,
                 "missing", before);
-  expectFailure(run({names[0], "x.ply", "--tile-output", "tiles"}), 1,
-                "--no-trim --no-fill", before);
-  expectFailure(run({names[0], "x.ply", "--tile-output", "tiles", "--no-fill"}), 1,
-                "--no-trim --no-fill", before);
+  // The default pipeline too: the tiles of the surface mesh, inserted points marked.
+  fs::create_directory(work("surface_tiles"));
+  const CliResult surface = run({names[0], names[1], "surface.ply", "--tile-output",
+                                 "surface_tiles", "--tile-level", "2"});
+  ASSERT_EQ(surface.exit_code, 0) << surface.err;
+  const std::string surface_index = readText(work("surface_tiles/index.csv"));
+  EXPECT_EQ(static_cast<std::size_t>(
+                std::count(surface_index.begin(), surface_index.end(), '\n')),
+            lines);
+  EXPECT_NE(readText(work("surface_tiles/tile_0_0.ply")).find("global surface mesh"),
+            std::string::npos);
 }
 
 TEST_F(PcdToMesh, TiledRunsOfTheSharedRealFilesWriteTheInMemoryBytes)
