@@ -2,6 +2,8 @@
 // table, claimed size against the file size), then pcl::PCDReader::readHeader (which
 // allocates the claimed body size, hence the scan), then the body, then x/y/z pulled
 // from the PCLPointCloud2 bytes by their own type. Every failure is one line.
+#include "reader_guard.h"
+
 #include <pcl_vts/io/pcd_cloud_reader.h>
 
 #include <pcl/PCLPointCloud2.h>
@@ -64,11 +66,6 @@ struct HeaderScan {
 std::string quoted(const std::string& path)
 {
   return "'" + path + "'";
-}
-
-Status ioError(const std::string& path, const std::string& what)
-{
-  return Status::error(StatusCode::IO_ERROR, quoted(path) + ": " + what);
 }
 
 /// Printable, short excerpt of a header line for an error message.
@@ -454,13 +451,13 @@ bool parseNumber(const char* first, const char* last, double& value)
 /// warns, so ASCII bodies are read here, strictly, straight into doubles.
 Status readAsciiBody(const std::string& path, const HeaderScan& scan,
                      const std::array<std::uint64_t, 3>& column,
-                     std::vector<double>& xyz)
+                     std::vector<double>& xyz, PointOutput& output)
 {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     return ioError(path, std::string("cannot reopen: ") + std::strerror(errno));
   in.seekg(static_cast<std::streamoff>(scan.data_idx));
-  xyz.resize(3 * scan.points);
+  xyz.reserve(3 * output.reserve(static_cast<std::size_t>(scan.points)));
   std::string line;
   std::uint64_t read = 0, line_no = 0;
   std::vector<std::pair<const char*, const char*>> tokens;
@@ -494,13 +491,18 @@ Status readAsciiBody(const std::string& path, const HeaderScan& scan,
                                std::to_string(scan.values_per_point));
     for (int a = 0; a < 3; ++a) {
       const auto& tok = tokens[column[a]];
-      if (!parseNumber(tok.first, tok.second, xyz[3 * read + a]))
+      double value = 0.0;
+      if (!parseNumber(tok.first, tok.second, value))
         return ioError(path, "corrupt: body line " + std::to_string(line_no) +
                                  ": value '" +
                                  excerpt(std::string(tok.first, tok.second)) +
                                  "' is not a number");
+      xyz.push_back(value);
     }
     ++read;
+    if (output.full(xyz))
+      if (Status s = output.handOver(xyz, nullptr); !s.ok())
+        return s;
   }
   if (in.bad())
     return ioError(path, std::string("read failed: ") + std::strerror(errno));
@@ -510,23 +512,57 @@ Status readAsciiBody(const std::string& path, const HeaderScan& scan,
   return Status::success();
 }
 
-/// Maps the file and lets PCL unpack the binary (or LZF-compressed) body.
-Status readBinaryBody(const std::string& path, int fd, std::uint64_t file_size,
-                      const HeaderScan& scan, int pcd_version,
-                      pcl::PCLPointCloud2& cloud)
+/// The header with WIDTH, HEIGHT and POINTS set to 1, for PCL's header check.
+std::string headerOfOnePoint(const std::string& header)
+{
+  std::string out;
+  std::istringstream lines(header);
+  for (std::string line; std::getline(lines, line);) {
+    const std::vector<std::string> t = splitTokens(line);
+    if (!t.empty() && (t[0] == "WIDTH" || t[0] == "HEIGHT" || t[0] == "POINTS"))
+      line = t[0] + " 1";
+    out += line + "\n";
+  }
+  return out;
+}
+
+/// Lets PCL unpack an LZF-compressed body (whole: its columns are stored one after
+/// the other).
+Status readCompressedBody(const std::string& path, int fd, std::uint64_t file_size,
+                          const HeaderScan& scan, int pcd_version,
+                          pcl::PCLPointCloud2& cloud)
 {
   void* map = ::mmap(nullptr, file_size, PROT_READ, MAP_PRIVATE, fd, 0);
   if (map == MAP_FAILED)
     return ioError(path, std::string("cannot map the file: ") + std::strerror(errno));
   const int rc = pcl::PCDReader().readBodyBinary(
-      static_cast<const unsigned char*>(map), cloud, pcd_version,
-      scan.format == DataFormat::BINARY_COMPRESSED,
+      static_cast<const unsigned char*>(map), cloud, pcd_version, true,
       static_cast<unsigned int>(scan.data_idx));
   ::munmap(map, file_size);
   if (rc != 0)
     return ioError(path, "corrupt: PCL could not unpack the binary body");
   if (cloud.data.size() != scan.points * scan.point_step)
     return ioError(path, "corrupt: the binary body does not match the header");
+  return Status::success();
+}
+
+/// x, y, z of each record of a row-major binary body, in chunks through output.
+/// (PCL's reader of an uncompressed body is a copy of these bytes.)
+Status readRecords(const std::uint8_t* body, std::uint64_t points,
+                   std::uint64_t point_step,
+                   const std::vector<pcl::PCLPointField>& fields,
+                   const std::array<int, 3>& axis, const PcdCloudInfo& info,
+                   std::vector<double>& xyz, PointOutput& output)
+{
+  xyz.reserve(3 * output.reserve(static_cast<std::size_t>(points)));
+  for (std::uint64_t i = 0; i < points; ++i) {
+    const std::uint8_t* point = body + i * point_step;
+    for (int a = 0; a < 3; ++a)
+      xyz.push_back(loadValue(point + fields[axis[a]].offset, info.xyz_types[a]));
+    if (output.full(xyz))
+      if (Status s = output.handOver(xyz, point + point_step); !s.ok())
+        return s;
+  }
   return Status::success();
 }
 
@@ -541,7 +577,7 @@ struct FdCloser {
 };
 
 Status readPcdCloudImpl(const std::string& path, std::vector<double>& xyz,
-                        PcdCloudInfo& info)
+                        PcdCloudInfo& info, PointOutput& output)
 {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0)
@@ -578,19 +614,22 @@ Status readPcdCloudImpl(const std::string& path, std::vector<double>& xyz,
   Eigen::Quaternionf orientation;
   int pcd_version = 0, data_type = 0;
   unsigned int data_idx = 0;
-  // PCL parses only the header bytes we scanned: it allocates the body its header
-  // claims, and on some damaged files it read a claim from past the DATA line.
-  std::istringstream header_only(
-      head.substr(0, static_cast<std::size_t>(scan.data_idx)));
+  // PCL parses only the header bytes we scanned (on some damaged files it read a
+  // claim from past the DATA line), with one point claimed: it allocates and zeroes
+  // the body its header claims, which a streamed read must not hold.
+  const std::string one_point =
+      headerOfOnePoint(head.substr(0, static_cast<std::size_t>(scan.data_idx)));
+  std::istringstream header_only(one_point);
   if (pcl::PCDReader().readHeader(header_only, cloud, origin, orientation, pcd_version,
                                   data_type, data_idx) != 0)
     return ioError(path, "bad PCD header: PCL's reader rejects it");
-  if (static_cast<std::uint64_t>(cloud.width) * cloud.height != scan.points ||
-      cloud.point_step != scan.point_step || data_idx != scan.data_idx ||
-      data_type != static_cast<int>(scan.format) ||
-      cloud.fields.size() != scan.fields.size() ||
-      cloud.data.size() != scan.points * scan.point_step)
+  if (cloud.width != 1 || cloud.height != 1 || cloud.point_step != scan.point_step ||
+      data_idx != one_point.size() || data_type != static_cast<int>(scan.format) ||
+      cloud.fields.size() != scan.fields.size() || cloud.data.size() != scan.point_step)
     return ioError(path, "bad PCD header: PCL's reader reads it differently");
+  cloud.width = static_cast<std::uint32_t>(scan.width);
+  cloud.height = static_cast<std::uint32_t>(scan.height);
+  cloud.row_step = static_cast<std::uint32_t>(scan.width * scan.point_step);
 
   std::array<int, 3> axis{};
   for (int a = 0; a < 3; ++a) {
@@ -612,29 +651,46 @@ Status readPcdCloudImpl(const std::string& path, std::vector<double>& xyz,
     info.xyz_names[a] = f.name;
   }
 
+  cloud.data.clear();
+  cloud.data.shrink_to_fit();
+  std::size_t delivered = 0;
   if (scan.format == DataFormat::ASCII) {
-    cloud.data.clear();
-    cloud.data.shrink_to_fit();
     std::array<std::uint64_t, 3> column{};
     for (int a = 0; a < 3; ++a)
       for (int i = 0; i < axis[a]; ++i)
         column[a] += scan.fields[i].count;
-    status = readAsciiBody(path, scan, column, xyz);
-    if (!status.ok())
-      return status;
+    output.begin(nullptr);
+    status = readAsciiBody(path, scan, column, xyz, output);
+    if (status.ok())
+      status = output.finish(xyz, nullptr, delivered);
+  } else if (scan.format == DataFormat::BINARY) {
+    // Straight from the mapped file, its pages dropped behind the reader.
+    void* map = ::mmap(nullptr, file_size, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (map == MAP_FAILED)
+      return ioError(path, std::string("cannot map the file: ") + std::strerror(errno));
+    const auto* body = static_cast<const std::uint8_t*>(map) + scan.data_idx;
+    output.begin(body);
+    status = readRecords(body, scan.points, scan.point_step, cloud.fields, axis, info,
+                         xyz, output);
+    if (status.ok())
+      status = output.finish(xyz, body + scan.points * scan.point_step, delivered);
+    ::munmap(map, file_size);
   } else {
-    status = readBinaryBody(path, fd, file_size, scan, pcd_version, cloud);
+    cloud.data.resize(static_cast<std::size_t>(scan.points * scan.point_step));
+    status = readCompressedBody(path, fd, file_size, scan, pcd_version, cloud);
     if (!status.ok())
       return status;
-    xyz.resize(3 * scan.points);
-    const std::uint8_t* data = cloud.data.data();
-    for (std::size_t i = 0; i < scan.points; ++i) {
-      const std::uint8_t* point = data + i * cloud.point_step;
-      for (int a = 0; a < 3; ++a)
-        xyz[3 * i + a] =
-            loadValue(point + cloud.fields[axis[a]].offset, info.xyz_types[a]);
-    }
+    output.begin(nullptr);
+    status = readRecords(cloud.data.data(), scan.points, cloud.point_step, cloud.fields,
+                         axis, info, xyz, output);
+    if (status.ok())
+      status = output.finish(xyz, nullptr, delivered);
   }
+  if (!status.ok())
+    return status;
+  if (delivered != scan.points)
+    return ioError(path, "internal: " + std::to_string(delivered) + " of " +
+                             std::to_string(scan.points) + " points delivered");
 
   info.points = scan.points;
   info.width = static_cast<std::uint32_t>(scan.width);
@@ -646,6 +702,27 @@ Status readPcdCloudImpl(const std::string& path, std::vector<double>& xyz,
   for (const HeaderField& f : scan.fields)
     info.fields += (info.fields.empty() ? "" : " ") + f.name;
   return Status::success();
+}
+
+/// The read with its post-conditions: nothing half-filled on error, exceptions of PCL
+/// and of allocation turned into one line.
+Status readPcdCloudWith(const std::string& path, std::vector<double>& xyz,
+                        PcdCloudInfo& info, PointOutput& output)
+{
+  info = PcdCloudInfo();
+  Status status;
+  try {
+    status = readPcdCloudImpl(path, xyz, info, output);
+  } catch (const std::bad_alloc&) {
+    status = ioError(path, "out of memory while reading");
+  } catch (const std::exception& e) {
+    status = ioError(path, std::string("read failed: ") + e.what());
+  }
+  if (!status.ok()) {
+    xyz.clear();
+    xyz.shrink_to_fit();
+  }
+  return status;
 }
 
 } // namespace
@@ -703,20 +780,16 @@ std::string PcdCloudInfo::xyzDescription() const
 Status readPcdCloud(const std::string& path, std::vector<double>& xyz,
                     PcdCloudInfo& info)
 {
-  info = PcdCloudInfo();
-  Status status;
-  try {
-    status = readPcdCloudImpl(path, xyz, info);
-  } catch (const std::bad_alloc&) {
-    status = ioError(path, "out of memory while reading");
-  } catch (const std::exception& e) {
-    status = ioError(path, std::string("read failed: ") + e.what());
-  }
-  if (!status.ok()) {
-    xyz.clear();
-    xyz.shrink_to_fit();
-  }
-  return status;
+  PointOutput whole;
+  return readPcdCloudWith(path, xyz, info, whole);
+}
+
+Status readPcdCloudChunks(const std::string& path, std::size_t chunk_points,
+                          const PointOutput::Sink& sink, PcdCloudInfo& info)
+{
+  std::vector<double> chunk;
+  PointOutput output(sink, chunk_points);
+  return readPcdCloudWith(path, chunk, info, output);
 }
 
 } // namespace pcl_vts

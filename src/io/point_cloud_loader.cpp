@@ -194,6 +194,12 @@ Status describeCrs(const std::string& path, CloudDescription& d)
 } // namespace
 
 /// The summary of an ASCII grid.
+static void describePcd(const PcdCloudInfo& info, CloudDescription& d)
+{
+  d.points_read = d.points_kept = info.points;
+  d.details = info.data_format + ", " + info.xyzDescription();
+}
+
 static void describeAsc(const AscGridInfo& info, CloudDescription& d)
 {
   d.points_read = info.ncols * info.nrows;
@@ -279,8 +285,7 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
     s = readPcdCloud(path, xyz, info);
     if (!s.ok())
       return s;
-    d.points_read = d.points_kept = info.points;
-    d.details = info.data_format + ", " + info.xyzDescription();
+    describePcd(info, d);
     break;
   }
   case CloudFileFormat::LAS: {
@@ -338,9 +343,9 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
   CloudFileFormat format = CloudFileFormat::PCD;
   const bool las_filters =
       !options.classes.empty() || options.returns != LasReturnFilter::ALL;
-  // PCD (through PCL) is parsed whole and handed over in one piece; so is any other
-  // format with LAS filters, for loadPointCloud to refuse them.
-  if (!cloudFileFormatFromExtension(path, format) || format == CloudFileFormat::PCD ||
+  // A file without a known extension (recognised by content) and any format but LAS
+  // with LAS filters go through loadPointCloud (which refuses the filters).
+  if (!cloudFileFormatFromExtension(path, format) ||
       (format != CloudFileFormat::LAS && las_filters)) {
     std::vector<double> xyz;
     if (Status s = loadPointCloud(path, options, xyz, description); !s.ok())
@@ -386,8 +391,12 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
       describePly(info, d);
     break;
   }
-  case CloudFileFormat::PCD:
-    break; // read whole above
+  case CloudFileFormat::PCD: {
+    PcdCloudInfo info;
+    if ((s = readPcdCloudChunks(path, chunk_points, sink, info)).ok())
+      describePcd(info, d);
+    break;
+  }
   }
   return s.ok() ? describeCrs(path, d) : s;
 }

@@ -1958,32 +1958,41 @@ TEST_F(PcdToMeshMemory, TiledRunStaysWithinTheMemoryLimit)
   EXPECT_EQ(summaryValue(r.out, "points read"), 2250000u);
 }
 
-TEST_F(PcdToMeshMemory, OneTextFileLargerThanTheLimitIsNeverHeldWhole)
+TEST_F(PcdToMeshMemory, OneFileLargerThanTheLimitIsNeverHeldWhole)
 {
-  // 600000 points in one XYZ file (17 MB of text, 14 MB as doubles): deciding between
-  // memory and tiles once read the file whole, and the tiles read it whole again.
-  // Both now stream it: the job stays far below a 24M limit.
+  // 600000 points in one XYZ file (17 MB of text, 14 MB as doubles), and the same in
+  // one binary PCD of doubles (14 MB): deciding between memory and tiles once read the
+  // file whole, and the tiles read it whole again. Both now stream it: the job stays
+  // far below a 24M limit.
   std::mt19937_64 rng(13);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::string text;
   text.reserve(600000 * 29);
+  std::string pcd = "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\n"
+                    "COUNT 1 1 1\nWIDTH 600000\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\n"
+                    "POINTS 600000\nDATA binary\n";
   char line[64];
   for (int i = 0; i < 600000; ++i) {
-    std::snprintf(line, sizeof line, "%.2f %.2f %.2f\n", 500000 + 800 * u(rng),
-                  4100000 + 800 * u(rng), 100 + u(rng));
+    const double p[3] = {500000 + 800 * u(rng), 4100000 + 800 * u(rng), 100 + u(rng)};
+    std::snprintf(line, sizeof line, "%.2f %.2f %.2f\n", p[0], p[1], p[2]);
     text += line;
+    pcd.append(reinterpret_cast<const char*>(p), sizeof p);
   }
   writeBytes(work("big.xyz"), text);
-  std::size_t job_kib = 0;
-  const CliResult r =
-      runMeasured({"big.xyz", "out.ply", "--no-trim", "--no-fill", "--memory-limit",
-                   "24M", "--threads", "2", "--temp-dir", "."},
-                  job_kib);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("Meshing tiled"), std::string::npos) << r.out;
-  EXPECT_EQ(summaryValue(r.out, "points read"), 600000u);
-  EXPECT_LT(job_kib, 24u * 1024u)
-      << "the process alone takes " << process_kib_ << " KiB";
+  writeBytes(work("big.pcd"), pcd);
+  for (const std::string input : {"big.xyz", "big.pcd"}) {
+    SCOPED_TRACE(input);
+    std::size_t job_kib = 0;
+    const CliResult r =
+        runMeasured({input, "out.ply", "--no-trim", "--no-fill", "--memory-limit",
+                     "24M", "--threads", "2", "--temp-dir", "."},
+                    job_kib);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("Meshing tiled"), std::string::npos) << r.out;
+    EXPECT_EQ(summaryValue(r.out, "points read"), 600000u);
+    EXPECT_LT(job_kib, 24u * 1024u)
+        << "the process alone takes " << process_kib_ << " KiB";
+  }
 }
 
 TEST_F(PcdToMeshMemory, AnLShapedDeliveryStaysWithinTheMemoryLimit)

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -65,5 +66,15 @@ struct PCL_VTS_IO_EXPORT PcdCloudInfo {
 ///         claims more data than the file holds; EMPTY_INPUT when it holds 0 points.
 PCL_VTS_IO_EXPORT Status readPcdCloud(const std::string& path, std::vector<double>& xyz,
                                       PcdCloudInfo& info);
+
+/// readPcdCloud in chunks of at most chunk_points handed to sink as the body is read:
+/// ascii and binary bodies stream (the mapped pages behind the reader are dropped), so
+/// memory stays at one chunk whatever the file's size; a binary_compressed body (LZF,
+/// stored column by column) is unpacked whole first. The same errors; a sink's failure
+/// stops the read and is returned.
+PCL_VTS_IO_EXPORT Status
+readPcdCloudChunks(const std::string& path, std::size_t chunk_points,
+                   const std::function<Status(const double* xyz, std::size_t n)>& sink,
+                   PcdCloudInfo& info);
 
 } // namespace pcl_vts
