@@ -30,11 +30,30 @@ void canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   std::vector<std::uint32_t> code(nv);
   for (std::size_t v = 0; v < nv; ++v)
     code[v] = frame.code(mesh.xy[v]);
-  std::vector<VertexId> order(nv);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](VertexId a, VertexId b) {
-    return canonicalLess(code[a], mesh.xy[a], code[b], mesh.xy[b]);
-  });
+  // By code in two counting passes of 16 bits (linear), then each run of equal codes
+  // (a few points) by x, then y.
+  std::vector<VertexId> order(nv), scratch(nv);
+  std::iota(scratch.begin(), scratch.end(), 0);
+  for (const int shift : {0, 16}) {
+    std::vector<std::size_t> start((1u << 16) + 1, 0);
+    for (const VertexId v : scratch)
+      ++start[((code[v] >> shift) & 0xffff) + 1];
+    for (std::size_t d = 1; d < start.size(); ++d)
+      start[d] += start[d - 1];
+    for (const VertexId v : scratch)
+      order[start[(code[v] >> shift) & 0xffff]++] = v;
+    scratch.swap(order);
+  }
+  order.swap(scratch);
+  for (std::size_t i = 0; i < nv;) {
+    std::size_t j = i + 1;
+    while (j < nv && code[order[j]] == code[order[i]])
+      ++j;
+    std::sort(order.begin() + static_cast<std::ptrdiff_t>(i),
+              order.begin() + static_cast<std::ptrdiff_t>(j),
+              [&](VertexId a, VertexId b) { return lexLess(mesh.xy[a], mesh.xy[b]); });
+    i = j;
+  }
   std::vector<VertexId> rank(nv);
   TriangleMesh out;
   out.xy.resize(nv);
@@ -56,8 +75,25 @@ void canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
     std::rotate(g.begin(), g.begin() + k, g.end());
     tris[t] = g;
   }
-  std::sort(tris.begin(), tris.end());
+  // By first (smallest) vertex in one counting pass, then each vertex's few triangles.
+  std::vector<std::size_t> start(nv + 1, 0);
   for (const auto& g : tris)
+    ++start[g[0] + std::size_t{1}];
+  for (std::size_t v = 1; v <= nv; ++v)
+    start[v] += start[v - 1];
+  std::vector<std::array<VertexId, 3>> sorted(tris.size());
+  for (const auto& g : tris)
+    sorted[start[g[0]]++] = g;
+  tris.clear();
+  tris.shrink_to_fit();
+  for (std::size_t v = nv; v > 0; --v) // start[v - 1] is now where row v begins
+    start[v] = start[v - 1];
+  start[0] = 0;
+  for (std::size_t v = 0; v < nv; ++v)
+    std::sort(sorted.begin() + static_cast<std::ptrdiff_t>(start[v]),
+              sorted.begin() + static_cast<std::ptrdiff_t>(start[v + 1]));
+  out.triangles.reserve(3 * sorted.size());
+  for (const auto& g : sorted)
     out.triangles.insert(out.triangles.end(), g.begin(), g.end());
   out.rebuildHalfedges();
   mesh = std::move(out);
