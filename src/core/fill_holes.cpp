@@ -196,7 +196,13 @@ Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
     result.inserted.assign(mesh.vertexCount(), 0);
     return Status::success();
   }
-  const PointSpacing spacing = measurePointSpacing(mesh);
+  // The local spacing is read at hole rims only.
+  std::vector<bool> on_rim(mesh.vertexCount(), false);
+  for (const BoundaryLoop& loop : loops.loops)
+    if (isHole(loop))
+      for (const VertexId v : loop.vertices)
+        on_rim[v] = true;
+  const PointSpacing spacing = measurePointSpacing(mesh, &on_rim);
   const double global_h =
       part != nullptr ? part->global_spacing : spacing.global_median;
   result.max_hole_area = options.max_hole_area > 0.0

@@ -36,7 +36,8 @@ double medianOf(std::vector<double> values)
   return medianInPlace(values);
 }
 
-PointSpacing measurePointSpacing(const TriangleMesh& mesh)
+PointSpacing measurePointSpacing(const TriangleMesh& mesh,
+                                 const std::vector<bool>* local_for)
 {
   const std::size_t n = mesh.vertexCount();
   PointSpacing spacing;
@@ -81,7 +82,7 @@ PointSpacing measurePointSpacing(const TriangleMesh& mesh)
   spacing.global_median = medianInPlace(used);
   spacing.local.assign(n, 0.0);
   for (VertexId v = 0; v < n; ++v) {
-    if (start[v] == start[v + 1])
+    if (start[v] == start[v + 1] || (local_for != nullptr && !(*local_for)[v]))
       continue;
     values.assign(1, own[v]);
     for (std::size_t k = start[v]; k < start[v + 1]; ++k)

@@ -21,8 +21,11 @@ struct PointSpacing {
   double global_median = 0.0;
 };
 
-/// Measures the spacing of the vertices of mesh (triangles and halfedges read).
-PCL_VTS_CORE_EXPORT PointSpacing measurePointSpacing(const TriangleMesh& mesh);
+/// Measures the spacing of the vertices of mesh (triangles and halfedges read). With
+/// `local_for`, the local spacing is only computed for the vertices it flags (the
+/// others read 0); the global median is always the whole mesh's.
+PCL_VTS_CORE_EXPORT PointSpacing measurePointSpacing(
+    const TriangleMesh& mesh, const std::vector<bool>* local_for = nullptr);
 
 /// Median of values (copied; 0 when empty). Upper median for an even count.
 PCL_VTS_CORE_EXPORT double medianOf(std::vector<double> values);
