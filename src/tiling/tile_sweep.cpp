@@ -37,6 +37,12 @@ Status VertexRecords::open()
   return fd_ < 0 ? sweepIoFailure("open", path_, errno) : Status::success();
 }
 
+Status VertexRecords::openForWriting()
+{
+  fd_ = ::open(path_.c_str(), O_RDWR | O_CLOEXEC);
+  return fd_ < 0 ? sweepIoFailure("open", path_, errno) : Status::success();
+}
+
 Status VertexRecords::write(std::uint64_t first,
                             const std::vector<double>& values) const
 {
@@ -72,7 +78,7 @@ Status VertexRecords::transfer(std::uint64_t first, Byte* bytes, std::size_t siz
   return Status::success();
 }
 
-Status appendTriangles(const std::string& path, const std::vector<std::uint32_t>& ids)
+Status appendWords(const std::string& path, const std::vector<std::uint32_t>& ids)
 {
   std::FILE* file = std::fopen(path.c_str(), "ab");
   if (file == nullptr)
@@ -85,7 +91,8 @@ Status appendTriangles(const std::string& path, const std::vector<std::uint32_t>
   return Status::success();
 }
 
-Status readTriangles(const std::string& path, std::vector<std::uint32_t>& ids)
+Status readWords(const std::string& path, std::vector<std::uint32_t>& ids,
+                 std::size_t unit)
 {
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr)
@@ -94,10 +101,23 @@ Status readTriangles(const std::string& path, std::vector<std::uint32_t>& ids)
   std::size_t n;
   while ((n = std::fread(buffer, sizeof(std::uint32_t), 3 * 1024, file)) > 0)
     ids.insert(ids.end(), buffer, buffer + n);
-  const bool failed = std::ferror(file) != 0 || ids.size() % 3 != 0;
+  const bool failed = std::ferror(file) != 0 || ids.size() % unit != 0;
   std::fclose(file);
   return failed ? Status::error(StatusCode::IO_ERROR, "cannot read back '" + path + "'")
                 : Status::success();
+}
+
+void broadcastIds(JobComm& comm, std::vector<std::uint32_t>& ids)
+{
+  if (comm.size() == 1)
+    return;
+  std::string bytes;
+  if (comm.rank() == 0)
+    bytes.assign(reinterpret_cast<const char*>(ids.data()),
+                 ids.size() * sizeof(std::uint32_t));
+  comm.broadcast(bytes, 0);
+  ids.resize(bytes.size() / sizeof(std::uint32_t));
+  std::memcpy(ids.data(), bytes.data(), bytes.size());
 }
 
 } // namespace pcl_vts

@@ -2,11 +2,14 @@
 // fixed-size records indexed by global vertex id, triangle lists on disk, and a sweep
 // over the tiles on worker threads.
 #pragma once
+#include "job_agreement.h"
+
 #include <pcl_vts/core/status.h>
+#include <pcl_vts/tiling/job_comm.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -29,8 +32,9 @@ class VertexRecords {
   VertexRecords(const VertexRecords&) = delete;
   VertexRecords& operator=(const VertexRecords&) = delete;
   ~VertexRecords();
-  Status create(); ///< empty, for writing and reading
-  Status open();   ///< as written by an earlier sweep, for reading
+  Status create();         ///< empty, for writing and reading
+  Status open();           ///< as written by an earlier sweep, for reading
+  Status openForWriting(); ///< made by another rank, to write and read
   Status write(std::uint64_t first, const std::vector<double>& values) const;
   Status read(std::uint64_t first, std::size_t count, double* out) const;
 
@@ -43,11 +47,13 @@ class VertexRecords {
   int fd_ = -1;
 };
 
-/// Appends triangles (3 ids each) to a file.
-Status appendTriangles(const std::string& path, const std::vector<std::uint32_t>& ids);
+/// Appends 32-bit words (triangles: 3 ids each) to a file.
+Status appendWords(const std::string& path, const std::vector<std::uint32_t>& ids);
 
-/// Appends the triangles of a file (none when it does not exist) to ids.
-Status readTriangles(const std::string& path, std::vector<std::uint32_t>& ids);
+/// Appends the words of a file (none when it does not exist) to ids, which must then
+/// hold whole items of `unit` words.
+Status readWords(const std::string& path, std::vector<std::uint32_t>& ids,
+                 std::size_t unit);
 
 /// The tiles visited by a pass, over all its sweeps, for the progress line.
 class SweepProgress {
@@ -72,35 +78,79 @@ class SweepProgress {
   std::mutex mutex_;
 };
 
-/// Runs visit(k) for k in [0, tiles) on `workers` threads; the first failure wins and
-/// stops the others at their next tile. Each tile done is told to `progress`.
-template <typename Visit>
-Status forEachTile(std::size_t tiles, unsigned workers, SweepProgress& progress,
-                   const Visit& visit)
-{
-  std::atomic<std::size_t> next{0};
-  std::mutex mutex;
-  Status failure;
-  const auto work = [&]() {
-    for (std::size_t k; (k = next++) < tiles;) {
-      Status s = visit(k);
-      if (s.ok()) {
-        progress.tileDone();
-        continue;
+/// Where the sweeps of a pass run: every rank of the job, `workers` threads each.
+struct SweepTeam {
+  JobComm& comm;
+  unsigned workers;
+  SweepProgress& progress;
+
+  /// Collective: visit(k) for every k in [0, tiles), each once, on whichever rank's
+  /// worker takes it from the job-wide counter (so what a visit leaves for later
+  /// goes to files); the first failure stops this rank's workers, and every rank
+  /// returns the same status.
+  template <typename Visit>
+  Status forEachTile(std::size_t tiles, const Visit& visit) const
+  {
+    comm.startTasks();
+    std::mutex mutex;
+    Status failure;
+    const auto work = [&]() {
+      for (;;) {
+        {
+          const std::lock_guard<std::mutex> lock(mutex);
+          if (!failure.ok())
+            return;
+        }
+        const std::uint64_t k = comm.nextTask();
+        if (k >= tiles)
+          return;
+        Status s = visit(static_cast<std::size_t>(k));
+        if (s.ok()) {
+          progress.tileDone();
+          continue;
+        }
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (failure.ok())
+          failure = s;
+        return;
       }
-      const std::lock_guard<std::mutex> lock(mutex);
-      if (failure.ok())
-        failure = s;
-      next = tiles;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned w = 1; w < std::min<std::size_t>(workers, tiles); ++w)
-    pool.emplace_back(work);
-  work();
-  for (std::thread& thread : pool)
-    thread.join();
-  return failure;
+    };
+    std::vector<std::thread> pool;
+    for (unsigned w = 1; w < std::min<std::size_t>(workers, tiles); ++w)
+      pool.emplace_back(work);
+    work();
+    for (std::thread& thread : pool)
+      thread.join();
+    return agree(comm, failure);
+  }
+};
+
+/// Writes a tile's findings (fixed-size items) for rank 0 to read after the sweep;
+/// nothing when there are none.
+template <typename Item>
+Status writeFindings(const std::string& path, const std::vector<Item>& items)
+{
+  if (items.empty())
+    return Status::success();
+  std::vector<std::uint32_t> words(items.size() * sizeof(Item) / sizeof(std::uint32_t));
+  std::memcpy(words.data(), items.data(), items.size() * sizeof(Item));
+  return appendWords(path, words);
 }
+
+/// Reads a tile's findings back into items, replacing what it held (none when the
+/// file does not exist).
+template <typename Item>
+Status readFindings(const std::string& path, std::vector<Item>& items)
+{
+  std::vector<std::uint32_t> words;
+  if (Status s = readWords(path, words, sizeof(Item) / sizeof(std::uint32_t)); !s.ok())
+    return s;
+  items.resize(words.size() * sizeof(std::uint32_t) / sizeof(Item));
+  std::memcpy(items.data(), words.data(), items.size() * sizeof(Item));
+  return Status::success();
+}
+
+/// Sends ids from rank 0 to every rank (collective).
+void broadcastIds(JobComm& comm, std::vector<std::uint32_t>& ids);
 
 } // namespace pcl_vts

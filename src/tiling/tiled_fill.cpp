@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 
@@ -34,35 +35,44 @@ void sortUnique(std::vector<std::uint32_t>& ids)
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
 }
 
-/// Every triangle with a corner in `region` (sorted), tile by tile, in the global
-/// order; with `only_kept`, less the removed ones.
+/// Every triangle with a corner in `region` (sorted, on every rank), in the global
+/// order (on rank 0); with `removed`, less those.
 Status trianglesTouching(const std::string& folder, const VertexOwners& owners,
-                         unsigned workers, const std::vector<std::uint32_t>& region,
+                         const SweepTeam& team,
+                         const std::vector<std::uint32_t>& region,
                          const std::vector<TriangleKey>* removed,
-                         SweepProgress& progress, std::vector<TriangleKey>& found)
+                         std::vector<TriangleKey>& found)
 {
-  std::vector<std::vector<TriangleKey>> per_tile(owners.tiles.size());
-  Status s = forEachTile(owners.tiles.size(), workers, progress, [&](std::size_t k) {
+  const auto findings = [&](std::size_t k) {
+    return folder + "/post_touching_" + std::to_string(k) + ".bin";
+  };
+  Status s = team.forEachTile(owners.tiles.size(), [&](std::size_t k) {
     TileMeshData data;
     if (Status r = readTileResult(resultPath(folder, owners.tiles[k]), data); !r.ok())
       return r;
+    std::vector<TriangleKey> touching;
     for (std::size_t t = 0; t < data.triangles.size(); t += 3) {
       const TriangleKey key{data.triangles[t], data.triangles[t + 1],
                             data.triangles[t + 2]};
-      if (!contains(region, key[0]) && !contains(region, key[1]) &&
-          !contains(region, key[2]))
-        continue;
-      if (removed != nullptr &&
-          std::binary_search(removed->begin(), removed->end(), key))
-        continue;
-      per_tile[k].push_back(key);
+      if (contains(region, key[0]) || contains(region, key[1]) ||
+          contains(region, key[2]))
+        touching.push_back(key);
     }
-    return Status::success();
+    std::remove(findings(k).c_str()); // the last sweep's
+    return writeFindings(findings(k), touching);
   });
   found.clear();
-  for (const auto& tile : per_tile)
-    found.insert(found.end(), tile.begin(), tile.end());
-  return s;
+  std::vector<TriangleKey> tile;
+  for (std::size_t k = 0; s.ok() && team.comm.rank() == 0 && k < owners.tiles.size();
+       ++k) {
+    tile.clear();
+    s = readFindings(findings(k), tile);
+    for (const TriangleKey& key : tile)
+      if (removed == nullptr ||
+          !std::binary_search(removed->begin(), removed->end(), key))
+        found.push_back(key);
+  }
+  return agree(team.comm, s);
 }
 
 /// Each vertex's median edge over the triangles of mesh, for the vertices listed
@@ -159,40 +169,45 @@ Status selectMedian(const VertexRecords& own, std::uint64_t count,
 
 Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
                      const TileFrame& frame, const FillOptions& options,
-                     const TiledTrim& trim, unsigned workers,
+                     const TiledTrim& trim, JobComm& comm, unsigned workers,
                      const std::function<void(std::uint64_t, std::uint64_t)>& report,
                      TiledFill& fill)
 {
   fill = TiledFill{};
   if (Status s = validateFillOptions(options); !s.ok())
     return s;
-  if (trim.removed.empty())
-    return Status::success(); // a Delaunay triangulation has no hole
-
   // The part: every kept triangle within max(1, rim_rings) rings of a rim vertex,
   // so that each rim vertex, its neighbours and the spline's sample rings have their
   // whole fans (rings grown over all triangles: a superset of the trimmed rings).
+  // Rank 0 knows the removed triangles; every rank sweeps.
   std::vector<std::uint32_t> rims;
   for (const TriangleKey& key : trim.removed)
     rims.insert(rims.end(), key.begin(), key.end());
   sortUnique(rims);
+  broadcastIds(comm, rims);
+  if (rims.empty())
+    return Status::success(); // a Delaunay triangulation has no hole
   std::vector<std::uint32_t> region = rims;
   std::vector<TriangleKey> triangles;
   const std::size_t rings = std::max<std::size_t>(1, options.rim_rings);
-  SweepProgress progress(report, (rings + 1) * owners.tiles.size());
+  SweepProgress progress(report, (rings + 1) * owners.tiles.size() /
+                                     static_cast<std::size_t>(comm.size()));
+  const SweepTeam team{comm, workers, progress};
   for (std::size_t ring = 0; ring < rings; ++ring) {
-    if (Status s = trianglesTouching(folder, owners, workers, region, nullptr, progress,
-                                     triangles);
+    if (Status s = trianglesTouching(folder, owners, team, region, nullptr, triangles);
         !s.ok())
       return s;
     for (const TriangleKey& key : triangles)
       region.insert(region.end(), key.begin(), key.end());
     sortUnique(region);
+    broadcastIds(comm, region);
   }
-  if (Status s = trianglesTouching(folder, owners, workers, region, &trim.removed,
-                                   progress, triangles);
+  if (Status s =
+          trianglesTouching(folder, owners, team, region, &trim.removed, triangles);
       !s.ok())
     return s;
+  if (comm.rank() != 0)
+    return Status::success(); // rank 0 fills
   std::vector<std::uint32_t> ids;
   for (const TriangleKey& key : triangles)
     ids.insert(ids.end(), key.begin(), key.end());

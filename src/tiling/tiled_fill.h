@@ -34,10 +34,11 @@ struct TiledFill {
 
 /// Fills the holes of the trimmed tile results in folder (after trimTiledMesh, whose
 /// scratch files it reads).
-/// `report` (may be empty) hears of each tile visited, over all the sweeps.
+/// Collective over comm (each rank's `workers` share the sweeps); the answer is rank
+/// 0's. `report` (may be empty) hears of each tile visited, over all the sweeps.
 Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
                      const TileFrame& frame, const FillOptions& options,
-                     const TiledTrim& trim, unsigned workers,
+                     const TiledTrim& trim, JobComm& comm, unsigned workers,
                      const std::function<void(std::uint64_t, std::uint64_t)>& report,
                      TiledFill& fill);
 

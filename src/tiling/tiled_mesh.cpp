@@ -326,36 +326,33 @@ Status writeTileOutputs(Job& job)
   return agree(job.comm, status);
 }
 
-/// 6'. Rank 0 trims the mesh (tiled_trim.h) on its threads.
+/// 6'. The ranks trim the mesh (tiled_trim.h): the sweeps shared, rank 0 peels.
 Status trim(Job& job)
 {
   job.progress("trimming", 0, 0);
-  Status status;
-  if (job.rank == 0)
-    status = trimTiledMesh(
-        job.folder, job.owners(), job.options.vts.reconstruction.trim_options,
-        job.workers,
-        [&](std::uint64_t done, std::uint64_t total) {
-          job.progress("trimming", done, total);
-        },
-        job.trim);
+  const Status status = trimTiledMesh(
+      job.folder, job.owners(), job.options.vts.reconstruction.trim_options, job.comm,
+      job.workers,
+      [&](std::uint64_t done, std::uint64_t total) {
+        job.progress("trimming", done, total);
+      },
+      job.trim);
   job.report.trim = job.trim.result;
   return agree(job.comm, status);
 }
 
-/// 6''. Rank 0 fills the holes of the trimmed mesh (tiled_fill.h) on its threads.
+/// 6''. The ranks fill the holes of the trimmed mesh (tiled_fill.h): the sweeps
+/// shared, rank 0 fills.
 Status fill(Job& job)
 {
   job.progress("filling", 0, 0);
-  Status status;
-  if (job.rank == 0)
-    status = fillTiledMesh(
-        job.folder, job.owners(), job.frame,
-        job.options.vts.reconstruction.fill_options, job.trim, job.workers,
-        [&](std::uint64_t done, std::uint64_t total) {
-          job.progress("filling", done, total);
-        },
-        job.fill);
+  const Status status = fillTiledMesh(
+      job.folder, job.owners(), job.frame, job.options.vts.reconstruction.fill_options,
+      job.trim, job.comm, job.workers,
+      [&](std::uint64_t done, std::uint64_t total) {
+        job.progress("filling", done, total);
+      },
+      job.fill);
   job.report.fill = job.fill.result;
   return agree(job.comm, status);
 }

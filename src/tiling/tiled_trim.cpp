@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <mutex>
 
 namespace pcl_vts {
 
@@ -40,8 +41,8 @@ struct TileAround {
   std::vector<std::uint32_t> ring;
 };
 
-Status loadAround(const std::string& folder, const VertexOwners& owners, std::size_t k,
-                  TileAround& tile)
+Status loadAround(const std::string& folder, const VertexOwners& owners, int ranks,
+                  std::size_t k, TileAround& tile)
 {
   tile.lo = owners.first[k];
   tile.hi = owners.first[k + 1];
@@ -49,8 +50,11 @@ Status loadAround(const std::string& folder, const VertexOwners& owners, std::si
       !s.ok())
     return s;
   tile.around = tile.data.triangles;
-  if (Status s = readTriangles(crossPath(folder, k), tile.around); !s.ok())
-    return s;
+  for (int r = 0; r < ranks; ++r) // the triangles each rank sent it
+    if (Status s =
+            readWords(crossPath(folder, k) + "." + std::to_string(r), tile.around, 3);
+        !s.ok())
+      return s;
   // The rings: both other corners of every triangle around a vertex, once each.
   // Counted into rows first, then each short row sorted: no sort of the whole tile.
   const std::size_t n = static_cast<std::size_t>(tile.hi - tile.lo);
@@ -128,23 +132,38 @@ class Lookup {
   std::map<std::uint32_t, std::size_t> foreign_;
 };
 
+/// A sweep's files and team.
+struct Pass {
+  const std::string& folder;
+  const VertexOwners& owners;
+  const SweepTeam& team;
+  std::size_t tiles() const { return owners.tiles.size(); }
+  /// What tile k found in a sweep, for rank 0.
+  std::string findings(const char* what, std::size_t k) const
+  {
+    return folder + "/post_" + what + "_" + std::to_string(k) + ".bin";
+  }
+};
+
 /// Step 1: positions by id, and every triangle sent to the tiles of its corners
-/// that do not own it.
-Status sendTriangles(const std::string& folder, const VertexOwners& owners,
-                     const VertexRecords& positions, SweepProgress& progress)
+/// that do not own it (into files per receiving tile and sending rank: no two
+/// writers share a file).
+Status sendTriangles(const Pass& pass, const VertexRecords& positions)
 {
-  TileMeshData data;
-  std::map<std::size_t, std::vector<std::uint32_t>> outbox;
-  for (std::size_t k = 0; k + 1 < owners.first.size(); ++k) {
-    if (Status s = readTileResult(resultPath(folder, owners.tiles[k]), data); !s.ok())
+  std::mutex mutex; // one writer of this rank's files at a time
+  const std::string rank = "." + std::to_string(pass.team.comm.rank());
+  return pass.team.forEachTile(pass.tiles(), [&](std::size_t k) {
+    TileMeshData data;
+    if (Status s = readTileResult(resultPath(pass.folder, pass.owners.tiles[k]), data);
+        !s.ok())
       return s;
-    if (Status s = positions.write(owners.first[k], data.xyz); !s.ok())
+    if (Status s = positions.write(pass.owners.first[k], data.xyz); !s.ok())
       return s;
-    outbox.clear();
+    std::map<std::size_t, std::vector<std::uint32_t>> outbox;
     for (std::size_t t = 0; t < data.triangles.size(); t += 3) {
       std::size_t sent = k;
       for (int j = 1; j < 3; ++j) { // corner 0, the smallest, is k's own
-        const std::size_t u = owners.tileOf(data.triangles[t + j]);
+        const std::size_t u = pass.owners.tileOf(data.triangles[t + j]);
         if (u == k || u == sent)
           continue; // owned here, or sent already
         sent = u;
@@ -153,12 +172,12 @@ Status sendTriangles(const std::string& folder, const VertexOwners& owners,
                    data.triangles.begin() + static_cast<std::ptrdiff_t>(t + 3));
       }
     }
+    const std::lock_guard<std::mutex> lock(mutex);
     for (const auto& [u, ids] : outbox)
-      if (Status s = appendTriangles(crossPath(folder, u), ids); !s.ok())
+      if (Status s = appendWords(crossPath(pass.folder, u) + rank, ids); !s.ok())
         return s;
-    progress.tileDone();
-  }
-  return Status::success();
+    return Status::success();
+  });
 }
 
 double distance(const double* p, const double* q)
@@ -169,16 +188,15 @@ double distance(const double* p, const double* q)
 
 /// Steps 2 and 3: per vertex the median of its edges (own), then the median of its
 /// own and its neighbours' (local), as measurePointSpacing.
-Status measureSpacing(const std::string& folder, const VertexOwners& owners,
-                      unsigned workers, const VertexRecords& positions,
-                      const VertexRecords& own, const VertexRecords& local,
-                      SweepProgress& progress)
+Status measureSpacing(const Pass& pass, const VertexRecords& positions,
+                      const VertexRecords& own, const VertexRecords& local)
 {
-  const std::size_t tiles = owners.tiles.size();
   for (const bool second : {false, true}) {
-    Status s = forEachTile(tiles, workers, progress, [&](std::size_t k) {
+    Status s = pass.team.forEachTile(pass.tiles(), [&](std::size_t k) {
       TileAround tile;
-      if (Status r = loadAround(folder, owners, k, tile); !r.ok())
+      if (Status r =
+              loadAround(pass.folder, pass.owners, pass.team.comm.size(), k, tile);
+          !r.ok())
         return r;
       Lookup lookup(second ? own : positions, second ? 1 : 3);
       if (Status r = lookup.load(tile, tile.ring); !r.ok())
@@ -205,19 +223,24 @@ Status measureSpacing(const std::string& folder, const VertexOwners& owners,
   return Status::success();
 }
 
-/// Step 4: the oversized triangles of every tile, with their flags, in tile order.
-Status classify(const std::string& folder, const VertexOwners& owners, unsigned workers,
-                const TrimOptions& options, const VertexRecords& positions,
-                const VertexRecords& local, SweepProgress& progress,
+/// An oversized triangle and its flags, as a tile writes it for rank 0.
+struct Oversized {
+  TriangleKey key;
+  std::uint32_t flags;
+};
+
+/// Step 4: the oversized triangles of every tile, with their flags, in tile order
+/// (on rank 0).
+Status classify(const Pass& pass, const TrimOptions& options,
+                const VertexRecords& positions, const VertexRecords& local,
                 std::vector<TriangleKey>& oversized, std::vector<std::uint8_t>& flags)
 {
-  const std::size_t tiles = owners.tiles.size();
-  std::vector<std::vector<std::pair<TriangleKey, std::uint8_t>>> found(tiles);
-  Status s = forEachTile(tiles, workers, progress, [&](std::size_t k) {
+  Status s = pass.team.forEachTile(pass.tiles(), [&](std::size_t k) {
     TileAround tile;
-    tile.lo = owners.first[k];
-    tile.hi = owners.first[k + 1];
-    if (Status r = readTileResult(resultPath(folder, owners.tiles[k]), tile.data);
+    tile.lo = pass.owners.first[k];
+    tile.hi = pass.owners.first[k + 1];
+    if (Status r =
+            readTileResult(resultPath(pass.folder, pass.owners.tiles[k]), tile.data);
         !r.ok())
       return r;
     Lookup xy(positions, 3), spacing(local, 1);
@@ -226,6 +249,7 @@ Status classify(const std::string& folder, const VertexOwners& owners, unsigned 
     if (Status r = spacing.load(tile, tile.data.triangles); !r.ok())
       return r;
     const std::vector<std::uint32_t>& ids = tile.data.triangles;
+    std::vector<Oversized> found;
     for (std::size_t t = 0; t < ids.size(); t += 3) {
       const double scale =
           std::max({*spacing[ids[t]], *spacing[ids[t + 1]], *spacing[ids[t + 2]]});
@@ -234,50 +258,59 @@ Status classify(const std::string& folder, const VertexOwners& owners, unsigned 
           classifyTriangle(Point2{p[0][0], p[0][1]}, Point2{p[1][0], p[1][1]},
                            Point2{p[2][0], p[2][1]}, scale, options);
       if (size.oversized)
-        found[k].push_back(
+        found.push_back(
             {TriangleKey{ids[t], ids[t + 1], ids[t + 2]},
-             static_cast<std::uint8_t>(OVERSIZED | (size.void_seed ? VOID_SEED : 0))});
+             static_cast<std::uint32_t>(OVERSIZED | (size.void_seed ? VOID_SEED : 0))});
     }
-    return Status::success();
+    return writeFindings(pass.findings("oversized", k), found);
   });
-  for (const auto& tile : found)
-    for (const auto& [key, flag] : tile) {
-      oversized.push_back(key);
-      flags.push_back(flag);
+  std::vector<Oversized> found;
+  for (std::size_t k = 0; s.ok() && pass.team.comm.rank() == 0 && k < pass.tiles();
+       ++k) {
+    found.clear();
+    s = readFindings(pass.findings("oversized", k), found);
+    for (const Oversized& o : found) {
+      oversized.push_back(o.key);
+      flags.push_back(static_cast<std::uint8_t>(o.flags));
     }
-  return s;
+  }
+  return agree(pass.team.comm, s);
 }
 
-/// Step 5: every triangle with a corner in `corners` (sorted), in tile order.
-Status gatherFans(const std::string& folder, const VertexOwners& owners,
-                  unsigned workers, const std::vector<std::uint32_t>& corners,
-                  SweepProgress& progress, std::vector<TriangleKey>& fans)
+/// Step 5: every triangle with a corner in `corners` (sorted, on every rank), in
+/// tile order (on rank 0).
+Status gatherFans(const Pass& pass, const std::vector<std::uint32_t>& corners,
+                  std::vector<TriangleKey>& fans)
 {
-  const std::size_t tiles = owners.tiles.size();
-  std::vector<std::vector<TriangleKey>> found(tiles);
-  Status s = forEachTile(tiles, workers, progress, [&](std::size_t k) {
+  Status s = pass.team.forEachTile(pass.tiles(), [&](std::size_t k) {
     TileMeshData data;
-    if (Status r = readTileResult(resultPath(folder, owners.tiles[k]), data); !r.ok())
+    if (Status r = readTileResult(resultPath(pass.folder, pass.owners.tiles[k]), data);
+        !r.ok())
       return r;
+    std::vector<TriangleKey> found;
     for (std::size_t t = 0; t < data.triangles.size(); t += 3) {
       const TriangleKey key{data.triangles[t], data.triangles[t + 1],
                             data.triangles[t + 2]};
       if (std::any_of(key.begin(), key.end(), [&](std::uint32_t v) {
             return std::binary_search(corners.begin(), corners.end(), v);
           }))
-        found[k].push_back(key);
+        found.push_back(key);
     }
-    return Status::success();
+    return writeFindings(pass.findings("fans", k), found);
   });
-  for (const auto& tile : found)
+  std::vector<TriangleKey> tile;
+  for (std::size_t k = 0; s.ok() && pass.team.comm.rank() == 0 && k < pass.tiles();
+       ++k) {
+    s = readFindings(pass.findings("fans", k), tile);
     fans.insert(fans.end(), tile.begin(), tile.end());
-  return s;
+  }
+  return agree(pass.team.comm, s);
 }
 
 } // namespace
 
 Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
-                     const TrimOptions& options, unsigned workers,
+                     const TrimOptions& options, JobComm& comm, unsigned workers,
                      const SweepProgress::Report& report, TiledTrim& trim)
 {
   trim = TiledTrim{};
@@ -285,28 +318,37 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
     return s;
   VertexRecords positions(positionsPath(folder), 3), own(ownSpacingPath(folder), 1),
       local(folder + "/post_local.bin", 1);
+  // Rank 0 makes the files, then every rank opens them.
+  Status status;
   for (VertexRecords* file : {&positions, &own, &local})
-    if (Status s = file->create(); !s.ok())
-      return s;
-  // Five sweeps: send, two spacings, classify, gather.
-  SweepProgress progress(report, 5 * owners.tiles.size());
-  if (Status s = sendTriangles(folder, owners, positions, progress); !s.ok())
+    if (status.ok() && comm.rank() == 0)
+      status = file->create();
+  if (!(status = agree(comm, status)).ok())
+    return status;
+  for (VertexRecords* file : {&positions, &own, &local})
+    if (status.ok() && comm.rank() != 0)
+      status = file->openForWriting();
+  if (!(status = agree(comm, status)).ok())
+    return status;
+  // Five sweeps: send, two spacings, classify, gather; this rank takes its share.
+  SweepProgress progress(report, 5 * owners.tiles.size() /
+                                     static_cast<std::size_t>(comm.size()));
+  const SweepTeam team{comm, workers, progress};
+  const Pass pass{folder, owners, team};
+  if (Status s = sendTriangles(pass, positions); !s.ok())
     return s;
-  if (Status s =
-          measureSpacing(folder, owners, workers, positions, own, local, progress);
-      !s.ok())
+  if (Status s = measureSpacing(pass, positions, own, local); !s.ok())
     return s;
   std::vector<TriangleKey> oversized;
   std::vector<std::uint8_t> oversized_flags;
-  if (Status s = classify(folder, owners, workers, options, positions, local, progress,
-                          oversized, oversized_flags);
+  if (Status s = classify(pass, options, positions, local, oversized, oversized_flags);
       !s.ok())
     return s;
-  if (oversized.empty())
-    return Status::success();
-  if (!std::is_sorted(oversized.begin(), oversized.end()))
-    return Status::error(StatusCode::INTERNAL_ERROR,
-                         "the tile results are not in the global triangle order");
+  if (comm.rank() == 0 && !std::is_sorted(oversized.begin(), oversized.end()))
+    status = Status::error(StatusCode::INTERNAL_ERROR,
+                           "the tile results are not in the global triangle order");
+  if (!(status = agree(comm, status)).ok())
+    return status;
 
   // The sub-mesh: the oversized triangles and every triangle around their corners,
   // vertices renumbered in increasing global id, triangles in the global order.
@@ -315,9 +357,14 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
     corners.insert(corners.end(), key.begin(), key.end());
   std::sort(corners.begin(), corners.end());
   corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  broadcastIds(comm, corners);
+  if (corners.empty())
+    return Status::success();
   std::vector<TriangleKey> fans;
-  if (Status s = gatherFans(folder, owners, workers, corners, progress, fans); !s.ok())
+  if (Status s = gatherFans(pass, corners, fans); !s.ok())
     return s;
+  if (comm.rank() != 0)
+    return Status::success(); // rank 0 peels
   std::vector<std::uint32_t> ids;
   for (const TriangleKey& key : fans)
     ids.insert(ids.end(), key.begin(), key.end());

@@ -14,6 +14,7 @@
 
 #include <pcl_vts/core/trim_outward_triangles.h>
 #include <pcl_vts/io/mesh_writer.h>
+#include <pcl_vts/tiling/job_comm.h>
 
 #include <array>
 #include <cstdint>
@@ -39,8 +40,10 @@ std::string ownSpacingPath(const std::string& folder);
 /// Trims the mesh of the tile results in folder (scratch files go there too).
 /// `workers` tiles are handled at once.
 /// `report` (may be empty) hears of each tile visited, over all the sweeps.
+/// Collective over comm (each rank's `workers` share the sweeps); the answer is rank
+/// 0's.
 Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
-                     const TrimOptions& options, unsigned workers,
+                     const TrimOptions& options, JobComm& comm, unsigned workers,
                      const std::function<void(std::uint64_t, std::uint64_t)>& report,
                      TiledTrim& trim);
 
