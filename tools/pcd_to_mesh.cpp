@@ -823,6 +823,20 @@ class ProgressLine {
   const char* current_ = "";
 };
 
+/// The summary line of the fill, in memory and tiled alike.
+void printFillLine(Reporter& out, bool off, double seconds,
+                   const pcl_vts::FillResult& fill)
+{
+  if (off)
+    out.line("  fill         [off : --no-fill]\n");
+  else
+    out.line(
+        "  fill         [done, %.1f ms : %zu holes found, %zu filled, %zu left open "
+        "(larger than %.6g), %zu points inserted]\n",
+        1e3 * seconds, fill.holes_found, fill.holes_filled, fill.holes_left_open,
+        fill.max_hole_area, fill.points_inserted);
+}
+
 /// The tiled path (tiled_mesh.h): inputs streamed twice, the mesh streamed out.
 int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
              pcl_vts::JobComm& comm)
@@ -972,15 +986,7 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
         "left without triangles, %zu kept to stay manifold]\n",
         1e3 * report.seconds_trim, report.trim.triangles_removed,
         report.trim.vertices_lost, report.trim.kept_to_stay_manifold);
-  if (opt.no_fill)
-    out.line("  fill         [off : --no-fill]\n");
-  else
-    out.line(
-        "  fill         [done, %.1f ms : %zu holes found, %zu filled, %zu left open "
-        "(larger than %.6g), %zu points inserted]\n",
-        1e3 * report.seconds_fill, report.fill.holes_found, report.fill.holes_filled,
-        report.fill.holes_left_open, report.fill.max_hole_area,
-        report.fill.points_inserted);
+  printFillLine(out, opt.no_fill, report.seconds_fill, report.fill);
   out.line("  write        [done, %.1f ms : %s, %llu bytes]\n",
            1e3 * report.seconds_write,
            pcl_vts::meshFileFormatName(report.written.format),
@@ -1148,14 +1154,7 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
         "left without triangles, local spacing %.6g]\n",
         1e3 * rd.seconds_trim, rd.trim.triangles_removed, rd.trim.vertices_lost,
         rd.trim.spacing);
-  if (opt.no_fill)
-    out.line("  fill         [off : --no-fill]\n");
-  else
-    out.line(
-        "  fill         [done, %.1f ms : %zu holes found, %zu filled, %zu left open "
-        "(larger than %.6g), %zu points inserted]\n",
-        1e3 * rd.seconds_fill, rd.fill.holes_found, rd.fill.holes_filled,
-        rd.fill.holes_left_open, rd.fill.max_hole_area, rd.fill.points_inserted);
+  printFillLine(out, opt.no_fill, rd.seconds_fill, rd.fill);
 
   out.begin("Writing '%s' ", opt.output.c_str());
   start = Clock::now();

@@ -194,13 +194,13 @@ struct FinalIds {
            static_cast<std::uint64_t>(
                std::upper_bound(before.begin(), before.end(), input) - before.begin());
   }
-  /// The inserted point with final id f (its index), or SIZE_MAX for an input.
-  std::size_t insertedAt(std::uint64_t f) const
+  /// How many inserted points have final ids below f (inserted j has the final id
+  /// before[j] + j, increasing in j).
+  std::size_t insertedBelow(std::uint64_t f) const
   {
     if (edits == nullptr || edits->inputs_before == nullptr)
-      return SIZE_MAX;
+      return 0;
     const std::vector<std::uint64_t>& before = *edits->inputs_before;
-    // Inserted j has final id before[j] + j, increasing in j.
     std::size_t low = 0, high = before.size();
     while (low < high) {
       const std::size_t mid = (low + high) / 2;
@@ -209,24 +209,19 @@ struct FinalIds {
       else
         high = mid;
     }
-    return low < before.size() && before[low] + low == f ? low : SIZE_MAX;
+    return low;
+  }
+  /// The inserted point with final id f (its index), or SIZE_MAX for an input.
+  std::size_t insertedAt(std::uint64_t f) const
+  {
+    const std::size_t j = insertedBelow(f);
+    const std::vector<std::uint64_t>* before =
+        edits != nullptr ? edits->inputs_before : nullptr;
+    return before != nullptr && j < before->size() && (*before)[j] + j == f ? j
+                                                                            : SIZE_MAX;
   }
   /// The input id of a final id that is not inserted.
-  std::uint64_t inputOf(std::uint64_t f) const
-  {
-    if (edits == nullptr || edits->inputs_before == nullptr)
-      return f;
-    const std::vector<std::uint64_t>& before = *edits->inputs_before;
-    std::size_t low = 0, high = before.size(); // inserted points with final ids < f
-    while (low < high) {
-      const std::size_t mid = (low + high) / 2;
-      if (before[mid] + mid < f)
-        low = mid + 1;
-      else
-        high = mid;
-    }
-    return f - low;
-  }
+  std::uint64_t inputOf(std::uint64_t f) const { return f - insertedBelow(f); }
 };
 
 } // namespace

@@ -107,6 +107,26 @@ Status readWords(const std::string& path, std::vector<std::uint32_t>& ids,
                 : Status::success();
 }
 
+Status loadPart(const VertexRecords& positions, const std::vector<std::uint32_t>& ids,
+                const std::vector<TriangleKey>& triangles, TriangleMesh& part)
+{
+  part = TriangleMesh{};
+  part.xy.resize(ids.size());
+  part.z.resize(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    double p[3] = {0.0, 0.0, 0.0};
+    if (Status s = positions.read(ids[i], 1, p); !s.ok())
+      return s;
+    part.xy[i] = Point2{p[0], p[1]};
+    part.z[i] = p[2];
+  }
+  part.triangles.reserve(3 * triangles.size());
+  for (const TriangleKey& key : triangles)
+    for (const std::uint32_t v : key)
+      part.triangles.push_back(localIdOf(ids, v));
+  return Status::success();
+}
+
 void broadcastIds(JobComm& comm, std::vector<std::uint32_t>& ids)
 {
   if (comm.size() == 1)

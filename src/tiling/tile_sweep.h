@@ -3,7 +3,9 @@
 // over the tiles on worker threads.
 #pragma once
 #include "job_agreement.h"
+#include "tile_results.h"
 
+#include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 #include <pcl_vts/tiling/job_comm.h>
 
@@ -149,6 +151,19 @@ Status readFindings(const std::string& path, std::vector<Item>& items)
   std::memcpy(items.data(), words.data(), items.size() * sizeof(Item));
   return Status::success();
 }
+
+/// The local id of global id `id` in `ids` (sorted): its rank there.
+inline VertexId localIdOf(const std::vector<std::uint32_t>& ids, std::uint32_t id)
+{
+  return static_cast<VertexId>(std::lower_bound(ids.begin(), ids.end(), id) -
+                               ids.begin());
+}
+
+/// A part of the tiled mesh in memory: `triangles` (global ids) over the vertices
+/// `ids` (sorted global ids, each at its localIdOf), positions read back. Halfedges
+/// are left to the caller.
+Status loadPart(const VertexRecords& positions, const std::vector<std::uint32_t>& ids,
+                const std::vector<TriangleKey>& triangles, TriangleMesh& part);
 
 /// Sends ids from rank 0 to every rank (collective).
 void broadcastIds(JobComm& comm, std::vector<std::uint32_t>& ids);

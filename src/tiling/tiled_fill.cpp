@@ -219,22 +219,8 @@ Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
   if (Status s = own.open(); !s.ok())
     return s;
   TriangleMesh part;
-  part.xy.resize(ids.size());
-  part.z.resize(ids.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    double p[3] = {0.0, 0.0, 0.0};
-    if (Status s = positions.read(ids[i], 1, p); !s.ok())
-      return s;
-    part.xy[i] = Point2{p[0], p[1]};
-    part.z[i] = p[2];
-  }
-  auto localId = [&](std::uint32_t id) {
-    return static_cast<VertexId>(std::lower_bound(ids.begin(), ids.end(), id) -
-                                 ids.begin());
-  };
-  for (const TriangleKey& key : triangles)
-    for (const std::uint32_t v : key)
-      part.triangles.push_back(localId(v));
+  if (Status s = loadPart(positions, ids, triangles, part); !s.ok())
+    return s;
   if (!part.rebuildHalfedges())
     return Status::error(StatusCode::INTERNAL_ERROR,
                          "the triangles around the holes are not manifold");
@@ -243,7 +229,7 @@ Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
   // other vertex keeps the spacing measured before the trim.
   std::vector<VertexId> rim_local;
   for (const std::uint32_t v : rims)
-    rim_local.push_back(localId(v));
+    rim_local.push_back(localIdOf(ids, v));
   const std::vector<double> rim_own = medianEdges(part, rim_local);
   MeshPart whole;
   if (Status s =

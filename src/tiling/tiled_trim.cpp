@@ -371,23 +371,10 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   TriangleMesh mesh;
-  mesh.xy.resize(ids.size());
-  mesh.z.assign(ids.size(), 0.0);
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    double p[3] = {0.0, 0.0, 0.0};
-    if (Status s = positions.read(ids[i], 1, p); !s.ok())
-      return s;
-    mesh.xy[i] = Point2{p[0], p[1]};
-    mesh.z[i] = p[2];
-  }
-  auto localId = [&](std::uint32_t id) {
-    return static_cast<VertexId>(std::lower_bound(ids.begin(), ids.end(), id) -
-                                 ids.begin());
-  };
+  if (Status s = loadPart(positions, ids, fans, mesh); !s.ok())
+    return s;
   std::vector<std::uint8_t> flags(fans.size(), 0);
   for (std::size_t t = 0; t < fans.size(); ++t) {
-    for (const std::uint32_t v : fans[t])
-      mesh.triangles.push_back(localId(v));
     const auto at = std::lower_bound(oversized.begin(), oversized.end(), fans[t]);
     if (at != oversized.end() && *at == fans[t])
       flags[t] = oversized_flags[static_cast<std::size_t>(at - oversized.begin())];
@@ -409,7 +396,7 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
   trim.result.triangles_removed = trim.removed.size();
   // A corner of an oversized triangle has its whole fan here: lost if none is kept.
   for (const std::uint32_t v : corners)
-    trim.result.vertices_lost += keeps[localId(v)] ? 0 : 1;
+    trim.result.vertices_lost += keeps[localIdOf(ids, v)] ? 0 : 1;
   trim.corners = std::move(corners);
   return Status::success();
 }
