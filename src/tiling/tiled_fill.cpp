@@ -301,11 +301,28 @@ FilledMesh::FilledMesh(const MeshSource& base, const TiledFill& fill)
     : base_(base)
     , fill_(fill)
 {
+  const std::vector<std::uint64_t>& before = fill.inputs_before;
+  for (std::uint64_t b = 0; !before.empty() && b <= (before.back() >> BLOCK_BITS); ++b)
+    block_first_.push_back(static_cast<std::size_t>(
+        std::lower_bound(before.begin(), before.end(), b << BLOCK_BITS) -
+        before.begin()));
   exact_ = base.exactInFloat();
   for (const auto& p : fill.inserted)
     for (const double v : p)
       exact_ = exact_ && std::fabs(v) <= std::numeric_limits<float>::max() &&
                static_cast<double>(static_cast<float>(v)) == v;
+}
+
+VertexId FilledMesh::finalId(VertexId input) const
+{
+  // Once per corner of every triangle written: the block table, then the few
+  // inserted points of the block, instead of a bisection over all of them.
+  const std::vector<std::uint64_t>& before = fill_.inputs_before;
+  const std::uint64_t b = std::uint64_t{input} >> BLOCK_BITS;
+  std::size_t j = b < block_first_.size() ? block_first_[b] : before.size();
+  while (j < before.size() && before[j] <= input)
+    ++j;
+  return input + static_cast<VertexId>(j);
 }
 
 Status FilledMesh::forEachVertex(const VertexVisit& visit) const
@@ -332,9 +349,7 @@ Status FilledMesh::forEachTriangle(const TriangleVisit& visit) const
       visit(fill_.added[j][0], fill_.added[j][1], fill_.added[j][2]);
   };
   Status s = base_.forEachTriangle([&](VertexId a, VertexId b, VertexId c) {
-    const std::vector<std::uint64_t>& before = fill_.inputs_before;
-    const TriangleKey key{finalIdOf(before, a), finalIdOf(before, b),
-                          finalIdOf(before, c)};
+    const TriangleKey key{finalId(a), finalId(b), finalId(c)};
     addedBefore(key);
     visit(key[0], key[1], key[2]);
   });

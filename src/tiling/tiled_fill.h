@@ -60,9 +60,15 @@ class FilledMesh : public MeshSource {
   Status forEachTriangle(const TriangleVisit& visit) const override;
 
  private:
+  static constexpr int BLOCK_BITS = 12;
+  /// An input vertex's final id: shifted by the points inserted before it.
+  VertexId finalId(VertexId input) const;
+
   const MeshSource& base_;
   const TiledFill& fill_;
   bool exact_;
+  /// Per block of 4096 input ids: the first inserted point at or after its start.
+  std::vector<std::size_t> block_first_;
 };
 
 } // namespace pcl_vts

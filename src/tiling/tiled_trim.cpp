@@ -403,10 +403,15 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
 
 Status TrimmedMesh::forEachTriangle(const TriangleVisit& visit) const
 {
+  // The stream is in the global order, as the removed list: a cursor walks both.
+  std::size_t next = 0;
   return base_.forEachTriangle([&](VertexId a, VertexId b, VertexId c) {
     const TriangleKey key{a, b, c};
-    if (!std::binary_search(removed_.begin(), removed_.end(), key))
-      visit(a, b, c);
+    while (next < removed_.size() && removed_[next] < key)
+      ++next;
+    if (next < removed_.size() && removed_[next] == key)
+      return;
+    visit(a, b, c);
   });
 }
 
