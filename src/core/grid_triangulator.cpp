@@ -61,13 +61,13 @@ void appendStrip(StripMesh& strip, std::vector<VertexId>& triangles,
       const VertexId a = local_v[3 * t + k];
       const HalfedgeId h = local_h[3 * t + k];
       triangles[out + k] = a;
-      if (h == StripMesh::BORDER) {
+      if (h == detail::BORDER) {
         const VertexId b = local_v[3 * t + (k == 2 ? 0 : k + 1)];
         border.push_back(
             {std::min(a, b), std::max(a, b), static_cast<HalfedgeId>(out + k)});
         halfedges[out + k] = INVALID_ID;
       } else {
-        halfedges[out + k] = h == INVALID_ID ? INVALID_ID : 3 * global[h / 3] + h % 3;
+        halfedges[out + k] = h == detail::HULL ? INVALID_ID : 3 * global[h / 3] + h % 3;
       }
     }
   }

@@ -1,3 +1,4 @@
+#include <pcl_vts/core/error_bounds.h>
 #include <pcl_vts/core/mediatrix_search.h>
 #include <pcl_vts/core/predicates.h>
 
@@ -8,14 +9,6 @@
 namespace pcl_vts {
 namespace {
 
-constexpr double U = 0x1p-53; // unit roundoff
-// Relative slack on comparisons of squared distances computed in floating point.
-constexpr double CMP_SLACK = 1e-9;
-// Below this |D| / (|u| |v|) the centre cannot be bounded usefully: no pruning.
-constexpr double MIN_SINE = 1e-12;
-// Edge-vector lengths for which no intermediate product under- or overflows.
-constexpr double MIN_LENGTH = 1e-90;
-constexpr double MAX_LENGTH = 1e90;
 // The edge rectangle is skipped (straight to widening) when larger than this.
 constexpr std::size_t MAX_LOCAL_CELLS = 64;
 // A best circle covering at most this many cells is scanned directly, no widening.
@@ -33,38 +26,6 @@ bool heapGreater(double a, double b)
 }
 
 } // namespace
-
-SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& p)
-{
-  SafeDisk disk;
-  const double ux = b.x - a.x, uy = b.y - a.y;
-  const double vx = p.x - a.x, vy = p.y - a.y;
-  const double u2 = ux * ux + uy * uy, v2 = vx * vx + vy * vy;
-  // Upper bounds of |u| and |v| (within a factor sqrt 2), no square root: they only
-  // loosen the error bound and the conditioning test.
-  const double ulen = std::fabs(ux) + std::fabs(uy),
-               vlen = std::fabs(vx) + std::fabs(vy);
-  if (!(ulen >= 2.0 * MIN_LENGTH && ulen <= MAX_LENGTH && vlen >= 2.0 * MIN_LENGTH &&
-        vlen <= MAX_LENGTH))
-    return disk;
-  const double uv = ulen * vlen;
-  const double d = ux * vy - uy * vx;
-  if (!(d > MIN_SINE * uv))
-    return disk;
-  // Centre relative to a: (vy |u|^2 - uy |v|^2, ux |v|^2 - vx |u|^2) / 2d.
-  const double ox = (vy * u2 - uy * v2) / (2.0 * d);
-  const double oy = (ux * v2 - vx * u2) / (2.0 * d);
-  const double r = std::sqrt(ox * ox + oy * oy);
-  // First-order bound: rounding of the differences, numerators and d, amplified by
-  // the conditioning |u||v| / d (docs/algorithm.md).
-  const double err = 32.0 * U * (uv * (ulen + vlen) / d + r * (uv / d + 1.0));
-  disk.cx = a.x + ox;
-  disk.cy = a.y + oy;
-  disk.radius = r + err + 8.0 * U * (std::fabs(disk.cx) + std::fabs(disk.cy) + r);
-  disk.valid =
-      std::isfinite(disk.radius) && std::isfinite(disk.cx) && std::isfinite(disk.cy);
-  return disk;
-}
 
 MediatrixSearch::MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid,
                                  const CellSubdivision& subdivision)
@@ -139,7 +100,7 @@ void MediatrixSearch::Query::refreshDisk(const CellGrid& grid)
     if (disk.valid) {
       reject_cx = disk.cx;
       reject_cy = disk.cy;
-      reject_r2 = disk.radius * disk.radius * (1.0 + CMP_SLACK);
+      reject_r2 = disk.radius * disk.radius * (1.0 + SQUARED_DISTANCE_SLACK);
     }
   }
 }
@@ -176,7 +137,6 @@ BlockRect MediatrixSearch::blockBounds(const Block& b) const
 void MediatrixSearch::widen(Query& q, const Window& done)
 {
   const double mx = 0.5 * (q.pa.x + q.pb.x), my = 0.5 * (q.pa.y + q.pb.y);
-  const double ex = q.pb.x - q.pa.x, ey = q.pb.y - q.pa.y;
   const auto cmp = [](const Block& l, const Block& r) {
     return heapGreater(l.key, r.key);
   };
@@ -196,22 +156,15 @@ void MediatrixSearch::widen(Query& q, const Window& done)
       // Blocks come out nearest the edge midpoint first: once one lies beyond every
       // point of the disk, so do all the rest.
       const double reach = std::hypot(q.disk.cx - mx, q.disk.cy - my) + q.disk.radius;
-      if (blk.key > reach * reach * (1.0 + CMP_SLACK))
+      if (blk.key > reach * reach * (1.0 + SQUARED_DISTANCE_SLACK))
         break;
-      const double r2 = q.disk.radius * q.disk.radius * (1.0 + CMP_SLACK);
+      const double r2 = q.disk.radius * q.disk.radius * (1.0 + SQUARED_DISTANCE_SLACK);
       if (rect.squaredDistance(q.disk.cx, q.disk.cy) > r2)
         continue;
     }
     // Skip blocks lying in the closed right half-plane of a->b (certified bound).
-    bool maybe_left = false;
-    const double cx[4] = {x0, x1, x0, x1}, cy[4] = {y0, y0, y1, y1};
-    for (int k = 0; k < 4 && !maybe_left; ++k) {
-      const double dx = cx[k] - q.pa.x, dy = cy[k] - q.pa.y;
-      const double cross = ex * dy - ey * dx;
-      const double bound = 8.0 * U * (std::fabs(ex * dy) + std::fabs(ey * dx));
-      maybe_left = cross + bound > 0.0;
-    }
-    if (!maybe_left)
+    if (!mayLieLeft(q.pa, q.pb, {x0, y0}) && !mayLieLeft(q.pa, q.pb, {x1, y0}) &&
+        !mayLieLeft(q.pa, q.pb, {x0, y1}) && !mayLieLeft(q.pa, q.pb, {x1, y1}))
       continue;
 
     const auto push = [&](Block child) {
@@ -244,6 +197,93 @@ void MediatrixSearch::widen(Query& q, const Window& done)
   }
 }
 
+bool MediatrixSearch::settleByGuess(Query& q)
+{
+  // A floating-point guess of the apex, certified exactly on the cells of its safe
+  // disk. Any valid left candidate may start the exact tests; a good one makes the
+  // disk tight, so nearly every other point is rejected by one distance test.
+  const VertexId guess = guessThirdPoint(q);
+  if (guess == INVALID_ID ||
+      orient2d(q.pa, q.pb, grid_.points[guess]) != Sign::POSITIVE)
+    return false;
+  q.best = guess;
+  q.refreshDisk(grid_);
+  if (!q.disk.valid)
+    return false;
+  const Window r = diskCells(q.disk);
+  if (cellCount(r) > QUICK_CELLS || windowHasCrowdedCell(r))
+    return false;
+  // The cells of a window row are contiguous in the grid: one range per row.
+  for (std::uint32_t j = r.j0; j <= r.j1; ++j) {
+    const CellId row = grid_.cellId(0, j);
+    testRange(grid_.cell_start[row + r.i0], grid_.cell_start[row + r.i1 + 1], q);
+    stats_.cells_visited += r.i1 - r.i0;
+  }
+  return true;
+}
+
+MediatrixSearch::Window MediatrixSearch::edgeRectangle(const Query& q) const
+{
+  const std::uint32_t ia = grid_.column(q.pa.x), ib = grid_.column(q.pb.x);
+  const std::uint32_t ja = grid_.row(q.pa.y), jb = grid_.row(q.pb.y);
+  const Window w{std::min(ia, ib) > 0 ? std::min(ia, ib) - 1 : 0,
+                 std::min(std::max(ia, ib) + 1, grid_.nx - 1),
+                 std::min(ja, jb) > 0 ? std::min(ja, jb) - 1 : 0,
+                 std::min(std::max(ja, jb) + 1, grid_.ny - 1)};
+  if (cellCount(w) > MAX_LOCAL_CELLS || windowHasCrowdedCell(w))
+    return Window{1, 0, 1, 0};
+  return w;
+}
+
+bool MediatrixSearch::settleInRectangle(Query& q, const Window& w)
+{
+  // Nearest circumcentre first: the guess if any, else the cell where the mediatrix
+  // enters the open side (half an edge length from the midpoint).
+  std::uint32_t fi = w.i1 + 1, fj = w.j1 + 1; // no foot cell tested yet
+  if (q.best == INVALID_ID) {
+    const double fx = 0.5 * (q.pa.x + q.pb.x) - 0.5 * (q.pb.y - q.pa.y);
+    const double fy = 0.5 * (q.pa.y + q.pb.y) + 0.5 * (q.pb.x - q.pa.x);
+    fi = std::clamp(grid_.column(fx), w.i0, w.i1);
+    fj = std::clamp(grid_.row(fy), w.j0, w.j1);
+    testCell(grid_.cellId(fi, fj), q);
+  }
+  q.refreshDisk(grid_);
+  // Usually the apex is known now and its circle spans only a few of the window's
+  // cells: visit just those. Later candidates lie inside this circle and so do their
+  // circles' open sides, so the cells stay sufficient.
+  if (q.best != INVALID_ID && q.disk.valid) {
+    const Window r = diskCells(q.disk);
+    if (r.i0 >= w.i0 && r.i1 <= w.i1 && r.j0 >= w.j0 && r.j1 <= w.j1) {
+      for (std::uint32_t j = r.j0; j <= r.j1; ++j)
+        for (std::uint32_t i = r.i0; i <= r.i1; ++i)
+          if (i != fi || j != fj)
+            testCell(grid_.cellId(i, j), q);
+      return true;
+    }
+  }
+  for (std::uint32_t j = w.j0; j <= w.j1; ++j)
+    for (std::uint32_t i = w.i0; i <= w.i1; ++i)
+      if (i != fi || j != fj)
+        testCell(grid_.cellId(i, j), q);
+  return false;
+}
+
+bool MediatrixSearch::settleInDiskCells(Query& q, const Window& done)
+{
+  q.refreshDisk(grid_);
+  if (q.best == INVALID_ID || !q.disk.valid)
+    return false;
+  // The circle spills out of the rectangle: its cells, when few, still cover it.
+  const Window r = diskCells(q.disk);
+  if (cellCount(r) > MAX_DISK_CELLS || windowHasCrowdedCell(r))
+    return false;
+  for (std::uint32_t j = r.j0; j <= r.j1; ++j)
+    for (std::uint32_t i = r.i0; i <= r.i1; ++i)
+      if (!done.contains(i, j))
+        testCell(grid_.cellId(i, j), q);
+  return true;
+}
+
 VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
 {
   Query q;
@@ -251,86 +291,17 @@ VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
   q.b = b;
   q.pa = grid_.points[a];
   q.pb = grid_.points[b];
-
-  // Quick path: a floating-point guess of the apex, certified exactly on the cells of
-  // its safe disk. Any valid left candidate may start the exact tests; a good one makes
-  // the disk tight, so nearly every other point is rejected by one distance test.
-  const VertexId guess = guessThirdPoint(q);
-  if (guess != INVALID_ID &&
-      orient2d(q.pa, q.pb, grid_.points[guess]) == Sign::POSITIVE) {
-    q.best = guess;
-    q.refreshDisk(grid_);
-    if (q.disk.valid) {
-      const Window r = diskCells(q.disk);
-      if (cellCount(r) <= QUICK_CELLS && !windowHasCrowdedCell(r)) {
-        // The cells of a window row are contiguous in the grid: one range per row.
-        for (std::uint32_t j = r.j0; j <= r.j1; ++j) {
-          const CellId row = grid_.cellId(0, j);
-          testRange(grid_.cell_start[row + r.i0], grid_.cell_start[row + r.i1 + 1], q);
-          stats_.cells_visited += r.i1 - r.i0;
-        }
-        ++stats_.local;
-        return q.best;
-      }
-    }
+  // Quick guess; else the rectangle supported by the edge (the cells spanned by a and
+  // b, dilated by one; empty when too large or crowded), then the cells of the best
+  // circle found; else widen over the pyramid.
+  if (settleByGuess(q)) {
+    ++stats_.local;
+    return q.best;
   }
-
-  // The rectangle supported by the edge: the cells spanned by a and b, dilated by one.
-  const std::uint32_t ia = grid_.column(q.pa.x), ib = grid_.column(q.pb.x);
-  const std::uint32_t ja = grid_.row(q.pa.y), jb = grid_.row(q.pb.y);
-  Window w{std::min(ia, ib) > 0 ? std::min(ia, ib) - 1 : 0,
-           std::min(std::max(ia, ib) + 1, grid_.nx - 1),
-           std::min(ja, jb) > 0 ? std::min(ja, jb) - 1 : 0,
-           std::min(std::max(ja, jb) + 1, grid_.ny - 1)};
-  const std::size_t cells = static_cast<std::size_t>(w.i1 - w.i0 + 1) *
-                            static_cast<std::size_t>(w.j1 - w.j0 + 1);
-  if (cells > MAX_LOCAL_CELLS || windowHasCrowdedCell(w)) {
-    w = Window{1, 0, 1, 0};
-  } else {
-    // Nearest circumcentre first: the guess if any, else the cell where the mediatrix
-    // enters the open side (half an edge length from the midpoint).
-    std::uint32_t fi = w.i1 + 1, fj = w.j1 + 1; // no foot cell tested yet
-    if (q.best == INVALID_ID) {
-      const double fx = 0.5 * (q.pa.x + q.pb.x) - 0.5 * (q.pb.y - q.pa.y);
-      const double fy = 0.5 * (q.pa.y + q.pb.y) + 0.5 * (q.pb.x - q.pa.x);
-      fi = std::clamp(grid_.column(fx), w.i0, w.i1);
-      fj = std::clamp(grid_.row(fy), w.j0, w.j1);
-      testCell(grid_.cellId(fi, fj), q);
-    }
-    q.refreshDisk(grid_);
-    // Usually the apex is known now and its circle spans only a few of the window's
-    // cells: visit just those. Later candidates lie inside this circle and so do their
-    // circles' open sides, so the cells stay sufficient.
-    if (q.best != INVALID_ID && q.disk.valid) {
-      const Window r = diskCells(q.disk);
-      if (r.i0 >= w.i0 && r.i1 <= w.i1 && r.j0 >= w.j0 && r.j1 <= w.j1) {
-        for (std::uint32_t j = r.j0; j <= r.j1; ++j)
-          for (std::uint32_t i = r.i0; i <= r.i1; ++i)
-            if (i != fi || j != fj)
-              testCell(grid_.cellId(i, j), q);
-        ++stats_.local;
-        return q.best;
-      }
-    }
-    for (std::uint32_t j = w.j0; j <= w.j1; ++j)
-      for (std::uint32_t i = w.i0; i <= w.i1; ++i)
-        if (i != fi || j != fj)
-          testCell(grid_.cellId(i, j), q);
-    q.refreshDisk(grid_);
-    if (q.best != INVALID_ID && q.disk.valid) {
-      // The circle spills out of the rectangle: its cells, when few, still cover it.
-      const Window r = diskCells(q.disk);
-      const std::size_t r_cells = static_cast<std::size_t>(r.i1 - r.i0 + 1) *
-                                  static_cast<std::size_t>(r.j1 - r.j0 + 1);
-      if (r_cells <= MAX_DISK_CELLS && !windowHasCrowdedCell(r)) {
-        for (std::uint32_t j = r.j0; j <= r.j1; ++j)
-          for (std::uint32_t i = r.i0; i <= r.i1; ++i)
-            if (!w.contains(i, j))
-              testCell(grid_.cellId(i, j), q);
-        ++stats_.local;
-        return q.best;
-      }
-    }
+  const Window w = edgeRectangle(q);
+  if (w.i0 <= w.i1 && (settleInRectangle(q, w) || settleInDiskCells(q, w))) {
+    ++stats_.local;
+    return q.best;
   }
   ++stats_.widened;
   widen(q, w);

@@ -2,9 +2,11 @@
 // absolute term that covers gradual underflow. Slow path: expansion arithmetic when
 // every coordinate lies in [2^-200, 2^200] (then no product underflows or overflows),
 // otherwise big integers (Boost.Multiprecision cpp_int on the doubles scaled by
-// 2^1074), so any finite double is exact.
+// 2^1074), so any finite double is exact. Last, the floating-point error bounds of
+// error_bounds.h (the safe circumdisk of the mediatrix search).
 #include "expansion.h"
 
+#include <pcl_vts/core/error_bounds.h>
 #include <pcl_vts/core/predicates.h>
 
 #include <boost/multiprecision/cpp_int.hpp>
@@ -245,6 +247,49 @@ Sign incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c,
       return cof;
   }
   return Sign::ZERO;
+}
+
+namespace {
+// Below this |D| / (|u| |v|) the centre cannot be bounded usefully: no pruning.
+constexpr double MIN_SINE = 1e-12;
+// Edge-vector lengths for which no intermediate product under- or overflows.
+constexpr double MIN_LENGTH = 1e-90;
+constexpr double MAX_LENGTH = 1e90;
+} // namespace
+
+SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& p)
+{
+  SafeDisk disk;
+  const double ux = b.x - a.x, uy = b.y - a.y;
+  const double vx = p.x - a.x, vy = p.y - a.y;
+  const double u2 = ux * ux + uy * uy, v2 = vx * vx + vy * vy;
+  // Upper bounds of |u| and |v| (within a factor sqrt 2), no square root: they only
+  // loosen the error bound and the conditioning test.
+  const double ulen = std::fabs(ux) + std::fabs(uy),
+               vlen = std::fabs(vx) + std::fabs(vy);
+  if (!(ulen >= 2.0 * MIN_LENGTH && ulen <= MAX_LENGTH && vlen >= 2.0 * MIN_LENGTH &&
+        vlen <= MAX_LENGTH))
+    return disk;
+  const double uv = ulen * vlen;
+  const double d = ux * vy - uy * vx;
+  if (!(d > MIN_SINE * uv))
+    return disk;
+  // Centre relative to a: (vy |u|^2 - uy |v|^2, ux |v|^2 - vx |u|^2) / 2d.
+  const double ox = (vy * u2 - uy * v2) / (2.0 * d);
+  const double oy = (ux * v2 - vx * u2) / (2.0 * d);
+  const double r = std::sqrt(ox * ox + oy * oy);
+  // First-order bound: rounding of the differences, numerators and d, amplified by
+  // the conditioning |u||v| / d (docs/algorithm.md).
+  const double err =
+      32.0 * detail::UNIT_ROUNDOFF * (uv * (ulen + vlen) / d + r * (uv / d + 1.0));
+  disk.cx = a.x + ox;
+  disk.cy = a.y + oy;
+  disk.radius =
+      r + err +
+      8.0 * detail::UNIT_ROUNDOFF * (std::fabs(disk.cx) + std::fabs(disk.cy) + r);
+  disk.valid =
+      std::isfinite(disk.radius) && std::isfinite(disk.cx) && std::isfinite(disk.cy);
+  return disk;
 }
 
 } // namespace pcl_vts

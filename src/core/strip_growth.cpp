@@ -12,15 +12,6 @@ namespace pcl_vts {
 namespace detail {
 namespace {
 
-// Halfedge slot states while growing: a twin (< OPEN), an open halfedge (OPEN | link
-// to the next open halfedge of the same origin), or CLOSED (no twin and never will:
-// the right side of a hull edge).
-constexpr HalfedgeId OPEN = 0x80000000u;
-constexpr HalfedgeId NIL = OPEN_LIST_END;
-constexpr HalfedgeId CLOSED = INVALID_ID;
-// Halfedge ids must stay below NIL.
-constexpr std::size_t MAX_TRIANGLES = NIL / 3;
-
 /// Open-list heads of the vertices outside the strip that its triangles touch: a
 /// small open-addressing map (the strip's own vertices use the shared array).
 class ForeignHeads {
@@ -34,7 +25,7 @@ class ForeignHeads {
       i = (i + 1) & (keys_.size() - 1);
     if (keys_[i] == INVALID_ID) {
       keys_[i] = v;
-      heads_[i] = NIL;
+      heads_[i] = OPEN_LIST_END;
       ++size_;
     }
     return heads_[i];
@@ -47,7 +38,7 @@ class ForeignHeads {
     std::vector<VertexId> keys = std::move(keys_);
     std::vector<HalfedgeId> heads = std::move(heads_);
     keys_.assign(std::max<std::size_t>(64, 2 * keys.size()), INVALID_ID);
-    heads_.assign(keys_.size(), NIL);
+    heads_.assign(keys_.size(), OPEN_LIST_END);
     for (std::size_t k = 0; k < keys.size(); ++k)
       if (keys[k] != INVALID_ID) {
         std::size_t i = slot(keys[k]);
@@ -190,7 +181,7 @@ class Growth {
       mesh_.halfedges.push_back(CLOSED);
       corner_in_strip_[k++] = t >= low_ && t < high_;
       if (t >= low_ && t < high_ && open_head_[v] == UNREACHED)
-        open_head_[v] = NIL; // reached: its star will be grown
+        open_head_[v] = OPEN_LIST_END; // reached: its star will be grown
     }
     // Owned: the leftmost vertex column is in the strip (one vertex is, so none is
     // right of it).
@@ -212,10 +203,10 @@ class Growth {
   {
     const VertexId from = origin(e), to = target(e);
     HalfedgeId& first = head(to, to_in_strip);
-    HalfedgeId prev = NIL;
-    for (HalfedgeId h = first; h != NIL; prev = h, h = nextOpen(h))
+    HalfedgeId prev = OPEN_LIST_END;
+    for (HalfedgeId h = first; h != OPEN_LIST_END; prev = h, h = nextOpen(h))
       if (target(h) == from) {
-        if (prev == NIL)
+        if (prev == OPEN_LIST_END)
           first = nextOpen(h);
         else
           mesh_.halfedges[prev] = OPEN | nextOpen(h);
@@ -232,10 +223,10 @@ class Growth {
   void close(HalfedgeId e, bool origin_in_strip)
   {
     HalfedgeId& first = head(origin(e), origin_in_strip);
-    HalfedgeId prev = NIL;
-    for (HalfedgeId h = first; h != NIL; prev = h, h = nextOpen(h))
+    HalfedgeId prev = OPEN_LIST_END;
+    for (HalfedgeId h = first; h != OPEN_LIST_END; prev = h, h = nextOpen(h))
       if (h == e) {
-        if (prev == NIL)
+        if (prev == OPEN_LIST_END)
           first = nextOpen(h);
         else
           mesh_.halfedges[prev] = OPEN | nextOpen(h);
@@ -274,9 +265,9 @@ class Growth {
         return Status::error(StatusCode::INTERNAL_ERROR,
                              "no Delaunay triangle found across interior edge " +
                                  std::to_string(x) + "-" + std::to_string(y));
-      if (mesh_.owned.size() >= MAX_TRIANGLES)
+      if (mesh_.owned.size() >= MAX_STRIP_TRIANGLES)
         return Status::error(StatusCode::CAPACITY_EXCEEDED,
-                             "more than " + std::to_string(MAX_TRIANGLES) +
+                             "more than " + std::to_string(MAX_STRIP_TRIANGLES) +
                                  " triangles: beyond the 32-bit halfedge ids");
       const HalfedgeId f = addTriangle(y, x, p);
       close(e, corner_in_strip_[1]);
@@ -377,12 +368,11 @@ class Growth {
       for (HalfedgeId e = static_cast<HalfedgeId>(3 * t); e < 3 * t + 3; ++e) {
         const HalfedgeId h = mesh_.halfedges[e];
         if (h < OPEN)
-          mesh_.halfedges[e] = mesh_.owned[h / 3] ? h : StripMesh::BORDER;
+          mesh_.halfedges[e] = mesh_.owned[h / 3] ? h : HalfedgeId{BORDER};
         else if (h != CLOSED)
-          mesh_.halfedges[e] =
-              hull_.contains(origin(e), target(e)) ? INVALID_ID : StripMesh::BORDER;
+          mesh_.halfedges[e] = hull_.contains(origin(e), target(e)) ? HULL : BORDER;
         else
-          mesh_.halfedges[e] = INVALID_ID;
+          mesh_.halfedges[e] = HULL;
       }
     }
   }

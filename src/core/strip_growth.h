@@ -52,11 +52,31 @@ class HullEdges {
   std::vector<std::pair<VertexId, VertexId>> links_; ///< (v, next hull vertex), by v
 };
 
-/// What one strip grew. Halfedge slots of owned triangles hold a strip-local twin
-/// (of an owned triangle), BORDER (the twin belongs to another strip) or INVALID_ID
-/// (hull).
+/// The halfedge slot states of strip growth, in one table. Halfedge ids stay below
+/// OPEN_LIST_END, so a slot never mistakes an id for a state.
+///   StripMesh::halfedges while a strip grows: a twin (< OPEN_LIST_END); OPEN | next,
+///     an open halfedge whose `next` is the following open halfedge of the same origin
+///     (or OPEN_LIST_END); or CLOSED, no twin and never one (the right side of a hull
+///     edge), the state a new slot starts in.
+///   StripMesh::halfedges once grown (growStrip's result, owned triangles only): a
+///     strip-local twin (< OPEN_LIST_END), BORDER (the twin belongs to another strip)
+///     or HULL (no twin). BORDER's bits equal OPEN | (OPEN_LIST_END - 1), a state that
+///     no longer exists then.
+///   open_head, per grid point: UNREACHED (no triangle of its strip touches it yet),
+///     OPEN_LIST_END (reached, no open halfedge) or its first open halfedge.
+enum HalfedgeSlot : HalfedgeId {
+  OPEN_LIST_END = 0x7ffffffeu, ///< end of an open-halfedge list
+  OPEN = 0x80000000u,          ///< flag of an open halfedge; the rest links the list
+  BORDER = 0xfffffffdu,        ///< once grown: the twin is another strip's
+  CLOSED = INVALID_ID,         ///< while growing: no twin, never one
+  HULL = INVALID_ID,           ///< once grown: no twin (the mesh's INVALID_ID)
+  UNREACHED = 0xffffffffu,     ///< open_head of a point no triangle touches yet
+};
+/// Triangles a strip may grow: its halfedge ids stay below OPEN_LIST_END.
+constexpr std::size_t MAX_STRIP_TRIANGLES = OPEN_LIST_END / 3;
+
+/// What one strip grew; its halfedge slots are in the HalfedgeSlot table.
 struct StripMesh {
-  static constexpr HalfedgeId BORDER = 0xfffffffdu;
   std::vector<VertexId> triangles;   ///< 3 per triangle grown (owned or not)
   std::vector<HalfedgeId> halfedges; ///< 1 per halfedge, see above (owned only)
   std::vector<bool> owned;           ///< 1 per triangle grown
@@ -64,17 +84,13 @@ struct StripMesh {
 };
 
 /// Grows strip `strip` of `layout`. `open_head` (one slot per grid point, filled with
-/// UNREACHED) is shared by all strips: a strip only touches the slots of its own
-/// vertices, where it keeps the head of each vertex's list of open halfedges.
+/// UNREACHED, see HalfedgeSlot) is shared by all strips: a strip only touches the slots
+/// of its own vertices, where it keeps the head of each vertex's list of open
+/// halfedges.
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, std::vector<HalfedgeId>& open_head,
                  StripMesh& mesh);
-
-/// End of an open-halfedge list; halfedge ids stay below it.
-constexpr HalfedgeId OPEN_LIST_END = 0x7ffffffeu;
-/// The open_head value of a vertex no triangle of its strip touches yet.
-constexpr HalfedgeId UNREACHED = 0xffffffffu;
 
 } // namespace detail
 } // namespace pcl_vts

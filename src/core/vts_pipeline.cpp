@@ -121,6 +121,83 @@ Status validateOptions(const VtsOptions& options)
   return Status::success();
 }
 
+namespace {
+
+/// What the grid stage hands to the triangulation.
+struct GridStage {
+  CellGrid grid;
+  CellSubdivision subdivision;
+  CellPyramid pyramid;
+  std::vector<std::uint32_t> source; ///< input index of each vertex (grid point)
+};
+
+/// Grid stage: condition, bucket, merge duplicates, subdivide crowded cells, build the
+/// occupancy pyramid. Fills input_to_vertex (n entries) and the grid diagnostics; the
+/// intermediate arrays are released before it returns.
+Status buildGridStage(const double* xyz, std::size_t n, const VtsOptions& options,
+                      unsigned threads, GridStage& stage,
+                      std::vector<VertexId>& input_to_vertex, Diagnostics& diag)
+{
+  std::vector<Point2> xy;
+  std::vector<double> z;
+  std::vector<std::uint32_t> source;
+  if (Status s = conditionInput(xyz, n, xy, z, source, diag); !s.ok())
+    return s;
+  if (Status s = checkExtent(xy); !s.ok())
+    return s;
+  CellGrid& grid = stage.grid;
+  std::vector<std::uint32_t> order;
+  if (Status s = buildCellGrid(xy, options.cell_size, grid, order, threads); !s.ok())
+    return s;
+  std::vector<double> vz(order.size());
+  std::vector<std::uint32_t>& vsource = stage.source;
+  vsource.resize(order.size());
+  parallelFor(threads, order.size(), [&](std::size_t k) {
+    vz[k] = z[order[k]];
+    vsource[k] = source[order[k]];
+  });
+  std::vector<VertexId> slot_to_vertex;
+  diag.duplicates_merged =
+      mergeDuplicates(grid, options.duplicate_rule, vz, vsource, slot_to_vertex);
+  // Vertex heights are rebuilt from the input after the triangulation (vertexHeights),
+  // so they do not add to the peak memory.
+  std::vector<double>().swap(vz);
+  {
+    std::vector<std::uint32_t> old_slot;
+    subdivideCrowdedCells(grid, stage.subdivision, old_slot);
+    if (!old_slot.empty()) { // crowded cells were reordered: follow the points
+      std::vector<VertexId> new_id(old_slot.size());
+      std::vector<std::uint32_t> source2(old_slot.size());
+      for (std::size_t k = 0; k < old_slot.size(); ++k) {
+        new_id[old_slot[k]] = static_cast<VertexId>(k);
+        source2[k] = vsource[old_slot[k]];
+      }
+      vsource.swap(source2);
+      for (VertexId& v : slot_to_vertex)
+        v = new_id[v];
+    }
+  }
+  diag.distinct_points = grid.points.size();
+  diag.cells = grid.cellCount();
+  diag.cell_size = grid.cell_size;
+  input_to_vertex.assign(n, INVALID_ID);
+  // Each input point is one slot: distinct writes.
+  parallelFor(threads, order.size(), [&](std::size_t k) {
+    input_to_vertex[source[order[k]]] = slot_to_vertex[k];
+  });
+  { // release what is no longer needed before the triangulation allocates
+    std::vector<Point2>().swap(xy);
+    std::vector<double>().swap(z);
+    std::vector<std::uint32_t>().swap(source);
+    std::vector<std::uint32_t>().swap(order);
+    std::vector<VertexId>().swap(slot_to_vertex);
+  }
+  buildCellPyramid(grid, stage.pyramid);
+  return Status::success();
+}
+
+} // namespace
+
 Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
                       VtsResult& result)
 {
@@ -137,65 +214,14 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   if (n > 0 && xyz == nullptr)
     return Status::error(StatusCode::INVALID_PARAMETER, "null point array");
 
-  // Grid: condition, bucket, merge duplicates.
   Stopwatch watch;
-  std::vector<Point2> xy;
-  std::vector<double> z;
-  std::vector<std::uint32_t> source;
-  if (Status s = conditionInput(xyz, n, xy, z, source, diag); !s.ok())
-    return s;
-  if (Status s = checkExtent(xy); !s.ok())
-    return s;
-  CellGrid grid;
-  std::vector<std::uint32_t> order;
   const unsigned threads = options.threads > 0 ? options.threads : allCores();
-  if (Status s = buildCellGrid(xy, options.cell_size, grid, order, threads); !s.ok())
+  GridStage stage;
+  if (Status s =
+          buildGridStage(xyz, n, options, threads, stage, result.input_to_vertex, diag);
+      !s.ok())
     return s;
-  std::vector<double> vz(order.size());
-  std::vector<std::uint32_t> vsource(order.size());
-  parallelFor(threads, order.size(), [&](std::size_t k) {
-    vz[k] = z[order[k]];
-    vsource[k] = source[order[k]];
-  });
-  std::vector<VertexId> slot_to_vertex;
-  diag.duplicates_merged =
-      mergeDuplicates(grid, options.duplicate_rule, vz, vsource, slot_to_vertex);
-  // Vertex heights are rebuilt from the input after the triangulation (vertexHeights),
-  // so they do not add to the peak memory.
-  std::vector<double>().swap(vz);
-  CellSubdivision subdivision;
-  {
-    std::vector<std::uint32_t> old_slot;
-    subdivideCrowdedCells(grid, subdivision, old_slot);
-    if (!old_slot.empty()) { // crowded cells were reordered: follow the points
-      std::vector<VertexId> new_id(old_slot.size());
-      std::vector<std::uint32_t> source2(old_slot.size());
-      for (std::size_t k = 0; k < old_slot.size(); ++k) {
-        new_id[old_slot[k]] = static_cast<VertexId>(k);
-        source2[k] = vsource[old_slot[k]];
-      }
-      vsource.swap(source2);
-      for (VertexId& v : slot_to_vertex)
-        v = new_id[v];
-    }
-  }
-  diag.distinct_points = grid.points.size();
-  diag.cells = grid.cellCount();
-  diag.cell_size = grid.cell_size;
-  result.input_to_vertex.assign(n, INVALID_ID);
-  // Each input point is one slot: distinct writes.
-  parallelFor(threads, order.size(), [&](std::size_t k) {
-    result.input_to_vertex[source[order[k]]] = slot_to_vertex[k];
-  });
-  { // release what is no longer needed before the triangulation allocates
-    std::vector<Point2>().swap(xy);
-    std::vector<double>().swap(z);
-    std::vector<std::uint32_t>().swap(source);
-    std::vector<std::uint32_t>().swap(order);
-    std::vector<VertexId>().swap(slot_to_vertex);
-  }
-  CellPyramid pyramid;
-  buildCellPyramid(grid, pyramid);
+  const CellGrid& grid = stage.grid;
   diag.seconds_grid = watch.seconds();
 
   watch.restart();
@@ -210,9 +236,9 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   watch.restart();
   TriangleMesh& mesh = result.mesh;
   SearchStats stats;
-  Status grown =
-      triangulateGrid(grid, pyramid, subdivision, result.hull, mesh.triangles,
-                      mesh.halfedges, stats, threads, options.strip_columns);
+  Status grown = triangulateGrid(grid, stage.pyramid, stage.subdivision, result.hull,
+                                 mesh.triangles, mesh.halfedges, stats, threads,
+                                 options.strip_columns);
   diag.seconds_triangulate = watch.seconds();
   diag.local_searches = stats.local;
   diag.widened_searches = stats.widened;
@@ -222,10 +248,10 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     result.mesh = TriangleMesh{};
     return grown;
   }
-  mesh.xy = std::move(grid.points);
-  mesh.z =
-      vertexHeights(xyz, n, result.input_to_vertex, vsource, options.duplicate_rule);
-  result.source_index = std::move(vsource);
+  mesh.xy = std::move(stage.grid.points);
+  mesh.z = vertexHeights(xyz, n, result.input_to_vertex, stage.source,
+                         options.duplicate_rule);
+  result.source_index = std::move(stage.source);
   diag.triangles = mesh.triangleCount();
 
   if (options.check_output) {

@@ -9,6 +9,7 @@
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
 #include <pcl_vts/core/cell_subdivision.h>
+#include <pcl_vts/core/error_bounds.h>
 #include <pcl_vts/core/export.h>
 
 #include <cstddef>
@@ -24,19 +25,6 @@ struct SearchStats {
   std::size_t cells_visited = 0; ///< cells (or sub-cells) whose points were tested
   std::size_t points_tested = 0; ///< candidate points looked at
 };
-
-/// A disk that certainly contains the exact circumcircle (closed) of a, b, p.
-struct SafeDisk {
-  double cx = 0.0;
-  double cy = 0.0;
-  double radius = 0.0;
-  bool valid = false; ///< false: too ill-conditioned to bound; nothing is pruned
-};
-
-/// Circumcircle of (a, b, p), counter-clockwise, inflated by a rigorous bound on the
-/// floating-point error of its centre and radius.
-PCL_VTS_CORE_EXPORT SafeDisk safeCircumdisk(const Point2& a, const Point2& b,
-                                            const Point2& p);
 
 /// Reusable search state (one per thread): the block heap.
 class PCL_VTS_CORE_EXPORT MediatrixSearch {
@@ -96,6 +84,18 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
   }
   bool windowHasCrowdedCell(const Window& w) const;
   Window diskCells(const SafeDisk& disk) const;
+  /// The phases of findThirdPoint, in order; each returns true when it settled the
+  /// search (q.best is then the apex). The quick guess: a floating-point apex whose
+  /// safe disk covers few cells.
+  bool settleByGuess(Query& q);
+  /// The cells spanned by the edge, dilated by one; empty when too many or crowded.
+  Window edgeRectangle(const Query& q) const;
+  /// The rectangle w: its foot cell first, then only the best circle's cells when they
+  /// lie inside w, else every cell of w (not settled).
+  bool settleInRectangle(Query& q, const Window& w);
+  /// The best circle's cells outside `done`, when they are few.
+  bool settleInDiskCells(Query& q, const Window& done);
+  /// Best-first over the pyramid, skipping the cells of `done`.
   void widen(Query& q, const Window& done);
   /// World rectangle of a block (pyramid block or sub-cell), widened by the slack.
   BlockRect blockBounds(const Block& b) const;
