@@ -1008,6 +1008,8 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   out.line("  %-20s %.1f\n", "time (ms)", msSince(t_total));
   out.line("  %-20s %.1f MiB (limit %s)\n", "peak memory", peakMemoryMiB(),
            mib(opt.memory_limit).c_str());
+  out.line("  %-20s %s at most (in '%s')\n", "temporary disk",
+           mib(report.temp_peak_bytes).c_str(), opt.temp_dir.c_str());
   out.line("  %-20s %s\n", "mesh written to", opt.output.c_str());
   for (const std::string& line : product_lines)
     out.line("GIS: %s\n", line.c_str());

@@ -308,6 +308,25 @@ Status BlockStore::readBlock(std::uint32_t block, std::vector<double>& xyz) cons
   return Status::success();
 }
 
+void BlockStore::closeTileFiles()
+{
+  const std::lock_guard<std::mutex> lock(fd_mutex_);
+  for (int& fd : fds_)
+    if (fd >= 0) {
+      ::close(fd);
+      fd = -1;
+    }
+}
+
+void BlockStore::removeTileFiles()
+{
+  // The tiles this rank ordered (orderTile: t = rank, rank + ranks, ...). A file
+  // that is not there (an empty tile) is no error.
+  for (std::size_t t = static_cast<std::size_t>(rank_); t < buffers_.size();
+       t += static_cast<std::size_t>(ranks_))
+    ::unlink(tilePath(static_cast<std::uint32_t>(t)).c_str());
+}
+
 std::uint64_t BlockStore::bytesOnDisk() const
 {
   return std::accumulate(part_points_.begin(), part_points_.end(), std::uint64_t{0}) *

@@ -40,6 +40,13 @@ class BlockStore {
 
   /// Appends the points of `block` (xyz triples, input order) to xyz.
   Status readBlock(std::uint32_t block, std::vector<double>& xyz) const;
+  /// Closes this rank's descriptors of the tile files. Every rank, once no tile will
+  /// be meshed any more; then removeTileFiles().
+  void closeTileFiles();
+  /// Unlinks the tile files this rank ordered, after every rank closed its
+  /// descriptors (a barrier between): the post-passes and the writer read the tile
+  /// results only, so the points' disk is free for them (24 B a point).
+  void removeTileFiles();
 
   int tileLevel() const { return tile_level_; }
   int blockLevel() const { return block_level_; }

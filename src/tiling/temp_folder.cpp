@@ -7,6 +7,7 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <mutex>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <unistd.h>
 #include <vector>
@@ -128,6 +129,22 @@ void TempFolder::unwatchSignals()
     for (int k = 0; k < 3; ++k)
       ::sigaction(SIGNALS[k], &g_previous[k], nullptr);
   }
+}
+
+std::uint64_t TempFolder::bytesUsed() const
+{
+  std::uint64_t bytes = 0;
+  DIR* dir = path_.empty() ? nullptr : ::opendir(path_.c_str());
+  if (dir == nullptr)
+    return 0;
+  while (const dirent* entry = ::readdir(dir)) {
+    struct stat st {};
+    if (::fstatat(::dirfd(dir), entry->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 &&
+        S_ISREG(st.st_mode))
+      bytes += static_cast<std::uint64_t>(st.st_blocks) * 512;
+  }
+  ::closedir(dir);
+  return bytes;
 }
 
 void TempFolder::remove()

@@ -4,6 +4,7 @@
 #pragma once
 #include <pcl_vts/core/status.h>
 
+#include <cstdint>
 #include <string>
 
 namespace pcl_vts {
@@ -18,6 +19,8 @@ class TempFolder {
   /// Creates "<parent>/.pcl_vts-XXXXXX"; IO_ERROR naming parent when it cannot.
   Status create(const std::string& parent);
   const std::string& path() const { return path_; }
+  /// Disk the folder's files take now (allocated blocks), 0 when there is none.
+  std::uint64_t bytesUsed() const;
   /// Another process's folder (an MPI rank's view of rank 0's): removed by this
   /// process only if it receives SIGINT/SIGTERM/SIGHUP, so that a job stopped while
   /// rank 0 is busy or killed still leaves nothing behind; never by the destructor.

@@ -182,11 +182,10 @@ Status number(Job& job, const BlockStore& store)
   job.report.vertices = job.first_vertex.back();
   if (job.report.vertices >
       static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()))
-    return Status::error(
-        StatusCode::INVALID_PARAMETER,
-        std::to_string(job.report.vertices) +
-            " distinct points do not fit the 32-bit indices of one mesh "
-            "file");
+    return Status::error(StatusCode::CAPACITY_EXCEEDED,
+                         std::to_string(job.report.vertices) +
+                             " distinct points do not fit the 32-bit vertex indices of "
+                             "one mesh: mesh the area in parts of fewer points");
   if (job.report.vertices < 3)
     return Status::error(StatusCode::TOO_FEW_POINTS,
                          "fewer than 3 distinct XY positions (" +
@@ -460,6 +459,16 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   watch.restart();
   if (!(status = meshTiles(job, store)).ok())
     return status;
+  const auto measureTemp = [&]() {
+    if (job.rank == 0)
+      report.temp_peak_bytes = std::max(report.temp_peak_bytes, temp.bytesUsed());
+  };
+  measureTemp(); // points and tile results
+  // Every tile is meshed: nothing reads the points again (the post-passes and the
+  // writer read the tile results), so their disk goes back before the output grows.
+  store.closeTileFiles();
+  comm.barrier();
+  store.removeTileFiles();
   const bool edited = post.trim || post.fill;
   if (!options.tile_output.empty() && !edited && !(status = writeTileOutputs(job)).ok())
     return status;
@@ -470,12 +479,14 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     if (!(status = trim(job)).ok())
       return status;
     report.seconds_trim = watch.seconds();
+    measureTemp();
   }
   if (post.fill) {
     watch.restart();
     if (!(status = fill(job)).ok())
       return status;
     report.seconds_fill = watch.seconds();
+    measureTemp();
   }
   if (!options.tile_output.empty() && edited && !(status = writeTileOutputs(job)).ok())
     return status;
@@ -483,6 +494,7 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   watch.restart();
   status = writeOutput(job, output, write_options);
   report.seconds_write = watch.seconds();
+  measureTemp();  // the tile results, and what the products left
   comm.barrier(); // every rank is done with the folder before rank 0 removes it
   return status;
 }

@@ -612,6 +612,44 @@ TEST_F(TiledMeshTest, DefaultPipelineFillsHolesAcrossTilesAsInMemory)
   }
 }
 
+// The bucketed points are read only while tiles are meshed: they are gone from the
+// temporary folder before the post-passes and the writer add their files, and the
+// report's peak covers the points and the tile results together.
+TEST_F(TiledMeshTest, PointFilesAreRemovedOnceEveryTileIsMeshed)
+{
+  const SyntheticTerrain terrain = makeSyntheticTerrain(5);
+  TiledMeshOptions options;
+  options.vts.reconstruction = ReconstructionOptions{};
+  options.temp_parent = root_.string();
+  options.tile_level = 2;
+  options.block_level = 5;
+  std::map<std::string, std::pair<int, int>> seen; // phase: point files, result files
+  options.progress = [&](const TiledProgress& p) {
+    int points = 0, results = 0;
+    for (const auto& folder : std::filesystem::directory_iterator(root_))
+      if (folder.path().filename().string().rfind(".pcl_vts-", 0) == 0)
+        for (const auto& file : std::filesystem::directory_iterator(folder.path())) {
+          const std::string name = file.path().filename().string();
+          points += name.rfind("tile_", 0) == 0;
+          results += name.rfind("result_", 0) == 0;
+        }
+    seen[p.phase] = {points, results};
+  };
+  TiledMeshReport report;
+  ASSERT_TRUE(runTiledMesh(feedOf(terrain.xyz), options, (root_ / "t.ply").string(),
+                           MeshWriteOptions{}, report)
+                  .ok());
+  ASSERT_EQ(seen.count("meshing"), 1u);
+  EXPECT_GT(seen["meshing"].first, 0) << "the point files were never seen";
+  for (const char* phase : {"trimming", "filling", "writing"}) {
+    ASSERT_EQ(seen.count(phase), 1u) << phase;
+    EXPECT_EQ(seen[phase].first, 0) << "point files left at " << phase;
+    EXPECT_GT(seen[phase].second, 0) << "no tile results at " << phase;
+  }
+  // Points (24 B) and results (at least 24 B of vertex) for every vertex.
+  EXPECT_GE(report.temp_peak_bytes, report.temp_bytes + 24 * report.vertices);
+}
+
 TEST_F(TiledMeshTest, AnInputThatChangesBetweenPassesIsAnError)
 {
   const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 3000, 2);

@@ -51,8 +51,8 @@ struct TiledProgress {
 };
 
 struct TiledMeshOptions {
-  /// Triangulation options; reconstruction must be off (trim and fill do not run
-  /// tiled yet: INVALID_PARAMETER).
+  /// Triangulation options; the post-passes (reconstruction) run across the tiles
+  /// with the in-memory result (docs/scaling.md §5).
   VtsOptions vts;
   /// Parent of the job's temporary folder (created and removed by the job).
   std::string temp_parent = ".";
@@ -88,7 +88,8 @@ struct TiledMeshReport {
   std::uint64_t max_tile_points = 0; ///< the largest last round (memory driver)
   unsigned max_rounds = 0;           ///< most triangulations one tile needed
   std::uint64_t rounds = 0;          ///< triangulations run, all tiles together
-  std::uint64_t temp_bytes = 0;
+  std::uint64_t temp_bytes = 0;      ///< the bucketed points (24 B a point)
+  std::uint64_t temp_peak_bytes = 0; ///< most disk the temporary folder took (rank 0)
   int tile_level = 0, block_level = 0;
   TrimResult trim; ///< when trimming (its spacing is left 0)
   FillResult fill; ///< when filling (without per-vertex flags)
