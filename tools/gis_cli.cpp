@@ -107,11 +107,6 @@ bool GisCli::anyProduct() const
   return impl_->options.any();
 }
 
-bool GisCli::contoursAsked() const
-{
-  return !impl_->options.contours.empty();
-}
-
 Status GisCli::validate() const
 {
   return validateGisOptions(impl_->options);
@@ -201,7 +196,7 @@ Status GisCli::writeOutOfCore(const MeshSource& mesh, std::uint64_t memory,
                               const std::string& temp_folder,
                               std::vector<std::string>& summary) const
 {
-  DemMeshStream stream;
+  MeshStream stream;
   stream.vertices = [&](const std::function<void(double, double, double)>& visit) {
     return mesh.forEachVertex(
         [&](double x, double y, double z, bool) { visit(x, y, z); });
@@ -224,11 +219,6 @@ bool GisCli::parse(const std::string& name, const std::string&, std::string&)
 }
 
 bool GisCli::anyProduct() const
-{
-  return false;
-}
-
-bool GisCli::contoursAsked() const
 {
   return false;
 }

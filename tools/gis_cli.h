@@ -32,8 +32,6 @@ class GisCli {
   bool parse(const std::string& name, const std::string& value, std::string& error);
   /// A raster or vector product is asked for.
   bool anyProduct() const;
-  /// --contours is asked for (it runs in memory only).
-  bool contoursAsked() const;
   /// Checks the combination; INVALID_PARAMETER (a usage error) otherwise, also for
   /// any GIS option in a build without GDAL.
   Status validate() const;
@@ -53,8 +51,8 @@ class GisCli {
   Status write(const TriangleMesh& mesh, const std::string& mesh_path,
                std::vector<std::string>& summary) const;
   /// The products of a mesh that is not held (a tiled run's, read back from its
-  /// temporary files): the DEM out of core, its files in temp_folder; --contours is
-  /// INVALID_PARAMETER. The .prj is write()'s.
+  /// temporary files): the DEM and the contours out of core, their files in
+  /// temp_folder. The .prj is write()'s.
   Status writeOutOfCore(const MeshSource& mesh, std::uint64_t memory,
                         const std::string& temp_folder,
                         std::vector<std::string>& summary) const;

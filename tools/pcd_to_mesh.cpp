@@ -182,9 +182,9 @@ void printHelp()
       "                      tiled: inputs streamed, points bucketed into temporary\n"
       "                      files, tiles meshed with halos grown until every\n"
       "                      triangle is proven, the same mesh (and the same file\n"
-      "                      bytes) as in memory, trimmed, filled and --dem\n"
-      "                      rasterized out of core; the tiled path takes no\n"
-      "                      preprocessing and no --contours\n"
+      "                      bytes) as in memory, trimmed, filled, --dem and\n"
+      "                      --contours made out of core; the tiled path takes no\n"
+      "                      preprocessing\n"
       "  --temp-dir DIR      folder for the tiled path's temporary files, removed at\n"
       "                      the end, on error and on Ctrl-C (default: the output's\n"
       "                      folder)\n"
@@ -850,12 +850,6 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
       return out.fail(EXIT_OUTPUT, "--tile-output '" + opt.tile_output +
                                        "' is not a writable folder");
   }
-  if (opt.gis.contoursAsked())
-    return out.fail(EXIT_USAGE, (opt.tile_level < 0 && opt.tile_output.empty()
-                                     ? why
-                                     : std::string("a tiled run")) +
-                                    ": --contours runs in memory only (--dem runs "
-                                    "tiled too)");
   if (opt.preprocess.any() || !opt.png.empty())
     return out.fail(
         EXIT_USAGE,
@@ -920,7 +914,7 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
             comm.size() > 1
                 ? (", " + std::to_string(comm.size()) + " MPI ranks").c_str()
                 : "");
-  // The DEM from the final mesh, read back from the tile results (rank 0).
+  // The DEM and contours from the final mesh, read back from the tile results (rank 0).
   std::vector<std::string> product_lines;
   double product_ms = 0;
   if (opt.gis.anyProduct())

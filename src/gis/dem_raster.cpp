@@ -1,6 +1,8 @@
 // Scanline rasterization of a TIN: triangles sorted by their north edge enter the
 // active list when the sweep reaches them and leave it when it has passed them, so a
 // block of rows touches only the triangles that cross it and memory is one block.
+#include "mapped_vertices.h"
+
 #include <pcl_vts/core/predicates.h>
 #include <pcl_vts/gis/dem_raster.h>
 
@@ -10,11 +12,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <fcntl.h>
 #include <numeric>
 #include <string>
-#include <sys/mman.h>
-#include <unistd.h>
 
 namespace pcl_vts {
 
@@ -278,7 +277,6 @@ struct DemTempFiles {
   }
   ~DemTempFiles()
   {
-    std::remove(vertices().c_str());
     for (std::size_t w = 0; w < windows; ++w)
       std::remove(window(w).c_str());
   }
@@ -286,8 +284,8 @@ struct DemTempFiles {
 
 } // namespace
 
-Status rasterizeDemOutOfCore(const DemMeshStream& mesh, const DemGrid& grid,
-                             float nodata, std::size_t window, std::uint64_t memory,
+Status rasterizeDemOutOfCore(const MeshStream& mesh, const DemGrid& grid, float nodata,
+                             std::size_t window, std::uint64_t memory,
                              const std::string& temp_folder, const DemWindowSink& sink,
                              DemRasterStats* stats)
 {
@@ -297,27 +295,10 @@ Status rasterizeDemOutOfCore(const DemMeshStream& mesh, const DemGrid& grid,
   files.folder = temp_folder;
 
   // 1. The vertices into a file, then mapped: triangles look their corners up by id.
-  std::uint64_t n = 0;
-  {
-    std::vector<double> buffer;
-    Status written = Status::success();
-    Status s = mesh.vertices([&](double x, double y, double z) {
-      buffer.insert(buffer.end(), {x, y, z});
-      ++n;
-      if (buffer.size() >= 3 * 8192 && written.ok()) {
-        written =
-            appendTo(files.vertices(), buffer.data(), buffer.size() * sizeof(double));
-        buffer.clear();
-      }
-    });
-    if (s.ok() && written.ok() && !buffer.empty())
-      written =
-          appendTo(files.vertices(), buffer.data(), buffer.size() * sizeof(double));
-    if (!s.ok())
-      return s;
-    if (!written.ok())
-      return written;
-  }
+  MappedVertices vertices;
+  if (Status s = vertices.map(mesh, files.vertices(), "DEM"); !s.ok())
+    return s;
+  const std::uint64_t n = vertices.count();
   if (n == 0)
     return Status::error(StatusCode::EMPTY_INPUT, "no vertex to rasterize");
 
@@ -335,16 +316,6 @@ Status rasterizeDemOutOfCore(const DemMeshStream& mesh, const DemGrid& grid,
   const std::size_t across = (grid.cols + side - 1) / side;
   const std::size_t down = (grid.rows + side - 1) / side;
   files.windows = across * down;
-
-  const int fd = ::open(files.vertices().c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0)
-    return ioFailure("open", files.vertices());
-  const std::size_t map_bytes = static_cast<std::size_t>(n) * 3 * sizeof(double);
-  void* map = ::mmap(nullptr, map_bytes, PROT_READ, MAP_PRIVATE, fd, 0);
-  ::close(fd);
-  if (map == MAP_FAILED)
-    return ioFailure("map", files.vertices());
-  const double* xyz = static_cast<const double*>(map);
 
   // 2. Each triangle, with its corners, into the file of every window it reaches.
   std::vector<std::vector<FiledTriangle>> pending(files.windows);
@@ -374,9 +345,10 @@ Status rasterizeDemOutOfCore(const DemMeshStream& mesh, const DemGrid& grid,
     FiledTriangle f;
     const VertexId v[3] = {a, b, c};
     for (int k = 0; k < 3; ++k) {
-      f.x[k] = xyz[3 * v[k]];
-      f.y[k] = xyz[3 * v[k] + 1];
-      f.z[k] = xyz[3 * v[k] + 2];
+      const double* p = vertices.xyz(v[k]);
+      f.x[k] = p[0];
+      f.y[k] = p[1];
+      f.z[k] = p[2];
     }
     f.id = t;
     std::size_t rlo = 0, rhi = 0, clo = 0, chi = 0;
@@ -395,10 +367,10 @@ Status rasterizeDemOutOfCore(const DemMeshStream& mesh, const DemGrid& grid,
     if (pending_count >= buffer_limit)
       flushAll();
     if ((t & 0x3FFFF) == 0x3FFFF) // pages of corners already used: out of memory
-      ::madvise(map, map_bytes, MADV_DONTNEED);
+      vertices.dropPages();
   });
   flushAll();
-  ::munmap(map, map_bytes);
+  vertices.release();
   if (!s.ok())
     return s;
   if (!filed.ok())

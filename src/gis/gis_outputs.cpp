@@ -346,7 +346,7 @@ Status writeDemGeoTiff(const std::string& path, const TriangleMesh& mesh,
   });
 }
 
-Status writeDemGeoTiff(const std::string& path, const DemMeshStream& mesh,
+Status writeDemGeoTiff(const std::string& path, const MeshStream& mesh,
                        const DemGrid& grid, const std::string& wkt, bool overviews,
                        std::uint64_t memory, const std::string& temp_folder,
                        DemRasterStats* stats)
@@ -380,9 +380,13 @@ Status writeHillshade(const std::string& dem, const std::string& png)
 
 } // namespace
 
-Status writeContourFile(const std::string& path, const TriangleMesh& mesh,
-                        double interval, double base, const std::string& wkt,
-                        ContourStats* stats)
+namespace {
+
+/// The contour layer of path, filled by trace(sink): the same file for a mesh held
+/// and one streamed.
+template <typename Trace>
+Status writeContourLayer(const std::string& path, const std::string& wkt,
+                         const Trace& trace)
 {
   GDALAllRegister();
   const bool shp = endsWith(path, ".shp");
@@ -423,22 +427,19 @@ Status writeContourFile(const std::string& path, const TriangleMesh& mesh,
       layer->CreateField(&closed) != OGRERR_NONE)
     return fail(ioError("cannot create the fields of '" + path + "'"));
   const bool transactions = !shp && ds->StartTransaction() == OGRERR_NONE;
-  Status s = traceContours(
-      mesh, interval, base,
-      [&](const ContourLine& line) {
-        OGRFeature feature(layer->GetLayerDefn());
-        feature.SetField("elev", line.level);
-        feature.SetField("closed", line.closed ? 1 : 0);
-        OGRLineString geometry;
-        geometry.setNumPoints(static_cast<int>(line.points.size()), false);
-        for (std::size_t i = 0; i < line.points.size(); ++i)
-          geometry.setPoint(static_cast<int>(i), line.points[i].x, line.points[i].y);
-        feature.SetGeometry(&geometry);
-        if (layer->CreateFeature(&feature) != OGRERR_NONE)
-          return ioError("cannot write a contour to '" + path + "'");
-        return Status::success();
-      },
-      stats);
+  Status s = trace([&](const ContourLine& line) {
+    OGRFeature feature(layer->GetLayerDefn());
+    feature.SetField("elev", line.level);
+    feature.SetField("closed", line.closed ? 1 : 0);
+    OGRLineString geometry;
+    geometry.setNumPoints(static_cast<int>(line.points.size()), false);
+    for (std::size_t i = 0; i < line.points.size(); ++i)
+      geometry.setPoint(static_cast<int>(i), line.points[i].x, line.points[i].y);
+    feature.SetGeometry(&geometry);
+    if (layer->CreateFeature(&feature) != OGRERR_NONE)
+      return ioError("cannot write a contour to '" + path + "'");
+    return Status::success();
+  });
   if (!s.ok())
     return fail(s);
   if (transactions && ds->CommitTransaction() != OGRERR_NONE)
@@ -458,7 +459,39 @@ Status writeContourFile(const std::string& path, const TriangleMesh& mesh,
   return Status::success();
 }
 
+} // namespace
+
+Status writeContourFile(const std::string& path, const TriangleMesh& mesh,
+                        double interval, double base, const std::string& wkt,
+                        ContourStats* stats)
+{
+  return writeContourLayer(path, wkt, [&](const ContourSink& sink) {
+    return traceContours(mesh, interval, base, sink, stats);
+  });
+}
+
+Status writeContourFile(const std::string& path, const MeshStream& mesh,
+                        double interval, double base, const std::string& wkt,
+                        const std::string& temp_folder, ContourStats* stats)
+{
+  return writeContourLayer(path, wkt, [&](const ContourSink& sink) {
+    return traceContoursOutOfCore(mesh, interval, base, temp_folder, sink, stats);
+  });
+}
+
 namespace {
+
+/// The summary line of contours.
+std::string contourSummary(const ContourStats& stats, const GisOutputOptions& options,
+                           const std::string& wkt)
+{
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "%zu contour lines (%zu closed) on %zu levels every %.6g%s",
+                stats.lines, stats.closed, stats.levels, options.interval,
+                wkt.empty() ? ", no CRS" : "");
+  return line;
+}
 
 /// The summary line of a DEM, then its hillshade when asked for.
 Status finishDem(const DemGrid& grid, const DemRasterStats& stats,
@@ -491,13 +524,43 @@ Status gridFor(const GisOutputOptions& options, DemGrid& grid,
              : from_mesh();
 }
 
+/// The DEM of a mesh that is not held, and its summary lines.
+Status writeDemOutOfCore(const MeshStream& mesh, const std::string& wkt,
+                         const GisOutputOptions& options, std::uint64_t memory,
+                         const std::string& temp_folder,
+                         std::vector<std::string>& summary)
+{
+  DemGrid grid;
+  Status s = gridFor(options, grid, [&] {
+    double low[2] = {HUGE_VAL, HUGE_VAL}, high[2] = {-HUGE_VAL, -HUGE_VAL};
+    if (Status v = mesh.vertices([&](double x, double y, double) {
+          low[0] = std::min(low[0], x);
+          low[1] = std::min(low[1], y);
+          high[0] = std::max(high[0], x);
+          high[1] = std::max(high[1], y);
+        });
+        !v.ok())
+      return v;
+    if (!(low[0] <= high[0]))
+      return Status::error(StatusCode::EMPTY_INPUT, "no triangle to rasterize");
+    return demGridForExtent(low[0], low[1], high[0], high[1], options.resolution, grid);
+  });
+  if (!s.ok())
+    return s;
+  DemRasterStats stats;
+  if (s = writeDemGeoTiff(options.dem, mesh, grid, wkt, options.overviews, memory,
+                          temp_folder, &stats);
+      !s.ok())
+    return s;
+  return finishDem(grid, stats, wkt, options, summary);
+}
+
 } // namespace
 
 Status writeGisOutputs(const TriangleMesh& mesh, const std::string& wkt,
                        const GisOutputOptions& options,
                        std::vector<std::string>& summary)
 {
-  char line[512];
   if (!options.dem.empty()) {
     DemGrid grid;
     Status s = gridFor(options, grid,
@@ -526,48 +589,29 @@ Status writeGisOutputs(const TriangleMesh& mesh, const std::string& wkt,
                                     options.contour_base, wkt, &stats);
         !s.ok())
       return s;
-    std::snprintf(line, sizeof line,
-                  "%zu contour lines (%zu closed) on %zu levels every %.6g%s",
-                  stats.lines, stats.closed, stats.levels, options.interval,
-                  wkt.empty() ? ", no CRS" : "");
-    summary.emplace_back(line);
+    summary.push_back(contourSummary(stats, options, wkt));
   }
   return Status::success();
 }
 
-Status writeGisOutputsOutOfCore(const DemMeshStream& mesh, const std::string& wkt,
+Status writeGisOutputsOutOfCore(const MeshStream& mesh, const std::string& wkt,
                                 const GisOutputOptions& options, std::uint64_t memory,
                                 const std::string& temp_folder,
                                 std::vector<std::string>& summary)
 {
-  if (!options.contours.empty())
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "--contours runs in memory only (not on a tiled run yet)");
-  if (options.dem.empty())
-    return Status::success();
-  DemGrid grid;
-  Status s = gridFor(options, grid, [&] {
-    double low[2] = {HUGE_VAL, HUGE_VAL}, high[2] = {-HUGE_VAL, -HUGE_VAL};
-    if (Status v = mesh.vertices([&](double x, double y, double) {
-          low[0] = std::min(low[0], x);
-          low[1] = std::min(low[1], y);
-          high[0] = std::max(high[0], x);
-          high[1] = std::max(high[1], y);
-        });
-        !v.ok())
-      return v;
-    if (!(low[0] <= high[0]))
-      return Status::error(StatusCode::EMPTY_INPUT, "no triangle to rasterize");
-    return demGridForExtent(low[0], low[1], high[0], high[1], options.resolution, grid);
-  });
-  if (!s.ok())
-    return s;
-  DemRasterStats stats;
-  if (s = writeDemGeoTiff(options.dem, mesh, grid, wkt, options.overviews, memory,
-                          temp_folder, &stats);
-      !s.ok())
-    return s;
-  return finishDem(grid, stats, wkt, options, summary);
+  if (!options.dem.empty())
+    if (Status s = writeDemOutOfCore(mesh, wkt, options, memory, temp_folder, summary);
+        !s.ok())
+      return s;
+  if (!options.contours.empty()) {
+    ContourStats stats;
+    if (Status s = writeContourFile(options.contours, mesh, options.interval,
+                                    options.contour_base, wkt, temp_folder, &stats);
+        !s.ok())
+      return s;
+    summary.push_back(contourSummary(stats, options, wkt));
+  }
+  return Status::success();
 }
 
 } // namespace pcl_vts

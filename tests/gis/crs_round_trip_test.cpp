@@ -1,6 +1,7 @@
 // CRS round trips: what a file declares (LAS WKT record, LAS GeoTIFF keys, a .prj
 // sidecar) is what the loader reports and what pcd_to_mesh writes into the DEM,
 // the contours and the mesh's .prj; --crs overrides it; inputs that disagree fail.
+#include "contour_features.h"
 #include "support/temp_folder_test.h"
 
 #include <pcl_vts/gis/gis_outputs.h>
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
@@ -195,12 +197,9 @@ std::vector<float> rasterValues(const std::string& path, int& cols, int& rows)
   return v;
 }
 
-TEST_F(CrsRoundTrip, TiledRunWritesTheInMemoryDem)
+/// 20000 points of a terrain with a hill and a round void, in UTM.
+std::vector<std::array<double, 3>> terrainWithVoid()
 {
-  // A terrain with a void, 20000 points, meshed in memory and in 16 tiles: the DEM of
-  // the tiled run (rasterized out of core from the tile results, in windows of 32
-  // pixels under a small limit) equals the in-memory one pixel for pixel, CRS too.
-  const std::string wkt = wktOf("EPSG:32633");
   std::vector<std::array<double, 3>> points;
   std::uint64_t state = 7;
   auto next = [&] {
@@ -212,10 +211,21 @@ TEST_F(CrsRoundTrip, TiledRunWritesTheInMemoryDem)
     if ((x - 120) * (x - 120) + (y - 60) * (y - 60) < 900)
       continue; // a round void
     points.push_back(
-        {500000.0 + x, 4100000.0 + y, 300.0 + 0.1 * x + 5 * std::sin(y / 9)});
+        {500000.0 + x, 4100000.0 + y,
+         300.0 + 0.1 * x + 5 * std::sin(y / 9) +
+             4 * std::exp(-((x - 50) * (x - 50) + (y - 100) * (y - 100)) / 200)});
   }
-  write("t.las",
-        makeLas({{"LASF_Projection", 2112, wkt + std::string(1, '\0')}}, points));
+  return points;
+}
+
+TEST_F(CrsRoundTrip, TiledRunWritesTheInMemoryDem)
+{
+  // The terrain meshed in memory and in 16 tiles: the DEM of the tiled run
+  // (rasterized out of core from the tile results, in windows of 32 pixels under a
+  // small limit) equals the in-memory one pixel for pixel, CRS too.
+  const std::string wkt = wktOf("EPSG:32633");
+  write("t.las", makeLas({{"LASF_Projection", 2112, wkt + std::string(1, '\0')}},
+                         terrainWithVoid()));
   std::string err;
   ASSERT_EQ(
       run("t.las memory.ply --no-trim --no-fill --dem memory.tif --resolution 0.7",
@@ -238,12 +248,57 @@ TEST_F(CrsRoundTrip, TiledRunWritesTheInMemoryDem)
   EXPECT_TRUE(sameCrs(crsOfFile(root() + "/tiled.tif"), "EPSG:32633"));
   EXPECT_TRUE(sameCrs(readText(root() + "/tiled.prj"), "EPSG:32633"));
   EXPECT_FALSE(readText(root() + "/tiled.png").empty());
-  // Contours stay in memory: a tiled run says so.
-  EXPECT_EQ(run("t.las c.ply --no-trim --no-fill --contours c.gpkg --interval 1 "
-                "--tile-level 2",
+}
+
+TEST_F(CrsRoundTrip, TiledRunWritesTheInMemoryContours)
+{
+  // The terrain meshed, trimmed and filled (the void is a hole the fill leaves, its
+  // rim an inner boundary) in memory and in 4, 16 and 64 tiles: the contours of
+  // the tiled runs (traced out of core from the tile results) are the in-memory
+  // features, in the same order, CRS too; with and without the post-passes.
+  const std::string wkt = wktOf("EPSG:32633");
+  write("t.las", makeLas({{"LASF_Projection", 2112, wkt + std::string(1, '\0')}},
+                         terrainWithVoid()));
+  for (const char* post : {"", " --no-trim --no-fill"}) {
+    SCOPED_TRACE(post);
+    std::string err;
+    ASSERT_EQ(
+        run(std::string("t.las memory.ply --contours memory.gpkg --interval 0.5") +
+                post,
+            &err),
+        0)
+        << err;
+    const auto expected = test::contourFeatures(root() + "/memory.gpkg");
+    EXPECT_GT(expected.size(), 30u);
+    EXPECT_TRUE(
+        std::any_of(expected.begin(), expected.end(),
+                    [](const test::ContourFeature& f) { return std::get<1>(f); }));
+    for (const char* level : {"1", "2", "3"}) {
+      if (*post && *level != '2')
+        continue; // without the post-passes: one tiling
+      SCOPED_TRACE(level);
+      ASSERT_EQ(run(std::string("t.las tiled.ply --contours tiled.gpkg --interval 0.5 "
+                                "--memory-limit 16M --temp-dir . --tile-level ") +
+                        level + post,
+                    &err),
+                0)
+          << err;
+      EXPECT_EQ(readText(root() + "/memory.ply"), readText(root() + "/tiled.ply"));
+      EXPECT_TRUE(test::contourFeatures(root() + "/tiled.gpkg") == expected);
+      EXPECT_TRUE(sameCrs(crsOfFile(root() + "/tiled.gpkg"), "EPSG:32633"));
+    }
+  }
+  // A product that fails after the tiled mesh is written: the error, no contour file,
+  // no temporary file.
+  std::string err;
+  EXPECT_EQ(run("t.las bad.ply --contours bad.gpkg --interval 1e-14 --tile-level 1 "
+                "--temp-dir .",
                 &err),
             1);
-  EXPECT_NE(err.find("--contours runs in memory only"), std::string::npos) << err;
+  EXPECT_NE(err.find("contour interval 1e-14 is too small"), std::string::npos) << err;
+  EXPECT_EQ(readText(root() + "/bad.gpkg"), "");
+  for (const auto& entry : std::filesystem::directory_iterator(root()))
+    EXPECT_NE(entry.path().filename().string()[0], '.') << entry.path();
 }
 
 TEST_F(CrsRoundTrip, LasGeoKeysGiveTheEpsgCode)

@@ -150,19 +150,7 @@ std::vector<float> rasterizeOutOfCore(const TriangleMesh& mesh, const DemGrid& g
                                       std::uint64_t memory, const std::string& folder,
                                       DemRasterStats* stats = nullptr)
 {
-  DemMeshStream stream;
-  stream.vertices = [&](const std::function<void(double, double, double)>& visit) {
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-      visit(mesh.xy[v].x, mesh.xy[v].y, mesh.z[v]);
-    return Status::success();
-  };
-  stream.triangles =
-      [&](const std::function<void(VertexId, VertexId, VertexId)>& visit) {
-        for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
-          visit(mesh.triangles[3 * t], mesh.triangles[3 * t + 1],
-                mesh.triangles[3 * t + 2]);
-        return Status::success();
-      };
+  const MeshStream stream = test::streamOf(mesh);
   std::vector<float> out(grid.cols * grid.rows, 12345.0f);
   std::vector<int> written(out.size(), 0);
   const Status s = rasterizeDemOutOfCore(

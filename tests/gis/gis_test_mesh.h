@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/gis/mesh_stream.h>
 
 #include <functional>
 
@@ -35,6 +36,26 @@ inline TriangleMesh gridMesh(int nx, int ny, double x0, double y0, double dx, do
     }
   m.rebuildHalfedges();
   return m;
+}
+
+/// The mesh as the tiled path hands it over: streamed, vertices then triangles (the
+/// mesh must outlive the stream).
+inline MeshStream streamOf(const TriangleMesh& mesh)
+{
+  MeshStream stream;
+  stream.vertices = [&mesh](const std::function<void(double, double, double)>& visit) {
+    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+      visit(mesh.xy[v].x, mesh.xy[v].y, mesh.z[v]);
+    return Status::success();
+  };
+  stream.triangles =
+      [&mesh](const std::function<void(VertexId, VertexId, VertexId)>& visit) {
+        for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+          visit(mesh.triangles[3 * t], mesh.triangles[3 * t + 1],
+                mesh.triangles[3 * t + 2]);
+        return Status::success();
+      };
+  return stream;
 }
 
 } // namespace pcl_vts::test

@@ -70,6 +70,16 @@ if "$single" --help | grep -q -- '--dem'; then
   (cd d2 && "$single" dem.tif back.ply --no-trim --no-fill --quiet) || fail "dem2 back"
   cmp -s d1/back.ply d2/back.ply || fail "the DEM of 2 ranks differs from one process"
   rm -rf d1 d2
+  # Contours of the trimmed and filled mesh, traced by rank 0 from the tile results:
+  # the one-process Shapefile (geometry and attributes; the .dbf's date skipped).
+  "$single" grid0.xyz grid1.xyz iso1.ply --quiet --contours iso1.shp --interval 0.5 ||
+    fail "contours: single-process run"
+  mpirun -np 2 "$mpi" grid0.xyz grid1.xyz iso2.ply --threads 1 --temp-dir . \
+    --contours iso2.shp --interval 0.5 > out_iso.txt 2> err_iso.txt ||
+    fail "contours, 2 ranks: exit $? $(cat err_iso.txt)"
+  grep -q "GIS: .* contour lines" out_iso.txt || fail "no contour line: $(cat out_iso.txt)"
+  cmp -s iso1.shp iso2.shp && cmp -s iso1.shx iso2.shx && cmp -s -i 4 iso1.dbf iso2.dbf ||
+    fail "the contours of 2 ranks differ from one process"
 fi
 
 # A corrupt input read by the last rank: every rank stops, rank 0 reports it once.
@@ -121,4 +131,4 @@ set -e
 sleep 0.5
 leftovers=$(ls -A | grep '^\.pcl_vts-' || true)
 [ -z "$leftovers" ] || fail "temporary files left after a killed rank: $leftovers"
-echo "mpi: 1, 2, 3 ranks identical to one process on mixed, grid and LAZ inputs, the DEM of 2 ranks too; a failing and a killed rank fail the job cleanly"
+echo "mpi: 1, 2, 3 ranks identical to one process on mixed, grid and LAZ inputs, the DEM and contours of 2 ranks too; a failing and a killed rank fail the job cleanly"

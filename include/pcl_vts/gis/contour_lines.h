@@ -6,9 +6,11 @@
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 #include <pcl_vts/gis/export.h>
+#include <pcl_vts/gis/mesh_stream.h>
 
 #include <cstddef>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace pcl_vts {
@@ -43,5 +45,23 @@ struct ContourStats {
 PCL_VTS_GIS_EXPORT Status traceContours(const TriangleMesh& mesh, double interval,
                                         double base, const ContourSink& sink,
                                         ContourStats* stats = nullptr);
+
+/// traceContours for a mesh that is not held (the tiled path's, read back from its
+/// temporary files): the same lines with the same points, handed over in the same
+/// order as traceContours gives them for the mesh with these vertices and triangles
+/// in this order. The vertices go to a file in temp_folder (24 B each, mapped, pages
+/// dropped as they are passed; removed at the end); the triangles are streamed twice
+/// (count, then keep) and each crossing of a triangle by a level is kept as a 32 B
+/// segment (level, triangle, its entry and exit edges as vertex pairs); a segment's
+/// successor is the one entering by its exit edge, and the points are computed again
+/// from the vertices as the lines are walked. Memory grows with the output (about 42 B
+/// per crossing, each a point of a line), not with the mesh. Halfedges are not
+/// needed; an edge entered twice or left twice at a level is INTERNAL_ERROR (not a
+/// manifold), checked on the crossed edges only.
+PCL_VTS_GIS_EXPORT Status traceContoursOutOfCore(const MeshStream& mesh,
+                                                 double interval, double base,
+                                                 const std::string& temp_folder,
+                                                 const ContourSink& sink,
+                                                 ContourStats* stats = nullptr);
 
 } // namespace pcl_vts

@@ -7,6 +7,7 @@
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
 #include <pcl_vts/gis/export.h>
+#include <pcl_vts/gis/mesh_stream.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -75,15 +76,6 @@ PCL_VTS_GIS_EXPORT Status rasterizeDem(const TriangleMesh& mesh, const DemGrid& 
                                        const DemBlockSink& sink,
                                        DemRasterStats* stats = nullptr);
 
-/// A mesh read in two passes from where it lies on disk (the tiled path's output,
-/// never held whole): its vertices in order, then its triangles as vertex ids.
-struct DemMeshStream {
-  std::function<Status(const std::function<void(double x, double y, double z)>&)>
-      vertices;
-  std::function<Status(const std::function<void(VertexId a, VertexId b, VertexId c)>&)>
-      triangles;
-};
-
 /// Receives the window rows [row0, row0 + rows) x cols [col0, col0 + cols), row-major.
 using DemWindowSink =
     std::function<Status(std::size_t row0, std::size_t col0, std::size_t rows,
@@ -98,7 +90,7 @@ using DemWindowSink =
 /// that fits, else of 32.
 /// The files are removed.
 PCL_VTS_GIS_EXPORT Status rasterizeDemOutOfCore(
-    const DemMeshStream& mesh, const DemGrid& grid, float nodata, std::size_t window,
+    const MeshStream& mesh, const DemGrid& grid, float nodata, std::size_t window,
     std::uint64_t memory, const std::string& temp_folder, const DemWindowSink& sink,
     DemRasterStats* stats = nullptr);
 

@@ -79,9 +79,8 @@ PCL_VTS_GIS_EXPORT Status writeDemGeoTiff(const std::string& path,
 /// The same for a mesh that is not held (the tiled path's): rasterizeDemOutOfCore
 /// with its files in temp_folder.
 PCL_VTS_GIS_EXPORT Status writeDemGeoTiff(const std::string& path,
-                                          const DemMeshStream& mesh,
-                                          const DemGrid& grid, const std::string& wkt,
-                                          bool overviews,
+                                          const MeshStream& mesh, const DemGrid& grid,
+                                          const std::string& wkt, bool overviews,
                                           const std::string& temp_folder,
                                           DemRasterStats* stats = nullptr);
 
@@ -92,6 +91,15 @@ PCL_VTS_GIS_EXPORT Status writeContourFile(const std::string& path,
                                            double base, const std::string& wkt,
                                            ContourStats* stats = nullptr);
 
+/// The same for a mesh that is not held (the tiled path's): traceContoursOutOfCore
+/// with its file in temp_folder; the same features in the same order as for the
+/// mesh held.
+PCL_VTS_GIS_EXPORT Status writeContourFile(const std::string& path,
+                                           const MeshStream& mesh, double interval,
+                                           double base, const std::string& wkt,
+                                           const std::string& temp_folder,
+                                           ContourStats* stats = nullptr);
+
 /// Every product asked for in options, in the CRS wkt (options.crs already applied
 /// by the caller). One line per product for the caller's summary.
 PCL_VTS_GIS_EXPORT Status writeGisOutputs(const TriangleMesh& mesh,
@@ -99,10 +107,10 @@ PCL_VTS_GIS_EXPORT Status writeGisOutputs(const TriangleMesh& mesh,
                                           const GisOutputOptions& options,
                                           std::vector<std::string>& summary);
 
-/// writeGisOutputs for a mesh that is not held: the DEM (and its hillshade) out of
-/// core, with files in temp_folder and windows within `memory` bytes; contours are
-/// INVALID_PARAMETER (in memory only).
-PCL_VTS_GIS_EXPORT Status writeGisOutputsOutOfCore(const DemMeshStream& mesh,
+/// writeGisOutputs for a mesh that is not held: the DEM (and its hillshade) and the
+/// contours out of core, with files in temp_folder and DEM windows within `memory`
+/// bytes (the contours hold their segments: memory grows with their output).
+PCL_VTS_GIS_EXPORT Status writeGisOutputsOutOfCore(const MeshStream& mesh,
                                                    const std::string& wkt,
                                                    const GisOutputOptions& options,
                                                    std::uint64_t memory,

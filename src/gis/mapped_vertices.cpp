@@ -1,0 +1,85 @@
+// See mapped_vertices.h.
+#include "mapped_vertices.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#include <vector>
+
+namespace pcl_vts {
+
+namespace {
+
+Status ioFailure(const std::string& what, const std::string& verb,
+                 const std::string& path)
+{
+  return Status::error(StatusCode::IO_ERROR, what + ": cannot " + verb + " '" + path +
+                                                 "': " + std::strerror(errno));
+}
+
+} // namespace
+
+Status MappedVertices::map(const MeshStream& mesh, const std::string& path,
+                           const std::string& what)
+{
+  release();
+  path_ = path;
+  std::FILE* out = std::fopen(path.c_str(), "wb");
+  if (!out)
+    return ioFailure(what, "create", path);
+  std::vector<double> buffer;
+  bool written = true;
+  std::uint64_t n = 0;
+  Status s = mesh.vertices([&](double x, double y, double z) {
+    buffer.insert(buffer.end(), {x, y, z});
+    ++n;
+    if (buffer.size() >= 3 * 8192 && written) {
+      written = std::fwrite(buffer.data(), sizeof(double), buffer.size(), out) ==
+                buffer.size();
+      buffer.clear();
+    }
+  });
+  if (written && !buffer.empty())
+    written =
+        std::fwrite(buffer.data(), sizeof(double), buffer.size(), out) == buffer.size();
+  if (std::fclose(out) != 0)
+    written = false;
+  if (!s.ok())
+    return s;
+  if (!written)
+    return ioFailure(what, "write (is the temporary folder full?)", path);
+  if (n == 0)
+    return Status::success();
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    return ioFailure(what, "open", path);
+  void* map = ::mmap(nullptr, n * 3 * sizeof(double), PROT_READ, MAP_PRIVATE, fd, 0);
+  ::close(fd);
+  if (map == MAP_FAILED)
+    return ioFailure(what, "map", path);
+  xyz_ = static_cast<const double*>(map);
+  count_ = n;
+  return Status::success();
+}
+
+void MappedVertices::dropPages()
+{
+  if (xyz_)
+    ::madvise(const_cast<double*>(xyz_), count_ * 3 * sizeof(double), MADV_DONTNEED);
+}
+
+void MappedVertices::release()
+{
+  if (xyz_)
+    ::munmap(const_cast<double*>(xyz_), count_ * 3 * sizeof(double));
+  xyz_ = nullptr;
+  count_ = 0;
+  if (!path_.empty())
+    std::remove(path_.c_str());
+  path_.clear();
+}
+
+} // namespace pcl_vts
