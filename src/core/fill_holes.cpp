@@ -165,6 +165,216 @@ void sortByPosition(const TriangleMesh& mesh, std::vector<VertexId>& samples)
             [&](VertexId a, VertexId b) { return lexLess(mesh.xy[a], mesh.xy[b]); });
 }
 
+/// One point strictly inside a triangle of each piece, the one along the start of its
+/// outer loop: a piece lies inside a hole of another piece entirely or not at all
+/// (pieces do not overlap).
+template <typename Real>
+std::vector<Point2> pieceProbes(const TriangleMesh& mesh, const BoundaryLoops& loops,
+                                const Real& real)
+{
+  std::vector<Point2> probes;
+  for (const BoundaryLoop& loop : loops.loops) {
+    if (!real(loop) || !(loop.twice_area > 0.0))
+      continue;
+    const TriangleId t = triangleOf(loop.halfedges.front());
+    const Point2& a = mesh.xy[mesh.triangles[3 * t]];
+    const Point2& b = mesh.xy[mesh.triangles[3 * t + 1]];
+    const Point2& d = mesh.xy[mesh.triangles[3 * t + 2]];
+    probes.push_back({(a.x + b.x + d.x) / 3.0, (a.y + b.y + d.y) / 3.0});
+  }
+  return probes;
+}
+
+/// Fills the holes of one mesh one by one: each hole's lattice points and patch
+/// (fill), then every patch appended at once (finish).
+class HoleFiller {
+ public:
+  HoleFiller(TriangleMesh& mesh, const FillOptions& options,
+             const PointSpacing& spacing, double global_h,
+             std::vector<Point2> piece_probe, FillResult& result)
+      : mesh_(mesh)
+      , options_(options)
+      , spacing_(spacing)
+      , global_h_(global_h)
+      , piece_probe_(std::move(piece_probe))
+      , result_(result)
+      , adj_(buildAdjacency(mesh))
+      , input_vertices_(mesh.vertexCount())
+      , input_corners_(mesh.triangles.size())
+      , stamp_(input_vertices_, 0)
+  {}
+
+  /// One hole loop (clockwise): measured, then filled, left open or skipped.
+  Status fill(const BoundaryLoop& loop)
+  {
+    ++result_.holes_found;
+    const double area = -0.5 * loop.twice_area;
+    if (area > result_.max_hole_area) {
+      ++result_.holes_left_open;
+      return Status::success();
+    }
+    if (loop.has_repeated_vertex) {
+      ++result_.holes_skipped;
+      return Status::success();
+    }
+    // The hole runs clockwise (mesh on its left): reversed, it is a CCW polygon whose
+    // edges are the twins of the rim halfedges.
+    const std::size_t size = loop.vertices.size();
+    const std::vector<VertexId> rim(loop.vertices.rbegin(), loop.vertices.rend());
+    std::vector<Point2> points;
+    points.reserve(size);
+    for (const VertexId v : rim)
+      points.push_back(mesh_.xy[v]);
+    if (enclosesPiece(points, size)) {
+      ++result_.holes_skipped;
+      return Status::success();
+    }
+    const double h = latticeSpacing(rim);
+    if (h > 0.0)
+      addLatticePoints(points, size, h, options_.rim_clearance * h,
+                       options_.snap_to_float);
+    PolygonTriangulation patch;
+    if (!triangulatePolygon(points, size, patch).ok()) {
+      ++result_.holes_skipped;
+      return Status::success();
+    }
+    const HoleHeights heights = fitHeights(rim);
+    if (Status s = appendPatch(loop, rim, points, patch, heights); !s.ok())
+      return s;
+    result_.triangles_added += patch.triangles.size() / 3;
+    ++result_.holes_filled;
+    return Status::success();
+  }
+
+  /// The patches' triangles after the mesh's; the inserted-point flags.
+  void finish()
+  {
+    mesh_.triangles.insert(mesh_.triangles.end(), new_triangles_.begin(),
+                           new_triangles_.end());
+    mesh_.halfedges.insert(mesh_.halfedges.end(), new_halfedges_.begin(),
+                           new_halfedges_.end());
+    result_.inserted.assign(mesh_.vertexCount(), 0);
+    std::fill(result_.inserted.begin() + static_cast<std::ptrdiff_t>(input_vertices_),
+              result_.inserted.end(), 1);
+  }
+
+ private:
+  /// The z of a hole's new points: the thin-plate spline through its samples, or the
+  /// rim's mean height.
+  struct HoleHeights {
+    ThinPlateSpline spline;
+    double rim_mean = 0.0;
+  };
+
+  /// Whether the hole polygon points[0..size) holds another piece (its own piece's
+  /// probe is outside it).
+  bool enclosesPiece(const std::vector<Point2>& points, std::size_t size) const
+  {
+    return std::any_of(piece_probe_.begin(), piece_probe_.end(), [&](const Point2& p) {
+      return windingNumber(points, size, p) != 0;
+    });
+  }
+
+  /// The lattice spacing of a hole: the option, else the median local spacing along
+  /// its rim, else the global one.
+  double latticeSpacing(const std::vector<VertexId>& rim) const
+  {
+    std::vector<double> rim_spacing;
+    for (const VertexId v : rim)
+      rim_spacing.push_back(spacing_.local[v]);
+    double h =
+        options_.point_spacing > 0.0 ? options_.point_spacing : medianOf(rim_spacing);
+    if (!(h > 0.0))
+      h = global_h_;
+    return h;
+  }
+
+  /// The spline through the rim and rim_rings rings around it (at most
+  /// MAX_SPLINE_SAMPLES of them, in position order), and the rim's mean z.
+  HoleHeights fitHeights(const std::vector<VertexId>& rim)
+  {
+    HoleHeights heights;
+    const bool spline = options_.z_method == HoleZMethod::THIN_PLATE_SPLINE;
+    std::vector<Point2> sample_xy;
+    std::vector<double> sample_z;
+    std::vector<VertexId> samples =
+        rimRings(adj_, rim, spline ? options_.rim_rings : 0, stamp_, ++mark_);
+    sortByPosition(mesh_, samples);
+    const std::size_t stride = (samples.size() + FillOptions::MAX_SPLINE_SAMPLES - 1) /
+                               FillOptions::MAX_SPLINE_SAMPLES;
+    for (std::size_t k = 0; k < samples.size(); k += std::max<std::size_t>(stride, 1)) {
+      sample_xy.push_back(mesh_.xy[samples[k]]);
+      sample_z.push_back(mesh_.z[samples[k]]);
+    }
+    for (const VertexId v : rim)
+      heights.rim_mean += mesh_.z[v] / static_cast<double>(rim.size());
+    if (spline)
+      heights.spline.fit(sample_xy, sample_z);
+    return heights;
+  }
+
+  /// The lattice points the patch uses become mesh vertices (with z); the patch's
+  /// triangles are queued, twinned inside the patch and with the rim halfedges.
+  Status appendPatch(const BoundaryLoop& loop, const std::vector<VertexId>& rim,
+                     const std::vector<Point2>& points,
+                     const PolygonTriangulation& patch, const HoleHeights& heights)
+  {
+    const std::size_t size = rim.size();
+    std::vector<VertexId> global(points.size());
+    std::copy(rim.begin(), rim.end(), global.begin());
+    for (std::size_t k = size; k < points.size(); ++k) {
+      if (!patch.steiner_used[k - size])
+        continue;
+      global[k] = static_cast<VertexId>(mesh_.xy.size());
+      mesh_.xy.push_back(points[k]);
+      double z = options_.z_method == HoleZMethod::THIN_PLATE_SPLINE
+                     ? heights.spline.evaluate(points[k])
+                     : heights.rim_mean;
+      if (options_.snap_to_float)
+        z = static_cast<double>(static_cast<float>(z));
+      mesh_.z.push_back(z);
+      ++result_.points_inserted;
+    }
+    // Twins: inside the patch from its own arrays; a patch edge rim[w-1] -> rim[w]
+    // is the twin of the loop halfedge leaving rim[w], loop.halfedges[size-1-w].
+    TriangleMesh local;
+    local.triangles.assign(patch.triangles.begin(), patch.triangles.end());
+    if (!local.rebuildHalfedges())
+      return Status::error(StatusCode::INTERNAL_ERROR, "hole patch is not manifold");
+    const auto base = static_cast<HalfedgeId>(input_corners_ + new_triangles_.size());
+    for (HalfedgeId e = 0; e < local.triangles.size(); ++e) {
+      new_triangles_.push_back(global[local.triangles[e]]);
+      if (local.halfedges[e] != INVALID_ID) {
+        new_halfedges_.push_back(base + local.halfedges[e]);
+        continue;
+      }
+      const VertexId u = local.triangles[e];
+      const VertexId w = local.triangles[nextHalfedge(e)];
+      if (u >= size || w >= size || w != (u + 1) % size)
+        return Status::error(StatusCode::INTERNAL_ERROR,
+                             "hole patch boundary is not its polygon");
+      const HalfedgeId rim_edge = loop.halfedges[size - 1 - w];
+      new_halfedges_.push_back(rim_edge);
+      mesh_.halfedges[rim_edge] = base + e;
+    }
+    return Status::success();
+  }
+
+  TriangleMesh& mesh_;
+  const FillOptions& options_;
+  const PointSpacing& spacing_;
+  const double global_h_;
+  const std::vector<Point2> piece_probe_;
+  FillResult& result_;
+  const Adjacency adj_;
+  const std::size_t input_vertices_;
+  const std::size_t input_corners_;
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t mark_ = 0;
+  std::vector<VertexId> new_triangles_;
+  std::vector<HalfedgeId> new_halfedges_;
+};
+
 } // namespace
 
 Status fillHoles(TriangleMesh& mesh, const FillOptions& options, FillResult& result)
@@ -189,17 +399,17 @@ Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
     return part == nullptr || std::all_of(loop.halfedges.begin(), loop.halfedges.end(),
                                           part->real_boundary);
   };
-  auto isHole = [&](const BoundaryLoop& loop) {
+  auto is_hole = [&](const BoundaryLoop& loop) {
     return real(loop) && !(loop.twice_area > 0.0);
   };
-  if (std::none_of(loops.loops.begin(), loops.loops.end(), isHole)) {
+  if (std::none_of(loops.loops.begin(), loops.loops.end(), is_hole)) {
     result.inserted.assign(mesh.vertexCount(), 0);
     return Status::success();
   }
   // The local spacing is read at hole rims only.
   std::vector<bool> on_rim(mesh.vertexCount(), false);
   for (const BoundaryLoop& loop : loops.loops)
-    if (isHole(loop))
+    if (is_hole(loop))
       for (const VertexId v : loop.vertices)
         on_rim[v] = true;
   const PointSpacing spacing = measurePointSpacing(mesh, &on_rim);
@@ -208,144 +418,14 @@ Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
   result.max_hole_area = options.max_hole_area > 0.0
                              ? options.max_hole_area
                              : FillOptions::AUTO_HOLE_AREA_FACTOR * global_h * global_h;
-  const Adjacency adj = buildAdjacency(mesh);
-  const std::size_t input_vertices = mesh.vertexCount();
 
-  // One point strictly inside a triangle of each piece, the one along the start of
-  // its outer loop: a piece lies inside a hole of another piece entirely or not at
-  // all (pieces do not overlap).
-  std::vector<Point2> piece_probe;
-  for (const BoundaryLoop& loop : loops.loops) {
-    if (!real(loop) || !(loop.twice_area > 0.0))
-      continue;
-    const TriangleId t = triangleOf(loop.halfedges.front());
-    const Point2& a = mesh.xy[mesh.triangles[3 * t]];
-    const Point2& b = mesh.xy[mesh.triangles[3 * t + 1]];
-    const Point2& d = mesh.xy[mesh.triangles[3 * t + 2]];
-    piece_probe.push_back({(a.x + b.x + d.x) / 3.0, (a.y + b.y + d.y) / 3.0});
-  }
-
-  std::vector<std::uint32_t> stamp(input_vertices, 0);
-  std::uint32_t mark = 0;
-  std::vector<VertexId> new_triangles;
-  std::vector<HalfedgeId> new_halfedges;
-  const std::size_t input_corners = mesh.triangles.size();
-  for (const BoundaryLoop& loop : loops.loops) {
-    if (!isHole(loop))
-      continue;
-    ++result.holes_found;
-    const double area = -0.5 * loop.twice_area;
-    if (area > result.max_hole_area) {
-      ++result.holes_left_open;
-      continue;
-    }
-    if (loop.has_repeated_vertex) {
-      ++result.holes_skipped;
-      continue;
-    }
-    // The hole runs clockwise (mesh on its left): reversed, it is a CCW polygon whose
-    // edges are the twins of the rim halfedges.
-    const std::size_t size = loop.vertices.size();
-    std::vector<VertexId> rim(loop.vertices.rbegin(), loop.vertices.rend());
-    std::vector<Point2> points;
-    points.reserve(size);
-    for (const VertexId v : rim)
-      points.push_back(mesh.xy[v]);
-    // (Its own piece's probe is outside it.)
-    const bool encloses_piece =
-        std::any_of(piece_probe.begin(), piece_probe.end(), [&](const Point2& p) {
-          return windingNumber(points, size, p) != 0;
-        });
-    if (encloses_piece) {
-      ++result.holes_skipped;
-      continue;
-    }
-
-    std::vector<double> rim_spacing;
-    for (const VertexId v : rim)
-      rim_spacing.push_back(spacing.local[v]);
-    double h =
-        options.point_spacing > 0.0 ? options.point_spacing : medianOf(rim_spacing);
-    if (!(h > 0.0))
-      h = global_h;
-    if (h > 0.0)
-      addLatticePoints(points, size, h, options.rim_clearance * h,
-                       options.snap_to_float);
-
-    PolygonTriangulation patch;
-    if (!triangulatePolygon(points, size, patch).ok()) {
-      ++result.holes_skipped;
-      continue;
-    }
-
-    std::vector<Point2> sample_xy;
-    std::vector<double> sample_z;
-    std::vector<VertexId> samples = rimRings(
-        adj, rim,
-        options.z_method == HoleZMethod::THIN_PLATE_SPLINE ? options.rim_rings : 0,
-        stamp, ++mark);
-    sortByPosition(mesh, samples);
-    const std::size_t stride = (samples.size() + FillOptions::MAX_SPLINE_SAMPLES - 1) /
-                               FillOptions::MAX_SPLINE_SAMPLES;
-    for (std::size_t k = 0; k < samples.size(); k += std::max<std::size_t>(stride, 1)) {
-      sample_xy.push_back(mesh.xy[samples[k]]);
-      sample_z.push_back(mesh.z[samples[k]]);
-    }
-    double rim_mean = 0.0;
-    for (const VertexId v : rim)
-      rim_mean += mesh.z[v] / static_cast<double>(size);
-    ThinPlateSpline spline;
-    if (options.z_method == HoleZMethod::THIN_PLATE_SPLINE)
-      spline.fit(sample_xy, sample_z);
-
-    std::vector<VertexId> global(points.size());
-    std::copy(rim.begin(), rim.end(), global.begin());
-    for (std::size_t k = size; k < points.size(); ++k) {
-      if (!patch.steiner_used[k - size])
-        continue;
-      global[k] = static_cast<VertexId>(mesh.xy.size());
-      mesh.xy.push_back(points[k]);
-      double z = options.z_method == HoleZMethod::THIN_PLATE_SPLINE
-                     ? spline.evaluate(points[k])
-                     : rim_mean;
-      if (options.snap_to_float)
-        z = static_cast<double>(static_cast<float>(z));
-      mesh.z.push_back(z);
-      ++result.points_inserted;
-    }
-    // Twins: inside the patch from its own arrays; a patch edge rim[w-1] -> rim[w]
-    // is the twin of the loop halfedge leaving rim[w], loop.halfedges[size-1-w].
-    TriangleMesh local;
-    local.triangles.assign(patch.triangles.begin(), patch.triangles.end());
-    if (!local.rebuildHalfedges())
-      return Status::error(StatusCode::INTERNAL_ERROR, "hole patch is not manifold");
-    const auto base = static_cast<HalfedgeId>(input_corners + new_triangles.size());
-    for (HalfedgeId e = 0; e < local.triangles.size(); ++e) {
-      new_triangles.push_back(global[local.triangles[e]]);
-      if (local.halfedges[e] != INVALID_ID) {
-        new_halfedges.push_back(base + local.halfedges[e]);
-        continue;
-      }
-      const VertexId u = local.triangles[e];
-      const VertexId w = local.triangles[nextHalfedge(e)];
-      if (u >= size || w >= size || w != (u + 1) % size)
-        return Status::error(StatusCode::INTERNAL_ERROR,
-                             "hole patch boundary is not its polygon");
-      const HalfedgeId rim_edge = loop.halfedges[size - 1 - w];
-      new_halfedges.push_back(rim_edge);
-      mesh.halfedges[rim_edge] = base + e;
-    }
-    result.triangles_added += patch.triangles.size() / 3;
-    ++result.holes_filled;
-  }
-
-  mesh.triangles.insert(mesh.triangles.end(), new_triangles.begin(),
-                        new_triangles.end());
-  mesh.halfedges.insert(mesh.halfedges.end(), new_halfedges.begin(),
-                        new_halfedges.end());
-  result.inserted.assign(mesh.vertexCount(), 0);
-  std::fill(result.inserted.begin() + static_cast<std::ptrdiff_t>(input_vertices),
-            result.inserted.end(), 1);
+  HoleFiller filler(mesh, options, spacing, global_h, pieceProbes(mesh, loops, real),
+                    result);
+  for (const BoundaryLoop& loop : loops.loops)
+    if (is_hole(loop))
+      if (Status s = filler.fill(loop); !s.ok())
+        return s;
+  filler.finish();
   return Status::success();
 }
 

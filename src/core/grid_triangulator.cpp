@@ -8,10 +8,6 @@
 #include <string>
 #include <tuple>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
-
 namespace pcl_vts {
 namespace {
 
@@ -26,15 +22,6 @@ struct BorderRecord {
     return std::tie(low, high, halfedge) < std::tie(r.low, r.high, r.halfedge);
   }
 };
-
-/// Hands the freed pages of a merged strip back to the system, so that the strips
-/// and the final arrays do not coexist at full size.
-void releaseFreedMemory()
-{
-#if defined(__GLIBC__)
-  malloc_trim(0);
-#endif
-}
 
 /// Appends the owned triangles of one strip to the output, translating strip-local
 /// twins to global ids and collecting the border halfedges.
@@ -93,26 +80,19 @@ Status checkTriangleCapacity(std::size_t points, std::size_t hull_vertices)
           "input into tiles");
 }
 
-Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
-                       const CellSubdivision& subdivision,
-                       const std::vector<VertexId>& hull,
-                       std::vector<VertexId>& triangles,
-                       std::vector<HalfedgeId>& halfedges, SearchStats& stats,
-                       unsigned threads, std::uint32_t strip_columns)
-{
-  const std::size_t n = grid.points.size();
-  const std::size_t h = hull.size();
-  if (Status s = checkTriangleCapacity(n, h); !s.ok())
-    return s;
-  const std::size_t expected = 2 * n - h - 2;
-  const detail::HullEdges hull_edges(n, hull);
+namespace {
 
-  // Strips are grown independently (any thread, any order) and merged in strip
-  // order: the arrays are the same for every thread count.
-  const detail::StripLayout layout = detail::stripLayoutFor(grid, strip_columns);
-  std::vector<StripMesh> strips(layout.count);
+/// Grows every strip of the layout (any thread, any order) into `strips`; the search
+/// statistics summed over the workers.
+Status growStrips(const CellGrid& grid, const CellPyramid& pyramid,
+                  const CellSubdivision& subdivision,
+                  const detail::HullEdges& hull_edges,
+                  const detail::StripLayout& layout, unsigned threads,
+                  std::vector<StripMesh>& strips, SearchStats& stats)
+{
+  strips.assign(layout.count, StripMesh());
   std::vector<Status> results(layout.count);
-  std::vector<HalfedgeId> open_head(n, detail::UNREACHED);
+  std::vector<HalfedgeId> open_head(grid.points.size(), detail::UNREACHED);
   const unsigned workers = std::max(1u, std::min<unsigned>(threads, layout.count));
   std::vector<SearchStats> worker_stats(workers);
   std::atomic<std::uint32_t> next_strip{0};
@@ -134,8 +114,14 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   for (const Status& s : results)
     if (!s.ok())
       return s;
-  std::vector<HalfedgeId>().swap(open_head);
+  return Status::success();
+}
 
+/// Merges the strips in strip order (each released once appended), then pairs the
+/// border halfedges, each seen once from each side.
+Status mergeStrips(std::vector<StripMesh>& strips, std::size_t expected,
+                   std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges)
+{
   std::size_t owned = 0;
   for (const StripMesh& s : strips)
     owned += s.owned_count;
@@ -149,11 +135,8 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   triangles.reserve(3 * expected);
   halfedges.reserve(3 * expected);
   std::vector<BorderRecord> border;
-  for (StripMesh& s : strips) {
+  for (StripMesh& s : strips)
     appendStrip(s, triangles, halfedges, border);
-    releaseFreedMemory();
-  }
-  // Each border edge is seen once from each side.
   std::sort(border.begin(), border.end());
   for (std::size_t k = 0; k < border.size(); k += 2) {
     if (k + 1 == border.size() || border[k].low != border[k + 1].low ||
@@ -165,6 +148,31 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
     halfedges[border[k + 1].halfedge] = border[k].halfedge;
   }
   return Status::success();
+}
+
+} // namespace
+
+Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
+                       const CellSubdivision& subdivision,
+                       const std::vector<VertexId>& hull,
+                       std::vector<VertexId>& triangles,
+                       std::vector<HalfedgeId>& halfedges, SearchStats& stats,
+                       unsigned threads, std::uint32_t strip_columns)
+{
+  const std::size_t n = grid.points.size();
+  const std::size_t h = hull.size();
+  if (Status s = checkTriangleCapacity(n, h); !s.ok())
+    return s;
+  const detail::HullEdges hull_edges(n, hull);
+  // Strips are grown independently and merged in strip order: the arrays are the
+  // same for every thread count.
+  const detail::StripLayout layout = detail::stripLayoutFor(grid, strip_columns);
+  std::vector<StripMesh> strips;
+  if (Status s = growStrips(grid, pyramid, subdivision, hull_edges, layout, threads,
+                            strips, stats);
+      !s.ok())
+    return s;
+  return mergeStrips(strips, 2 * n - h - 2, triangles, halfedges);
 }
 
 } // namespace pcl_vts

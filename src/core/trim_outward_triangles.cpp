@@ -171,19 +171,15 @@ TriangleSize classifyTriangle(const Point2& a, const Point2& b, const Point2& c,
   return size;
 }
 
-std::size_t peelOutwardTriangles(const TriangleMesh& mesh,
-                                 const std::vector<std::uint8_t>& flags,
-                                 bool open_voids, std::vector<bool>& removed)
+namespace {
+
+/// Flood over oversized triangles from those on the outline (and from void seeds),
+/// each removal exposing its neighbours. Order does not matter for the set removed
+/// (the oversized triangles connected to a start), only for speed.
+void floodOversized(const TriangleMesh& mesh, const std::vector<std::uint8_t>& flags,
+                    bool open_voids, std::vector<bool>& removed)
 {
   const std::size_t count = mesh.triangleCount();
-  removed.assign(count, false);
-  std::vector<HalfedgeId> some_out(mesh.vertexCount(), INVALID_ID);
-  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e)
-    some_out[mesh.triangles[e]] = e;
-
-  // Peel: flood over oversized triangles from those on the outline (and from void
-  // seeds), each removal exposing its neighbours. Order does not matter for the set
-  // removed (the oversized triangles connected to a start), only for speed.
   auto oversized = [&](TriangleId t) { return (flags[t] & OVERSIZED) != 0; };
   std::vector<TriangleId> stack;
   for (TriangleId t = 0; t < count; ++t) {
@@ -208,12 +204,20 @@ std::size_t peelOutwardTriangles(const TriangleMesh& mesh,
         stack.push_back(triangleOf(twin));
     }
   }
+}
 
-  // A vertex whose remaining triangles form several fans would be a pinch: restore
-  // the removed triangles between its fans (a closed fan keeps its largest gap
-  // open). Rounds: every vertex of the round decides on the same state, then all
-  // its restorations apply, and the vertices of restored triangles make the next
-  // round; so no vertex goes first and the result is the geometry's.
+/// A vertex whose remaining triangles form several fans would be a pinch: restore the
+/// removed triangles between its fans (a closed fan keeps its largest gap open).
+/// Rounds: every vertex of the round decides on the same state, then all its
+/// restorations apply, and the vertices of restored triangles make the next round;
+/// so no vertex goes first and the result is the geometry's. Returns the number of
+/// triangles restored.
+std::size_t repairPinches(const TriangleMesh& mesh, std::vector<bool>& removed)
+{
+  const std::size_t count = mesh.triangleCount();
+  std::vector<HalfedgeId> some_out(mesh.vertexCount(), INVALID_ID);
+  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e)
+    some_out[mesh.triangles[e]] = e;
   std::vector<VertexId> round;
   for (TriangleId t = 0; t < count; ++t)
     if (removed[t])
@@ -244,20 +248,13 @@ std::size_t peelOutwardTriangles(const TriangleMesh& mesh,
   return restored_count;
 }
 
-Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
-                            TrimResult& result)
+/// OVERSIZED / VOID_SEED per triangle, against the largest local spacing of its
+/// corners.
+std::vector<std::uint8_t> classifyTriangles(const TriangleMesh& mesh,
+                                            const PointSpacing& spacing,
+                                            const TrimOptions& options)
 {
-  result = TrimResult{};
-  Status status = validateTrimOptions(options);
-  if (!status.ok())
-    return status;
-  if (mesh.halfedges.size() != mesh.triangles.size())
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "halfedges must have one entry per triangle corner");
   const std::size_t count = mesh.triangleCount();
-  const PointSpacing spacing = measurePointSpacing(mesh);
-  result.spacing = spacing.global_median;
-
   std::vector<std::uint8_t> flags(count, 0);
   for (TriangleId t = 0; t < count; ++t) {
     double scale = 0.0;
@@ -269,16 +266,13 @@ Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
     flags[t] = static_cast<std::uint8_t>((size.oversized ? OVERSIZED : 0) |
                                          (size.void_seed ? VOID_SEED : 0));
   }
-  std::vector<bool> had_triangle(mesh.vertexCount(), false);
-  for (const VertexId v : mesh.triangles)
-    had_triangle[v] = true;
-  std::vector<bool> removed;
-  result.kept_to_stay_manifold =
-      peelOutwardTriangles(mesh, flags, options.open_voids, removed);
-  for (TriangleId t = 0; t < count; ++t)
-    result.triangles_removed += removed[t] ? 1 : 0;
+  return flags;
+}
 
-  // Compact: surviving triangles keep their order; twins are remapped.
+/// Drops the removed triangles: the survivors keep their order, twins are remapped.
+void compactTriangles(TriangleMesh& mesh, const std::vector<bool>& removed)
+{
+  const std::size_t count = mesh.triangleCount();
   std::vector<TriangleId> new_id(count, INVALID_ID);
   TriangleId next = 0;
   for (TriangleId t = 0; t < count; ++t)
@@ -300,6 +294,42 @@ Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
   }
   mesh.triangles.swap(triangles);
   mesh.halfedges.swap(halfedges);
+}
+
+} // namespace
+
+std::size_t peelOutwardTriangles(const TriangleMesh& mesh,
+                                 const std::vector<std::uint8_t>& flags,
+                                 bool open_voids, std::vector<bool>& removed)
+{
+  removed.assign(mesh.triangleCount(), false);
+  floodOversized(mesh, flags, open_voids, removed);
+  return repairPinches(mesh, removed);
+}
+
+Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
+                            TrimResult& result)
+{
+  result = TrimResult{};
+  Status status = validateTrimOptions(options);
+  if (!status.ok())
+    return status;
+  if (mesh.halfedges.size() != mesh.triangles.size())
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "halfedges must have one entry per triangle corner");
+  const PointSpacing spacing = measurePointSpacing(mesh);
+  result.spacing = spacing.global_median;
+  const std::vector<std::uint8_t> flags = classifyTriangles(mesh, spacing, options);
+
+  std::vector<bool> had_triangle(mesh.vertexCount(), false);
+  for (const VertexId v : mesh.triangles)
+    had_triangle[v] = true;
+  std::vector<bool> removed;
+  result.kept_to_stay_manifold =
+      peelOutwardTriangles(mesh, flags, options.open_voids, removed);
+  for (const bool r : removed)
+    result.triangles_removed += r ? 1 : 0;
+  compactTriangles(mesh, removed);
 
   std::vector<bool> has_triangle(mesh.vertexCount(), false);
   for (const VertexId v : mesh.triangles)
