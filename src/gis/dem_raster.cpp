@@ -312,7 +312,8 @@ Status rasterizeDemOutOfCore(const MeshStream& mesh, const DemGrid& grid, float 
                                (sizeof(FiledTriangle) * std::max(per_pixel, 1e-9)));
   const std::size_t step = fit >= static_cast<double>(window) ? window : 32;
   const std::size_t side =
-      step * std::max<std::size_t>(1, static_cast<std::size_t>(fit / step));
+      step * std::max<std::size_t>(
+                 1, static_cast<std::size_t>(fit / static_cast<double>(step)));
   const std::size_t across = (grid.cols + side - 1) / side;
   const std::size_t down = (grid.rows + side - 1) / side;
   files.windows = across * down;

@@ -146,7 +146,7 @@ class Rgb12V1 final : public PointwiseItemDecoder {
       if (sym & (1u << high_bit))
         v |= static_cast<std::uint16_t>(rgb_.decode(dec, last_[c] >> 8, high_bit) << 8);
       else
-        v |= last_[c] & 0xFF00;
+        v |= static_cast<std::uint16_t>(last_[c] & 0xFF00);
       last_[c] = v;
       store(out + 2 * c, v);
     }

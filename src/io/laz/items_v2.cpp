@@ -278,7 +278,7 @@ void decodeRgb(ArithmeticDecoder& dec, RgbModels& s, std::array<std::uint16_t, 3
     r |= static_cast<std::uint16_t>(
         byteSum(static_cast<int>(dec.decodeSymbol(s.diff[1])), high(last[0])) << 8);
   else
-    r |= last[0] & 0xFF00;
+    r |= static_cast<std::uint16_t>(last[0] & 0xFF00);
   if (sym & (1u << 6)) { // green and blue differ from red
     int diff = low(r) - low(last[0]);
     if (sym & (1u << 2))
@@ -300,14 +300,14 @@ void decodeRgb(ArithmeticDecoder& dec, RgbModels& s, std::array<std::uint16_t, 3
                   clampByte(diff + high(last[1])))
           << 8);
     else
-      g |= last[1] & 0xFF00;
+      g |= static_cast<std::uint16_t>(last[1] & 0xFF00);
     if (sym & (1u << 5)) {
       const int corr = static_cast<int>(dec.decodeSymbol(s.diff[5]));
       diff = (diff + high(g) - high(last[1])) / 2;
       b |= static_cast<std::uint16_t>(byteSum(corr, clampByte(diff + high(last[2])))
                                       << 8);
     } else {
-      b |= last[2] & 0xFF00;
+      b |= static_cast<std::uint16_t>(last[2] & 0xFF00);
     }
   } else { // grey
     g = r;
