@@ -900,6 +900,8 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   options.tile_level = opt.tile_level;
   options.threads = opt.vts.threads;
   options.tile_output = opt.tile_output;
+  ProgressLine progress(opt.quiet || g_silent);
+  options.progress = [&](const pcl_vts::TiledProgress& p) { progress.update(p); };
   // --crop and --ground pmf: a pre-pass over pre-tiles with the filter's halo
   // (ground_tiles.h) writes the points to mesh; the job meshes those files.
   pcl_vts::GroundTilesReport ground;
@@ -909,7 +911,11 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
       pcl_vts::GroundTilesOptions g;
       g.preprocess = pre;
       g.memory_limit = opt.memory_limit;
+      g.threads = opt.vts.threads;
       g.tiles_per_side = opt.tile_level >= 0 ? 1 << opt.tile_level : 0;
+      g.progress = [&](const char* phase, std::uint64_t done, std::uint64_t total) {
+        progress.update(pcl_vts::TiledProgress{phase, done, total});
+      };
       const auto feed = [&](const pcl_vts::GroundSink& sink) {
         for (std::size_t f = 0; f < all.count; ++f)
           if (pcl_vts::Status s = all.read(f, sink); !s.ok())
@@ -923,8 +929,6 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
       return pcl_vts::readGroundFile(file, chunk_points, sink);
     };
   }
-  ProgressLine progress(opt.quiet || g_silent);
-  options.progress = [&](const pcl_vts::TiledProgress& p) { progress.update(p); };
   pcl_vts::MeshWriteOptions write_options;
   write_options.ascii = opt.ascii;
   write_options.force_double = opt.force_double;
@@ -986,11 +990,15 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
              static_cast<unsigned long long>(ground.cropped));
   if (pre.ground_pmf)
     out.line("  ground       [done, %.1f ms : %llu -> %llu points, %llu pre-tiles of "
-             "side %.6g with a %.6g halo, largest %llu points]\n",
+             "side %.6g with a %.6g halo, %.2f points loaded per point, largest %llu "
+             "points]\n",
              1e3 * ground_seconds, static_cast<unsigned long long>(ground.cropped),
              static_cast<unsigned long long>(ground.kept),
              static_cast<unsigned long long>(ground.tiles), ground.tile_side,
-             ground.halo, static_cast<unsigned long long>(ground.max_tile_points));
+             ground.halo,
+             static_cast<double>(ground.points_loaded) /
+                 static_cast<double>(std::max<std::uint64_t>(1, ground.cropped)),
+             static_cast<unsigned long long>(ground.max_tile_points));
   out.line("  scan         [done, %.1f ms : %llu points, %llu non-finite dropped]\n",
            1e3 * report.seconds_scan, static_cast<unsigned long long>(report.points),
            static_cast<unsigned long long>(report.non_finite_dropped));

@@ -36,8 +36,15 @@ struct GroundTilesOptions {
   PreprocessOptions preprocess;
   /// Memory the pre-pass may use: one pre-tile and its halo at a time.
   std::uint64_t memory_limit = std::uint64_t{1} << 30;
+  /// Pre-tiles filtered at once (0 = all hardware threads); the memory limit is
+  /// shared between them. The points kept are the same for every value.
+  unsigned threads = 1;
   /// Testing knob: pre-tiles per side (0 = from memory_limit).
   int tiles_per_side = 0;
+  /// Called with "ground scan", "ground bucket" (points done so far) and "ground
+  /// filter" (pre-tiles done of total); from the calling thread only.
+  std::function<void(const char* phase, std::uint64_t done, std::uint64_t total)>
+      progress;
 };
 
 struct GroundTilesReport {

@@ -3,9 +3,14 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <memory>
+#include <mutex>
+#include <thread>
 
 namespace pcl_vts {
 namespace {
@@ -151,7 +156,13 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   const std::string cropped_path = folder + "/cropped.xyz";
   std::vector<double> buffer;
   const std::size_t buffer_values = 3 * 65536;
+  const auto progress = [&](const char* phase, std::uint64_t done,
+                            std::uint64_t total) {
+    if (options.progress)
+      options.progress(phase, done, total);
+  };
   Status s = feed([&](const double* xyz, std::size_t count) {
+    progress("ground scan", report.points, 0);
     for (std::size_t i = 0; i < count; ++i) {
       const double* p = xyz + 3 * i;
       ++report.points;
@@ -202,12 +213,15 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   // The reach of the filter, one cell and a millionth of the extent for the float
   // rounding of the shifted coordinates and of PCL's box bounds.
   const double halo = pmfReach(pre) + 1e-6 * extent;
+  const unsigned workers = options.threads != 0
+                               ? options.threads
+                               : std::max(1u, std::thread::hardware_concurrency());
   PreTiles tiles;
   tiles.x0 = lo[0];
   tiles.y0 = lo[1];
-  tiles.k = options.tiles_per_side > 0
-                ? std::min(options.tiles_per_side, 4096)
-                : choosePreTiles(n, width, height, halo, options.memory_limit);
+  tiles.k = options.tiles_per_side > 0 ? std::min(options.tiles_per_side, 4096)
+                                       : choosePreTiles(n, width, height, halo,
+                                                        options.memory_limit / workers);
   tiles.side = extent > 0.0 ? extent / tiles.k : 1.0;
   report.tiles_per_side = tiles.k;
   report.tile_side = tiles.side;
@@ -224,6 +238,7 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
               65536);
   std::uint64_t seen = 0;
   s = feed([&](const double* xyz, std::size_t points) {
+    progress("ground bucket", seen, n);
     for (std::size_t i = 0; i < points; ++i) {
       const double* p = xyz + 3 * i;
       if (!finite(p) || !insideCrop(pre, p))
@@ -260,20 +275,29 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   }
   report.seconds_bucket = watch.seconds();
 
-  // 3. Filter each pre-tile with its halo; keep the ground of its core.
+  // 3. Filter each pre-tile with its halo; keep the ground of its core. The
+  //    pre-tiles go to whichever worker asks next; the files are listed in order.
   watch.restart();
   PreprocessOptions ground = pre;
   ground.crop = false;
   ground.fixed_shift = true;
   for (int c = 0; c < 3; ++c)
     ground.shift[c] = 0.5 * (lo[c] + hi[c]);
-  std::vector<double> xyz;
-  std::vector<PreprocessStep> steps;
-  for (std::size_t t = 0; t < count; ++t) {
-    if (loaded[t] == 0)
-      continue;
-    const int row = static_cast<int>(t / tiles.k),
-              column = static_cast<int>(t % tiles.k);
+  struct Result {
+    Status status;
+    std::uint64_t loaded = 0, kept = 0; ///< loaded = 0: no core point
+  };
+  std::vector<Result> results(count);
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::size_t finished = 0;
+  const std::size_t threads_used = std::min<std::size_t>(workers, count);
+  const auto filterOne = [&](std::size_t t, std::vector<double>& xyz) {
+    Result& result = results[t];
+    const int row = static_cast<int>(t / static_cast<std::size_t>(tiles.k));
+    const int column = static_cast<int>(t % static_cast<std::size_t>(tiles.k));
     if (Status r = readDoubles(loadPath(t), xyz); !r.ok())
       return r;
     std::remove(loadPath(t).c_str());
@@ -284,33 +308,73 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
     for (std::size_t i = 0; i < xyz.size() && !any_core; i += 3)
       any_core = core(&xyz[i]);
     if (!any_core)
-      continue;
-    ++report.tiles;
-    report.points_loaded += xyz.size() / 3;
-    report.max_tile_points =
-        std::max<std::uint64_t>(report.max_tile_points, xyz.size() / 3);
+      return Status::success();
+    result.loaded = xyz.size() / 3;
+    std::vector<PreprocessStep> steps;
     const Status f = preprocessCloud(xyz, ground, steps);
     if (f.code == StatusCode::EMPTY_INPUT)
-      continue; // no ground in this pre-tile
+      return Status::success(); // no ground in this pre-tile
     if (!f.ok())
       return f;
     std::size_t out = 0;
     for (std::size_t i = 0; i < xyz.size(); i += 3)
       if (core(&xyz[i])) {
         for (int c = 0; c < 3; ++c)
-          xyz[out + c] = xyz[i + c];
+          xyz[out + static_cast<std::size_t>(c)] = xyz[i + static_cast<std::size_t>(c)];
         out += 3;
       }
     xyz.resize(out);
-    if (xyz.empty())
-      continue;
-    const std::string path = folder + "/ground_" + std::to_string(t) + ".xyz";
-    if (Status w = appendDoubles(path, xyz); !w.ok())
-      return w;
-    report.kept += xyz.size() / 3;
-    files.push_back(path);
+    result.kept = out / 3;
+    return appendDoubles(folder + "/ground_" + std::to_string(t) + ".xyz", xyz);
+  };
+  const auto work = [&] {
+    std::vector<double> xyz;
+    for (std::size_t t; !failed && (t = next.fetch_add(1)) < count;) {
+      if (loaded[t] != 0) {
+        results[t].status = filterOne(t, xyz);
+        if (!results[t].status.ok())
+          failed = true;
+      }
+      const std::lock_guard<std::mutex> lock(mutex);
+      ++finished;
+      changed.notify_all();
+      if (threads_used == 1)
+        progress("ground filter", finished, count);
+    }
+  };
+  if (threads_used <= 1) {
+    work(); // on the calling thread, which reports between pre-tiles
+  } else {
+    std::vector<std::thread> pool;
+    for (std::size_t w = 0; w < threads_used; ++w)
+      pool.emplace_back(work);
+    { // the calling thread reports while the pool works
+      std::unique_lock<std::mutex> lock(mutex);
+      while (finished < count && !failed) {
+        const std::size_t done = finished;
+        lock.unlock();
+        progress("ground filter", done, count);
+        lock.lock();
+        changed.wait_for(lock, std::chrono::milliseconds(500));
+      }
+    }
+    for (std::thread& thread : pool)
+      thread.join();
   }
-  std::vector<double>().swap(xyz);
+  for (std::size_t t = 0; t < count; ++t) {
+    const Result& r = results[t];
+    if (!r.status.ok())
+      return r.status;
+    if (r.loaded == 0)
+      continue;
+    ++report.tiles;
+    report.points_loaded += r.loaded;
+    report.max_tile_points = std::max(report.max_tile_points, r.loaded);
+    if (r.kept == 0)
+      continue;
+    report.kept += r.kept;
+    files.push_back(folder + "/ground_" + std::to_string(t) + ".xyz");
+  }
   report.seconds_filter = watch.seconds();
   if (report.kept == 0)
     return emptyAfter("ground");

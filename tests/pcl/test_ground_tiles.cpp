@@ -93,6 +93,7 @@ class GroundTiles : public ::testing::Test {
       GroundTilesOptions options;
       options.preprocess = pre;
       options.tiles_per_side = k;
+      options.threads = 1 + static_cast<unsigned>(k % 3); // the same for any count
       std::vector<double> kept;
       GroundTilesReport report;
       ASSERT_TRUE(tiled(xyz, options, kept, report).ok()) << k;
@@ -166,7 +167,7 @@ TEST_F(GroundTiles, TheReachIsTheSumOfPclsWindows)
 TEST_F(GroundTiles, BuildingsAcrossPreTileBordersKeepTheInMemoryPoints)
 {
   const std::vector<double> xyz = builtTerrain();
-  expectTheInMemoryPoints(xyz, smallWindows(), {1, 3, 5});
+  expectTheInMemoryPoints(xyz, smallWindows(), {3, 5});
   // With a crop first: the shift is the cropped cloud's, as in memory.
   PreprocessOptions cropped = smallWindows();
   cropped.crop = true;

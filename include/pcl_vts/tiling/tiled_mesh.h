@@ -45,7 +45,9 @@ struct PointInputs {
 };
 
 struct TiledProgress {
-  const char* phase = ""; ///< "scanning", "bucketing", "ordering", "meshing", "writing"
+  /// "scanning", "bucketing", "ordering", "meshing", "writing" (and the pre-pass's
+  /// "ground scan", "ground bucket", "ground filter")
+  const char* phase = "";
   std::uint64_t done = 0;
   std::uint64_t total = 0;
 };
