@@ -209,31 +209,54 @@ bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
       return false;
     }
   }
-  // Halfedges bucketed by the lower vertex of their edge (counting sort), then each
-  // small bucket sorted by (upper vertex, origin, id): linear, and the same order as
-  // one global sort, so the first failure reported is the same.
+  // Halfedges bucketed by the lower vertex of their edge (counting sort), each entry
+  // the upper vertex and the direction; a bucket is fine when no key repeats (an edge
+  // used three times is used twice in one direction). A failing bucket is sorted again
+  // by (upper vertex, origin, id), the order of one global sort, so the first failure
+  // reported is the same.
   const std::size_t n = vertexBound(mesh);
   std::vector<std::uint32_t> start(n + 1, 0);
-  const auto lower = [&](HalfedgeId e) {
-    return std::min(mesh.triangles[e], mesh.triangles[nextHalfedge(e)]);
-  };
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
-    ++start[lower(static_cast<HalfedgeId>(i)) + 1];
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto e = static_cast<HalfedgeId>(i);
+    ++start[std::min(mesh.triangles[e], mesh.triangles[nextHalfedge(e)]) + 1];
+  }
   for (std::size_t v = 0; v < n; ++v)
     start[v + 1] += start[v];
-  std::vector<HalfedgeId> bucket(mesh.triangles.size());
+  // (upper vertex << 1) | (runs downward): equal upper vertices sort together.
+  std::vector<std::uint64_t> bucket(mesh.triangles.size());
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
       const auto e = static_cast<HalfedgeId>(i);
-      bucket[fill[lower(e)]++] = e;
+      const VertexId from = mesh.triangles[e], to = mesh.triangles[nextHalfedge(e)];
+      const bool down = from > to;
+      bucket[fill[down ? to : from]++] =
+          (std::uint64_t{down ? from : to} << 1) | std::uint64_t{down};
     }
   }
   std::vector<EdgeUse> uses;
   for (std::size_t v = 0; v < n; ++v) {
-    uses.clear();
-    for (std::uint32_t k = start[v]; k < start[v + 1]; ++k)
-      uses.push_back(edgeUseOf(mesh, bucket[k]));
+    const auto first = bucket.begin() + start[v];
+    const auto last = bucket.begin() + start[v + 1];
+    if (last - first > 16) {
+      std::sort(first, last);
+    } else { // insertion sort: most buckets hold a few halfedges
+      for (auto i = first; i != last; ++i) {
+        const std::uint64_t key = *i;
+        auto j = i;
+        for (; j != first && *(j - 1) > key; --j)
+          *j = *(j - 1);
+        *j = key;
+      }
+    }
+    if (std::adjacent_find(first, last) == last)
+      continue;
+    uses.clear(); // the slow path, for the message
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      const auto e = static_cast<HalfedgeId>(i);
+      if (std::min(mesh.triangles[e], mesh.triangles[nextHalfedge(e)]) == v)
+        uses.push_back(edgeUseOf(mesh, e));
+    }
     sortEdgeUses(uses);
     if (!edgeUsesManifold(uses, why))
       return false;

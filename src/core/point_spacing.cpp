@@ -3,30 +3,153 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace pcl_vts {
 
 namespace {
 
+/// The compare-exchanges of Batcher's odd-even merge sort of N values (N a power of
+/// two), as a table computed at compile time.
+template <std::size_t N>
+struct SortNetwork {
+  static constexpr std::size_t size()
+  {
+    std::size_t count = 0;
+    forEach([&](std::size_t, std::size_t) { ++count; });
+    return count;
+  }
+  template <typename F>
+  static constexpr void forEach(F&& f)
+  {
+    for (std::size_t p = 1; p < N; p <<= 1)
+      for (std::size_t k = p; k >= 1; k >>= 1)
+        for (std::size_t j = k % p; j + k < N; j += 2 * k)
+          for (std::size_t i = 0; i < std::min(k, N - j - k); ++i)
+            if ((i + j) / (2 * p) == (i + j + k) / (2 * p))
+              f(i + j, i + j + k);
+  }
+  struct Pair {
+    std::uint8_t lo = 0, hi = 0;
+  };
+  struct Table {
+    Pair pairs[size()];
+  };
+  static constexpr Table table()
+  {
+    Table t{};
+    std::size_t m = 0;
+    forEach([&](std::size_t lo, std::size_t hi) {
+      t.pairs[m].lo = static_cast<std::uint8_t>(lo);
+      t.pairs[m].hi = static_cast<std::uint8_t>(hi);
+      ++m;
+    });
+    return t;
+  }
+};
+
+/// Sorts a[0..N) through the network: compare-exchanges as min/max, no
+/// data-dependent branch (the comparisons of a vertex ring mispredict a sort).
+template <std::size_t N>
+void sortNetwork(double* a)
+{
+  static constexpr typename SortNetwork<N>::Table t = SortNetwork<N>::table();
+  for (const auto& [lo, hi] : t.pairs) {
+    const double low = std::min(a[lo], a[hi]);
+    a[hi] = std::max(a[lo], a[hi]);
+    a[lo] = low;
+  }
+}
+
+/// The element at index size / 2 of values sorted, for 0 < size <= N and no NaN:
+/// padded with +inf, which sorts after every value.
+template <std::size_t N>
+double smallMedian(const double* values, std::size_t size)
+{
+  double a[N];
+  std::fill(std::copy(values, values + size, a), a + N,
+            std::numeric_limits<double>::infinity());
+  sortNetwork<N>(a);
+  return a[size / 2];
+}
+
 /// Upper median of values, reordering them (0 when empty).
 double medianInPlace(std::vector<double>& values)
 {
   if (values.empty())
     return 0.0;
-  if (values.size() <= 16) { // a vertex ring: insertion sort beats selection
-    for (std::size_t k = 1; k < values.size(); ++k) {
-      const double v = values[k];
-      std::size_t m = k;
-      for (; m > 0 && values[m - 1] > v; --m)
-        values[m] = values[m - 1];
-      values[m] = v;
-    }
-    return values[values.size() / 2];
-  }
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  const std::size_t size = values.size();
+  if (size <= 16 && std::none_of(values.begin(), values.end(),
+                                 [](double v) { return std::isnan(v); }))
+    return size <= 8 ? smallMedian<8>(values.data(), size)
+                     : smallMedian<16>(values.data(), size);
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(size / 2);
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
+}
+
+/// measurePointSpacing with rows indexed by Index (32 bits while they fit).
+template <typename Index>
+PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_for)
+{
+  const std::size_t n = mesh.vertexCount();
+  const std::size_t corners = mesh.triangles.size();
+  PointSpacing spacing;
+
+  // One-ring rows by counting sort of directed edges (both directions of a boundary
+  // edge): start[v] counts row v, then holds its end, and the scatter moves it back
+  // to its beginning. A row's order does not matter: only its medians are read.
+  std::vector<Index> start(n + 1, 0);
+  for (HalfedgeId e = 0; e < corners; ++e) {
+    ++start[mesh.triangles[e]];
+    if (mesh.halfedges[e] == INVALID_ID) // boundary edge: seen from one side only
+      ++start[mesh.triangles[nextHalfedge(e)]];
+  }
+  for (std::size_t v = 1; v < n; ++v)
+    start[v] += start[v - 1];
+  const Index total = n > 0 ? start[n - 1] : 0;
+  std::vector<VertexId> ring(total);
+  for (HalfedgeId e = 0; e < corners; ++e) {
+    const VertexId a = mesh.triangles[e];
+    const VertexId b = mesh.triangles[nextHalfedge(e)];
+    ring[--start[a]] = b;
+    if (mesh.halfedges[e] == INVALID_ID)
+      ring[--start[b]] = a;
+  }
+  start[n] = total;
+  // Per vertex: median incident edge length. Robust to a few long edges into a
+  // void (a rim vertex keeps most of its short ones) and to anisotropic sampling
+  // (scan lines: the shortest edge would only see the along-line spacing).
+  std::vector<double> own(n, 0.0);
+  std::vector<double> values;
+  std::vector<double> used;
+  used.reserve(n);
+  for (VertexId v = 0; v < n; ++v) {
+    if (start[v] == start[v + 1])
+      continue;
+    values.clear();
+    const Point2& p = mesh.xy[v];
+    for (Index k = start[v]; k < start[v + 1]; ++k) {
+      const Point2& q = mesh.xy[ring[k]];
+      const double dx = p.x - q.x, dy = p.y - q.y;
+      values.push_back(std::sqrt(dx * dx + dy * dy)); // hypot is 5x slower
+    }
+    own[v] = medianInPlace(values); // reused buffer: no copy per vertex
+    used.push_back(own[v]);
+  }
+  spacing.global_median = medianInPlace(used);
+  std::vector<double>().swap(used);
+  spacing.local.assign(n, 0.0);
+  for (VertexId v = 0; v < n; ++v) {
+    if (start[v] == start[v + 1] || (local_for != nullptr && !(*local_for)[v]))
+      continue;
+    values.assign(1, own[v]);
+    for (Index k = start[v]; k < start[v + 1]; ++k)
+      values.push_back(own[ring[k]]);
+    spacing.local[v] = medianInPlace(values);
+  }
+  return spacing;
 }
 
 } // namespace
@@ -39,57 +162,10 @@ double medianOf(std::vector<double> values)
 PointSpacing measurePointSpacing(const TriangleMesh& mesh,
                                  const std::vector<bool>* local_for)
 {
-  const std::size_t n = mesh.vertexCount();
-  PointSpacing spacing;
-
-  // One-ring lists by counting sort of directed edges (both directions).
-  std::vector<std::size_t> start(n + 1, 0);
-  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
-    ++start[mesh.triangles[e] + 1];
-    if (mesh.halfedges[e] == INVALID_ID) // boundary edge: seen from one side only
-      ++start[mesh.triangles[nextHalfedge(e)] + 1];
-  }
-  for (std::size_t v = 0; v < n; ++v)
-    start[v + 1] += start[v];
-  std::vector<VertexId> ring(start[n]);
-  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
-    const VertexId a = mesh.triangles[e];
-    const VertexId b = mesh.triangles[nextHalfedge(e)];
-    ring[fill[a]++] = b;
-    if (mesh.halfedges[e] == INVALID_ID)
-      ring[fill[b]++] = a;
-  }
-  // Per vertex: median incident edge length. Robust to a few long edges into a
-  // void (a rim vertex keeps most of its short ones) and to anisotropic sampling
-  // (scan lines: the shortest edge would only see the along-line spacing).
-  std::vector<double> own(n, 0.0);
-  std::vector<double> values;
-  std::vector<double> used;
-  for (VertexId v = 0; v < n; ++v) {
-    if (start[v] == start[v + 1])
-      continue;
-    values.clear();
-    for (std::size_t k = start[v]; k < start[v + 1]; ++k) {
-      const Point2& p = mesh.xy[v];
-      const Point2& q = mesh.xy[ring[k]];
-      const double dx = p.x - q.x, dy = p.y - q.y;
-      values.push_back(std::sqrt(dx * dx + dy * dy)); // hypot is 5x slower
-    }
-    own[v] = medianInPlace(values); // reused buffer: no copy per vertex
-    used.push_back(own[v]);
-  }
-  spacing.global_median = medianInPlace(used);
-  spacing.local.assign(n, 0.0);
-  for (VertexId v = 0; v < n; ++v) {
-    if (start[v] == start[v + 1] || (local_for != nullptr && !(*local_for)[v]))
-      continue;
-    values.assign(1, own[v]);
-    for (std::size_t k = start[v]; k < start[v + 1]; ++k)
-      values.push_back(own[ring[k]]);
-    spacing.local[v] = medianInPlace(values);
-  }
-  return spacing;
+  // A row entry per halfedge, two for a boundary one.
+  if (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max())
+    return measure<std::uint32_t>(mesh, local_for);
+  return measure<std::size_t>(mesh, local_for);
 }
 
 } // namespace pcl_vts

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+#include <random>
 #include <string>
 #include <utility>
 
@@ -235,6 +237,44 @@ TEST(IsEdgeManifold, FlagsADegenerateEdge)
   std::string why;
   EXPECT_FALSE(isEdgeManifold(mesh, &why));
   EXPECT_NE(why.find("itself"), std::string::npos) << why;
+}
+
+TEST(IsEdgeManifold, AgreesWithCountingEveryEdgeOnRandomTriangleSoups)
+{
+  // Random triangles over few vertices: runs of 1 to 4 uses of an edge, in either
+  // direction, in buckets of every length; the verdict is the edge count's.
+  std::mt19937 rng(7);
+  int accepted = 0, rejected = 0;
+  for (int round = 0; round < 400; ++round) {
+    TriangleMesh mesh;
+    const auto vertices = static_cast<VertexId>(4 + round % 9);
+    mesh.xy.assign(vertices, Point2{0, 0});
+    mesh.z.assign(vertices, 0.0);
+    std::uniform_int_distribution<VertexId> pick(0, vertices - 1);
+    const int count = 1 + round % 7;
+    for (int t = 0; t < count; ++t) {
+      VertexId a = pick(rng), b = pick(rng), c = pick(rng);
+      while (b == a)
+        b = pick(rng);
+      while (c == a || c == b)
+        c = pick(rng);
+      mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
+    }
+    std::map<std::pair<VertexId, VertexId>, int> directed, undirected;
+    bool manifold = true;
+    for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
+      const VertexId from = mesh.triangles[e], to = mesh.triangles[nextHalfedge(e)];
+      manifold = ++directed[{from, to}] <= 1 && manifold;
+      manifold =
+          ++undirected[{std::min(from, to), std::max(from, to)}] <= 2 && manifold;
+    }
+    std::string why;
+    EXPECT_EQ(isEdgeManifold(mesh, &why), manifold) << "round " << round;
+    EXPECT_EQ(why.empty(), manifold) << why;
+    (manifold ? accepted : rejected) += 1;
+  }
+  EXPECT_GT(accepted, 50);
+  EXPECT_GT(rejected, 50);
 }
 
 TEST(AllVerticesUsed, FlagsAnUnusedVertex)
