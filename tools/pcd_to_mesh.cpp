@@ -12,6 +12,7 @@
 #endif
 
 #include <pcl_vts/core/vts_pipeline.h>
+#include <pcl_vts/ground_tiles.h>
 #include <pcl_vts/io/mesh_writer.h>
 #include <pcl_vts/io/point_cloud_loader.h>
 #include <pcl_vts/picture/mesh_picture.h>
@@ -183,8 +184,9 @@ void printHelp()
       "                      files, tiles meshed with halos grown until every\n"
       "                      triangle is proven, the same mesh (and the same file\n"
       "                      bytes) as in memory, trimmed, filled, --dem and\n"
-      "                      --contours made out of core; the tiled path takes no\n"
-      "                      preprocessing\n"
+      "                      --contours made out of core; --crop and --ground pmf\n"
+      "                      run tiled too (pre-tiles with the filter's halo, the\n"
+      "                      same points kept), not --voxel, --grid-min, --outliers\n"
       "  --temp-dir DIR      folder for the tiled path's temporary files, removed at\n"
       "                      the end, on error and on Ctrl-C (default: the output's\n"
       "                      folder)\n"
@@ -850,12 +852,13 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
       return out.fail(EXIT_OUTPUT, "--tile-output '" + opt.tile_output +
                                        "' is not a writable folder");
   }
-  if (opt.preprocess.any() || !opt.png.empty())
+  const pcl_vts::PreprocessOptions& pre = opt.preprocess;
+  if (pre.voxel > 0.0 || pre.grid_min > 0.0 || pre.outlier_k > 0 || !opt.png.empty())
     return out.fail(
         EXIT_USAGE,
         (opt.tile_level < 0 && opt.tile_output.empty() ? why : "a tiled run") +
-            std::string(": preprocessing and --png run in memory "
-                        "only"));
+            std::string(": --voxel, --grid-min, --outliers and --png run in memory "
+                        "only (--crop and --ground pmf run tiled too)"));
   pcl_vts::CloudDescription input;
   bool input_failed = false;
   std::vector<std::uint8_t> described(opt.inputs.size(), 0);
@@ -899,6 +902,33 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   options.tile_output = opt.tile_output;
   ProgressLine progress(opt.quiet || g_silent);
   options.progress = [&](const pcl_vts::TiledProgress& p) { progress.update(p); };
+  // --crop and --ground pmf: a pre-pass over pre-tiles with the filter's halo
+  // (ground_tiles.h) writes the points to mesh; the job meshes those files.
+  pcl_vts::GroundTilesReport ground;
+  if (pre.any()) {
+    options.prepare = [&](const pcl_vts::PointInputs& all, const std::string& folder,
+                          std::vector<std::string>& files) {
+      pcl_vts::GroundTilesOptions g;
+      g.preprocess = pre;
+      g.memory_limit = opt.memory_limit;
+      g.threads = opt.vts.threads;
+      g.tiles_per_side = opt.tile_level >= 0 ? 1 << opt.tile_level : 0;
+      g.progress = [&](const char* phase, std::uint64_t done, std::uint64_t total) {
+        progress.update(pcl_vts::TiledProgress{phase, done, total});
+      };
+      const auto feed = [&](const pcl_vts::GroundSink& sink) {
+        for (std::size_t f = 0; f < all.count; ++f)
+          if (pcl_vts::Status s = all.read(f, sink); !s.ok())
+            return s;
+        return pcl_vts::Status::success();
+      };
+      return pcl_vts::groundTiles(feed, g, folder, files, ground);
+    };
+    options.read_prepared = [chunk_points](const std::string& file,
+                                           const pcl_vts::PointSink& sink) {
+      return pcl_vts::readGroundFile(file, chunk_points, sink);
+    };
+  }
   pcl_vts::MeshWriteOptions write_options;
   write_options.ascii = opt.ascii;
   write_options.force_double = opt.force_double;
@@ -946,11 +976,29 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
                               ? s.message
                               : "input unusable: " + s.toString());
   }
-  out.done(1e3 * (report.seconds_scan + report.seconds_bucket + report.seconds_mesh +
-                  report.seconds_trim + report.seconds_fill + report.seconds_write),
+  const double ground_seconds =
+      ground.seconds_scan + ground.seconds_bucket + ground.seconds_filter;
+  out.done(1e3 * (ground_seconds + report.seconds_scan + report.seconds_bucket +
+                  report.seconds_mesh + report.seconds_trim + report.seconds_fill +
+                  report.seconds_write),
            std::to_string(report.triangles) + " triangles");
   for (const std::string& note : input.notes)
     out.line("  %s\n", note.c_str());
+  if (pre.crop)
+    out.line("  crop         [done : %llu -> %llu points]\n",
+             static_cast<unsigned long long>(ground.points - ground.non_finite),
+             static_cast<unsigned long long>(ground.cropped));
+  if (pre.ground_pmf)
+    out.line("  ground       [done, %.1f ms : %llu -> %llu points, %llu pre-tiles of "
+             "side %.6g with a %.6g halo, %.2f points loaded per point, largest %llu "
+             "points]\n",
+             1e3 * ground_seconds, static_cast<unsigned long long>(ground.cropped),
+             static_cast<unsigned long long>(ground.kept),
+             static_cast<unsigned long long>(ground.tiles), ground.tile_side,
+             ground.halo,
+             static_cast<double>(ground.points_loaded) /
+                 static_cast<double>(std::max<std::uint64_t>(1, ground.cropped)),
+             static_cast<unsigned long long>(ground.max_tile_points));
   out.line("  scan         [done, %.1f ms : %llu points, %llu non-finite dropped]\n",
            1e3 * report.seconds_scan, static_cast<unsigned long long>(report.points),
            static_cast<unsigned long long>(report.non_finite_dropped));

@@ -32,6 +32,12 @@ struct PreprocessOptions {
   double pmf_initial_distance = 0.5; ///< height threshold of the first window
   double pmf_max_distance = 3.0;     ///< height threshold cap
   double pmf_base = 2.0;             ///< window growth base: 1, base, base^2, ... cells
+  /// The PCL filters see float copies shifted by this point (xyz). Unset (the
+  /// default): the centre of the bounding box of the points they see. A tiled
+  /// --ground pmf sets the whole cloud's centre in every pre-tile, so that PCL sees
+  /// the floats of the in-memory run (ground_tiles.h).
+  bool fixed_shift = false;
+  double shift[3] = {0.0, 0.0, 0.0};
 
   bool any() const
   {
@@ -46,6 +52,16 @@ struct PreprocessStep {
   std::size_t after = 0;
   double ms = 0.0;
 };
+
+/// The window sizes (XY units) of the ground filter's rounds, computed exactly as
+/// pcl::ProgressiveMorphologicalFilter::extract computes them (float arithmetic).
+PCL_VTS_EXPORT std::vector<float> pmfWindowSizes(const PreprocessOptions& options);
+
+/// How far (L-infinity in XY) the ground filter looks: a point's class depends only
+/// on the points within this distance of it. Each round opens (erodes, then
+/// dilates) with boxes of half its window, so it reaches one window: the sum of the
+/// windows, plus one cell for the float rounding.
+PCL_VTS_EXPORT double pmfReach(const PreprocessOptions& options);
 
 /// Checks the options; the message names the value.
 PCL_VTS_EXPORT Status validatePreprocessOptions(const PreprocessOptions& options);

@@ -32,24 +32,54 @@ void keep(std::vector<double>& xyz, const std::vector<std::size_t>& indices)
   xyz.resize(3 * out);
 }
 
-/// A float copy shifted by the bounding-box centre (so float keeps the detail).
-pcl::PointCloud<pcl::PointXYZ>::Ptr shiftedCloud(const std::vector<double>& xyz)
+/// A float copy shifted by the bounding-box centre (so float keeps the detail), or
+/// by the options' fixed shift.
+pcl::PointCloud<pcl::PointXYZ>::Ptr shiftedCloud(const std::vector<double>& xyz,
+                                                 const PreprocessOptions& options)
 {
-  std::array<double, 3> lo{xyz[0], xyz[1], xyz[2]}, hi = lo;
-  for (std::size_t k = 0; k < count(xyz); ++k)
-    for (int c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], xyz[3 * k + c]);
-      hi[c] = std::max(hi[c], xyz[3 * k + c]);
-    }
+  std::array<double, 3> centre{options.shift[0], options.shift[1], options.shift[2]};
+  if (!options.fixed_shift) {
+    std::array<double, 3> lo{xyz[0], xyz[1], xyz[2]}, hi = lo;
+    for (std::size_t k = 0; k < count(xyz); ++k)
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = std::min(lo[c], xyz[3 * k + c]);
+        hi[c] = std::max(hi[c], xyz[3 * k + c]);
+      }
+    for (int c = 0; c < 3; ++c)
+      centre[c] = 0.5 * (lo[c] + hi[c]);
+  }
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
   cloud->resize(count(xyz));
   for (std::size_t k = 0; k < count(xyz); ++k) {
     pcl::PointXYZ& p = (*cloud)[k];
-    p.x = static_cast<float>(xyz[3 * k] - 0.5 * (lo[0] + hi[0]));
-    p.y = static_cast<float>(xyz[3 * k + 1] - 0.5 * (lo[1] + hi[1]));
-    p.z = static_cast<float>(xyz[3 * k + 2] - 0.5 * (lo[2] + hi[2]));
+    p.x = static_cast<float>(xyz[3 * k] - centre[0]);
+    p.y = static_cast<float>(xyz[3 * k + 1] - centre[1]);
+    p.z = static_cast<float>(xyz[3 * k + 2] - centre[2]);
   }
   return cloud;
+}
+
+/// More rounds than this: a base so close to 1 (in float) that PCL's window loop
+/// would not end.
+constexpr std::size_t MAX_PMF_ROUNDS = 64;
+
+std::vector<float> windowSizes(const PreprocessOptions& o, std::size_t cap)
+{
+  // pcl::ProgressiveMorphologicalFilter::extract's loop, expression for expression
+  // (std::pow(float, int) is a double: the same promotions)
+  const float cell_size = static_cast<float>(o.pmf_cell);
+  const float base = static_cast<float>(o.pmf_base);
+  std::vector<float> sizes;
+  int iteration = 0;
+  float window_size = 0.0f;
+  // (The casts spell out PCL's implicit conversions.)
+  while (window_size < static_cast<float>(o.pmf_max_window) && sizes.size() <= cap) {
+    window_size =
+        static_cast<float>(cell_size * (2.0f * std::pow(base, iteration) + 1.0f));
+    sizes.push_back(window_size);
+    iteration++;
+  }
+  return sizes;
 }
 
 std::vector<std::size_t> sortedIndices(const pcl::Indices& indices)
@@ -101,6 +131,19 @@ void voxelThin(std::vector<double>& xyz, double size)
 
 } // namespace
 
+std::vector<float> pmfWindowSizes(const PreprocessOptions& options)
+{
+  return windowSizes(options, MAX_PMF_ROUNDS);
+}
+
+double pmfReach(const PreprocessOptions& options)
+{
+  double reach = options.pmf_cell;
+  for (const float w : pmfWindowSizes(options))
+    reach += static_cast<double>(w);
+  return reach;
+}
+
 Status validatePreprocessOptions(const PreprocessOptions& o)
 {
   const auto bad = [](const std::string& what) {
@@ -133,6 +176,15 @@ Status validatePreprocessOptions(const PreprocessOptions& o)
                formatValue(o.pmf_initial_distance) + "/" +
                formatValue(o.pmf_max_distance) + ", base " + formatValue(o.pmf_base) +
                ": cell > 0, window >= 1, slope and distances >= 0, base > 1");
+  if (o.ground_pmf && windowSizes(o, MAX_PMF_ROUNDS).size() > MAX_PMF_ROUNDS)
+    return bad("ground pmf: base " + formatValue(o.pmf_base) + ", cell " +
+               formatValue(o.pmf_cell) + " and window " +
+               std::to_string(o.pmf_max_window) + " make more than " +
+               std::to_string(MAX_PMF_ROUNDS) +
+               " window sizes (in float): raise the base or the cell");
+  if (o.fixed_shift && !(std::isfinite(o.shift[0]) && std::isfinite(o.shift[1]) &&
+                         std::isfinite(o.shift[2])))
+    return bad("preprocessing shift must be finite");
   return Status::success();
 }
 
@@ -182,7 +234,7 @@ Status preprocessCloud(std::vector<double>& xyz, const PreprocessOptions& option
     return empty("voxel");
   if (options.grid_min > 0.0 && !step("grid-min", [&] {
         pcl::GridMinimum<pcl::PointXYZ> filter(static_cast<float>(options.grid_min));
-        filter.setInputCloud(shiftedCloud(xyz));
+        filter.setInputCloud(shiftedCloud(xyz, options));
         pcl::Indices indices;
         filter.filter(indices);
         keep(xyz, sortedIndices(indices));
@@ -190,7 +242,7 @@ Status preprocessCloud(std::vector<double>& xyz, const PreprocessOptions& option
     return empty("grid-min");
   if (options.outlier_k > 0 && !step("outliers", [&] {
         pcl::StatisticalOutlierRemoval<pcl::PointXYZ> filter;
-        filter.setInputCloud(shiftedCloud(xyz));
+        filter.setInputCloud(shiftedCloud(xyz, options));
         filter.setMeanK(options.outlier_k);
         filter.setStddevMulThresh(options.outlier_std);
         pcl::Indices indices;
@@ -200,7 +252,7 @@ Status preprocessCloud(std::vector<double>& xyz, const PreprocessOptions& option
     return empty("outliers");
   if (options.ground_pmf && !step("ground", [&] {
         pcl::ProgressiveMorphologicalFilter<pcl::PointXYZ> filter;
-        filter.setInputCloud(shiftedCloud(xyz));
+        filter.setInputCloud(shiftedCloud(xyz, options));
         filter.setCellSize(static_cast<float>(options.pmf_cell));
         filter.setMaxWindowSize(options.pmf_max_window);
         filter.setSlope(static_cast<float>(options.pmf_slope));

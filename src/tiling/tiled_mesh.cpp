@@ -415,12 +415,47 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   MeshFileFormat format;
   if (Status s = meshFileFormatFromPath(output, format); !s.ok())
     return s;
-  Job job(inputs, options, comm, report);
+  TempFolder temp; // rank 0 makes it (and removes it, last), every rank writes into it
+  std::string folder;
+  Status status;
+  if (comm.rank() == 0) {
+    status = temp.create(options.temp_parent);
+    folder = temp.path();
+  }
+  if (!(status = agree(comm, status)).ok())
+    return status;
+  comm.broadcast(folder, 0);
+  if (comm.rank() != 0) // any rank that mpirun stops removes the folder too
+    temp.adopt(folder);
+  // The pre-pass (rank 0) replaces the inputs by the files it wrote.
+  PointInputs prepared;
+  if (options.prepare) {
+    std::vector<std::string> files;
+    if (comm.rank() == 0)
+      status = options.prepare(inputs, folder, files);
+    if (!(status = agree(comm, status)).ok())
+      return status;
+    std::string list;
+    for (const std::string& file : files)
+      list += file + '\n';
+    comm.broadcast(list, 0);
+    files.clear();
+    for (std::size_t at = 0, end; (end = list.find('\n', at)) != std::string::npos;
+         at = end + 1)
+      files.push_back(list.substr(at, end - at));
+    prepared.count = files.size();
+    prepared.read = [files, &options](std::size_t k, const PointSink& sink) {
+      return options.read_prepared(files[k], sink);
+    };
+  }
+
+  Job job(options.prepare ? prepared : inputs, options, comm, report);
   job.rank = comm.rank();
   job.ranks = comm.size();
   job.workers = options.threads != 0
                     ? options.threads
                     : std::max(1u, std::thread::hardware_concurrency());
+  job.folder = folder;
 
   Stopwatch watch;
   if (Status s = scan(job); !s.ok())
@@ -434,17 +469,6 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   report.block_level = job.levels.block;
 
   watch.restart();
-  TempFolder temp; // rank 0 makes it (and removes it, last), every rank writes into it
-  Status status;
-  if (job.rank == 0) {
-    status = temp.create(options.temp_parent);
-    job.folder = temp.path();
-  }
-  if (!(status = agree(comm, status)).ok())
-    return status;
-  comm.broadcast(job.folder, 0);
-  if (job.rank != 0) // any rank that mpirun stops removes the folder too
-    temp.adopt(job.folder);
   const std::size_t tiles = std::size_t{1} << (2 * job.levels.tile);
   const std::size_t buffer_points = std::clamp<std::size_t>(
       static_cast<std::size_t>(options.memory_limit / 8 / (tiles * 24)), 64, 16384);

@@ -47,6 +47,10 @@ compare trimmed grid0.xyz grid1.xyz
 post=()
 compare surface grid0.xyz grid1.xyz
 compare surface_mixed "${inputs[@]}"
+# --ground pmf: rank 0 filters the pre-tiles (with the filter's halo), every rank
+# meshes their ground points.
+post=(--ground pmf --pmf-window 5 --tile-level 1)
+compare ground grid0.xyz grid1.xyz
 post=(--no-trim --no-fill)
 # A LAZ file (../shared/data beside the project, when present): each rank decodes its
 # share of the chunks.
@@ -131,4 +135,4 @@ set -e
 sleep 0.5
 leftovers=$(ls -A | grep '^\.pcl_vts-' || true)
 [ -z "$leftovers" ] || fail "temporary files left after a killed rank: $leftovers"
-echo "mpi: 1, 2, 3 ranks identical to one process on mixed, grid and LAZ inputs, the DEM and contours of 2 ranks too; a failing and a killed rank fail the job cleanly"
+echo "mpi: 1, 2, 3 ranks identical to one process on mixed, grid, --ground pmf and LAZ inputs, the DEM and contours of 2 ranks too; a failing and a killed rank fail the job cleanly"

@@ -1737,6 +1737,50 @@ TEST_F(PcdToMesh, TiledRunWritesTheInMemoryBytesAndLeavesNoTemporaryFile)
   EXPECT_EQ(workFiles().size(), names.size() + 4);
 }
 
+TEST_F(PcdToMesh, TiledGroundPmfWritesTheInMemoryBytes)
+{
+  // --ground pmf (with --crop) on a tiled run: the pre-pass over pre-tiles with the
+  // filter's halo keeps the in-memory points, so the mesh has the in-memory bytes,
+  // whatever --memory-limit or --tile-level cut it into.
+  const std::string input = SHARED_DATA + "/pcd/isprs_filtertest/samp53-utm.pcd";
+  if (!fs::exists(input))
+    GTEST_SKIP() << "shared data not found at " << input;
+  const std::vector<std::string> ground = {"--ground", "pmf", "--pmf-window", "9"};
+  const auto with = [&](std::vector<std::string> args,
+                        const std::vector<std::string>& more) {
+    args.insert(args.end(), ground.begin(), ground.end());
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+  };
+  const CliResult memory = run(with({input, "memory.ply"}, {}));
+  ASSERT_EQ(memory.exit_code, 0) << memory.err;
+  // 34378 points need about 11 MB in memory: 10M sends the job to the tiles.
+  for (const std::vector<std::string>& tiling :
+       {std::vector<std::string>{"--memory-limit", "10M"},
+        std::vector<std::string>{"--tile-level", "2"}}) {
+    SCOPED_TRACE(tiling[0]);
+    const CliResult tiled =
+        run(with({input, "tiled.ply"},
+                 {tiling[0], tiling[1], "--threads", "1", "--temp-dir", "."}));
+    ASSERT_EQ(tiled.exit_code, 0) << tiled.err;
+    EXPECT_NE(tiled.out.find("Meshing tiled"), std::string::npos) << tiled.out;
+    EXPECT_NE(tiled.out.find("pre-tiles of side"), std::string::npos) << tiled.out;
+    EXPECT_TRUE(readText(work("tiled.ply")) == readText(work("memory.ply")));
+  }
+  const std::vector<std::string> crop = {"--crop", "494750,5420400,495050,5420700"};
+  ASSERT_EQ(run(with({input, "memory_crop.ply"}, crop)).exit_code, 0);
+  const CliResult tiled_crop =
+      run(with({input, "tiled_crop.ply"}, {crop[0], crop[1], "--tile-level", "1"}));
+  ASSERT_EQ(tiled_crop.exit_code, 0) << tiled_crop.err;
+  EXPECT_TRUE(readText(work("tiled_crop.ply")) == readText(work("memory_crop.ply")));
+  EXPECT_TRUE(readText(work("tiled_crop.ply")) != readText(work("memory.ply")));
+  // The other steps are not tiled: a clear refusal, nothing left behind.
+  const auto before = workFiles();
+  expectFailure(run(with({input, "out.ply"}, {"--voxel", "0.5", "--tile-level", "1"})),
+                1, "--voxel, --grid-min, --outliers and --png run in memory only",
+                before);
+}
+
 TEST_F(PcdToMesh, AJobAboveTheMemoryLimitRunsTiledWithTheInMemoryBytes)
 {
   const std::vector<std::string> names =

@@ -45,7 +45,9 @@ struct PointInputs {
 };
 
 struct TiledProgress {
-  const char* phase = ""; ///< "scanning", "bucketing", "ordering", "meshing", "writing"
+  /// "scanning", "bucketing", "ordering", "meshing", "writing" (and the pre-pass's
+  /// "ground scan", "ground bucket", "ground filter")
+  const char* phase = "";
   std::uint64_t done = 0;
   std::uint64_t total = 0;
 };
@@ -72,6 +74,15 @@ struct TiledMeshOptions {
   /// fails the run.
   std::function<Status(const MeshSource& mesh, const std::string& temp_folder)>
       after_write;
+  /// An optional pre-pass (the tiled --crop and --ground pmf, ground_tiles.h): run by
+  /// rank 0 once the temporary folder exists, before the scan, with the job's inputs
+  /// (all of them); it writes the points to mesh into files in the folder and names
+  /// them. The job then meshes those files, read by every rank with read_prepared,
+  /// instead of the inputs. Its failure fails the run.
+  std::function<Status(const PointInputs& inputs, const std::string& temp_folder,
+                       std::vector<std::string>& files)>
+      prepare;
+  std::function<Status(const std::string& file, const PointSink& sink)> read_prepared;
   /// Testing knobs: quadtree levels of tiles and blocks (-1 = from memory_limit).
   int tile_level = -1;
   int block_level = -1;

@@ -1,0 +1,274 @@
+// The tiled --ground pmf (ground_tiles.h): the pre-tiles with their halo keep exactly
+// the points the in-memory filter keeps (the same doubles, duplicates in the same
+// order), for every pre-tiling: on terrain with buildings across the pre-tile borders,
+// on an exact lattice (PCL's box edges land on points, shifted coordinates at 0), and
+// on an ISPRS sample; each pre-tile loads its core and halo only.
+#include <pcl_vts/ground_tiles.h>
+#include <pcl_vts/io/point_cloud_loader.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <numeric>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace pcl_vts {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Points stable-sorted by XY: equal XY keep their order (the duplicate rules see it).
+std::vector<double> byXy(const std::vector<double>& xyz)
+{
+  std::vector<std::size_t> order(xyz.size() / 3);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return xyz[3 * a] != xyz[3 * b] ? xyz[3 * a] < xyz[3 * b]
+                                    : xyz[3 * a + 1] < xyz[3 * b + 1];
+  });
+  std::vector<double> out;
+  for (const std::size_t k : order)
+    out.insert(out.end(), &xyz[3 * k], &xyz[3 * k] + 3);
+  return out;
+}
+
+class GroundTiles : public ::testing::Test {
+ protected:
+  void SetUp() override
+  {
+    folder_ = fs::temp_directory_path() /
+              ("pcl_vts_ground_tiles_" + std::to_string(::getpid()) + "_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  /// The tiled pre-pass over xyz fed in chunks of 1000 points; its files' points.
+  Status tiled(const std::vector<double>& xyz, const GroundTilesOptions& options,
+               std::vector<double>& kept, GroundTilesReport& report)
+  {
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+    const GroundFeed feed = [&](const GroundSink& sink) {
+      for (std::size_t at = 0; at < xyz.size(); at += 3000)
+        if (Status s =
+                sink(&xyz[at], std::min<std::size_t>(1000, (xyz.size() - at) / 3));
+            !s.ok())
+          return s;
+      return Status::success();
+    };
+    std::vector<std::string> files;
+    kept.clear();
+    if (Status s = groundTiles(feed, options, folder_.string(), files, report); !s.ok())
+      return s;
+    for (const std::string& file : files)
+      if (Status s = readGroundFile(file, 777,
+                                    [&](const double* p, std::size_t n) {
+                                      kept.insert(kept.end(), p, p + 3 * n);
+                                      return Status::success();
+                                    });
+          !s.ok())
+        return s;
+    return Status::success();
+  }
+
+  /// In memory and with each pre-tiling: the same points, duplicates in the same order.
+  void expectTheInMemoryPoints(const std::vector<double>& xyz,
+                               const PreprocessOptions& pre,
+                               const std::vector<int>& tilings)
+  {
+    std::vector<double> memory = xyz;
+    std::vector<PreprocessStep> steps;
+    ASSERT_TRUE(preprocessCloud(memory, pre, steps).ok());
+    ASSERT_LT(memory.size(), xyz.size()); // the filter removed something
+    const std::vector<double> expected = byXy(memory);
+    for (const int k : tilings) {
+      GroundTilesOptions options;
+      options.preprocess = pre;
+      options.tiles_per_side = k;
+      options.threads = 1 + static_cast<unsigned>(k % 3); // the same for any count
+      std::vector<double> kept;
+      GroundTilesReport report;
+      ASSERT_TRUE(tiled(xyz, options, kept, report).ok()) << k;
+      EXPECT_EQ(report.tiles_per_side, k);
+      EXPECT_EQ(report.kept, memory.size() / 3);
+      EXPECT_TRUE(byXy(kept) == expected)
+          << k << " pre-tiles per side: " << kept.size() / 3 << " points kept, "
+          << memory.size() / 3 << " in memory";
+      if (k >= 3) { // one pre-tile and its halo at a time, not the whole cloud
+        EXPECT_LT(report.max_tile_points, report.cropped) << k;
+      }
+      // Only the kept files are left.
+      std::size_t left = 0;
+      for (const auto& entry : fs::directory_iterator(folder_))
+        left += entry.path().filename().string().rfind("ground_", 0) == 0 ? 0 : 1;
+      EXPECT_EQ(left, 0u);
+    }
+  }
+
+  fs::path folder_;
+};
+
+/// Sloped, wavy ground at 1 m with cm jitter, 8 m buildings and trees placed across
+/// the borders of every pre-tiling tested, and returns sharing the XY of a ground
+/// point (duplicates).
+std::vector<double> builtTerrain()
+{
+  std::vector<double> xyz;
+  std::uint32_t h = 12345;
+  const auto jitter = [&h] {
+    h = h * 1664525u + 1013904223u;
+    return static_cast<double>(h >> 24) / 256.0 * 0.3 - 0.15;
+  };
+  for (int j = 0; j < 120; ++j)
+    for (int i = 0; i < 160; ++i) {
+      const double x = std::round((612000.0 + i + jitter()) * 100.0) / 100.0;
+      const double y = std::round((5140000.0 + j + jitter()) * 100.0) / 100.0;
+      const double g = 210.0 + 0.08 * i + 1.5 * std::sin(0.07 * j) + 0.02 * jitter();
+      // Buildings of 8 x 8 m on a 26 m pitch: every pre-tile border crosses some.
+      const bool building = (i % 26) < 8 && (j % 26) < 8 && i > 4 && j > 4;
+      const bool tree = std::hypot((i % 37) - 18.0, (j % 29) - 14.0) < 2.5;
+      const double z = building ? g + 7.0 + 0.01 * i : tree ? g + 5.0 + jitter() : g;
+      xyz.insert(xyz.end(), {x, y, std::round(z * 100.0) / 100.0});
+      if ((i * 7 + j * 3) % 11 == 0) // a second return at the same XY
+        xyz.insert(xyz.end(), {x, y, std::round((z + 3.0 + jitter()) * 100.0) / 100.0});
+    }
+  return xyz;
+}
+
+PreprocessOptions smallWindows()
+{
+  PreprocessOptions pre;
+  pre.ground_pmf = true;
+  pre.pmf_max_window = 9; // windows 3, 5, 9: a reach of 18 m
+  return pre;
+}
+
+TEST_F(GroundTiles, TheReachIsTheSumOfPclsWindows)
+{
+  PreprocessOptions pre;
+  pre.ground_pmf = true;
+  EXPECT_EQ(pmfWindowSizes(pre), (std::vector<float>{3, 5, 9, 17, 33}));
+  EXPECT_EQ(pmfReach(pre), 68.0); // 67 and one cell
+  pre.pmf_cell = 0.5;
+  pre.pmf_max_window = 9;
+  EXPECT_EQ(pmfWindowSizes(pre), (std::vector<float>{1.5f, 2.5f, 4.5f, 8.5f, 16.5f}));
+  pre.pmf_base = 1.0 + 1e-9; // 1 in float: PCL's window loop would never end
+  EXPECT_EQ(validatePreprocessOptions(pre).code, StatusCode::INVALID_PARAMETER);
+}
+
+TEST_F(GroundTiles, BuildingsAcrossPreTileBordersKeepTheInMemoryPoints)
+{
+  const std::vector<double> xyz = builtTerrain();
+  expectTheInMemoryPoints(xyz, smallWindows(), {3, 5});
+  // With a crop first: the shift is the cropped cloud's, as in memory.
+  PreprocessOptions cropped = smallWindows();
+  cropped.crop = true;
+  cropped.crop_min_x = 612013.3;
+  cropped.crop_min_y = 5140007.0;
+  cropped.crop_max_x = 612150.0;
+  cropped.crop_max_y = 5140111.5;
+  expectTheInMemoryPoints(xyz, cropped, {4});
+}
+
+TEST_F(GroundTiles, AnExactLatticeKeepsTheInMemoryPoints)
+{
+  // Points on a 0.25 m lattice symmetric about the centre: the shifted floats are
+  // exact and hit 0, and PCL's box edges (x +- 0.75, 1.25) fall exactly on points, in
+  // octrees of different bounds per pre-tile.
+  std::vector<double> xyz;
+  for (int j = -40; j <= 40; ++j)
+    for (int i = -40; i <= 40; ++i) {
+      const bool block = std::abs(i % 20) < 7 && std::abs(j % 20) < 7;
+      xyz.insert(xyz.end(), {400000.0 + 0.25 * i, 6200000.0 + 0.25 * j,
+                             50.0 + 0.25 * ((i + 3 * j) % 4) + (block ? 3.0 : 0.0)});
+    }
+  PreprocessOptions pre = smallWindows();
+  pre.pmf_cell = 0.5;
+  pre.pmf_max_window = 2;
+  ASSERT_EQ(pmfWindowSizes(pre), (std::vector<float>{1.5f, 2.5f}));
+  pre.pmf_initial_distance = 0.3;
+  expectTheInMemoryPoints(xyz, pre, {3, 7});
+}
+
+TEST_F(GroundTiles, AnIsprsSampleKeepsTheInMemoryPoints)
+{
+  const std::string path =
+      std::string(PCL_VTS_SHARED_DATA_DIR) + "/pcd/isprs_filtertest/samp53-utm.pcd";
+  if (!fs::exists(path))
+    GTEST_SKIP() << path << " not found";
+  std::vector<double> xyz;
+  CloudDescription description;
+  ASSERT_TRUE(loadPointCloud(path, CloudLoadOptions{}, xyz, description).ok());
+  expectTheInMemoryPoints(xyz, smallWindows(), {3, 6});
+}
+
+TEST_F(GroundTiles, APointAFullWindowAwayDecidesAClass)
+{
+  // One round (window 3, boxes of +-1.5): plateaus of 12 points 0.25 apart, 1 high,
+  // between low points. No box of 3 fits on a plateau, so every plateau point is
+  // opened to 0 and dropped; but the last one drops only because the low point 3
+  // (a full window) before it is there: a pre-tile whose halo missed it would keep
+  // it. The plateaus fall at every phase against the pre-tile borders.
+  std::vector<double> xyz;
+  for (int m = 0; m <= 29 * 41; ++m)
+    xyz.insert(xyz.end(), {300000.0 + 0.25 * m, 4000000.0,
+                           m % 29 >= 1 && m % 29 <= 12 ? 101.0 : 100.0});
+  PreprocessOptions pre;
+  pre.ground_pmf = true;
+  pre.pmf_max_window = 3;
+  ASSERT_EQ(pmfWindowSizes(pre), std::vector<float>{3.0f});
+  std::vector<double> memory = xyz;
+  std::vector<PreprocessStep> steps;
+  ASSERT_TRUE(preprocessCloud(memory, pre, steps).ok());
+  for (std::size_t k = 2; k < memory.size(); k += 3)
+    ASSERT_EQ(memory[k], 100.0); // the plateaus are gone
+  expectTheInMemoryPoints(xyz, pre, {7, 13, 31});
+}
+
+TEST_F(GroundTiles, TheMemoryLimitSetsThePreTiles)
+{
+  const std::vector<double> xyz = builtTerrain();
+  GroundTilesOptions options;
+  options.preprocess = smallWindows();
+  options.memory_limit = std::uint64_t{2} << 20; // a few thousand points
+  std::vector<double> kept;
+  GroundTilesReport report;
+  ASSERT_TRUE(tiled(xyz, options, kept, report).ok());
+  EXPECT_GE(report.tiles_per_side, 4);
+  EXPECT_LT(report.max_tile_points, report.cropped / 3);
+  std::vector<double> memory = xyz;
+  std::vector<PreprocessStep> steps;
+  ASSERT_TRUE(preprocessCloud(memory, options.preprocess, steps).ok());
+  EXPECT_TRUE(byXy(kept) == byXy(memory));
+}
+
+TEST_F(GroundTiles, NothingLeftIsTheInMemoryError)
+{
+  std::vector<double> xyz = {1, 2, 3, 4, 5, 6, 7, 8, 9};
+  GroundTilesOptions options;
+  options.preprocess.ground_pmf = true;
+  options.preprocess.crop = true;
+  options.preprocess.crop_min_x = 100;
+  options.preprocess.crop_max_x = 200;
+  options.preprocess.crop_min_y = 100;
+  options.preprocess.crop_max_y = 200;
+  std::vector<double> kept;
+  GroundTilesReport report;
+  const Status s = tiled(xyz, options, kept, report);
+  EXPECT_EQ(s.code, StatusCode::EMPTY_INPUT);
+  EXPECT_NE(s.message.find("'crop'"), std::string::npos) << s.message;
+  options.preprocess.crop = false;
+  options.preprocess.voxel = 1.0;
+  EXPECT_EQ(tiled(xyz, options, kept, report).code, StatusCode::INVALID_PARAMETER);
+}
+
+} // namespace
+} // namespace pcl_vts
