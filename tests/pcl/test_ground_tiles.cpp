@@ -1,8 +1,10 @@
 // The tiled --ground pmf (ground_tiles.h): the pre-tiles with their halo keep exactly
 // the points the in-memory filter keeps (the same doubles, duplicates in the same
-// order), for every pre-tiling: on terrain with buildings across the pre-tile borders,
-// on an exact lattice (PCL's box edges land on points, shifted coordinates at 0), and
-// on an ISPRS sample; each pre-tile loads its core and halo only.
+// order), for every pre-tiling and thread count: on terrain with buildings across the
+// pre-tile borders, on an exact lattice (PCL's box edges land on points, shifted
+// coordinates at 0), on an ISPRS sample, where a point is decided by one a full
+// window away (the halo is needed) and where float ties are decided by the shift (the
+// whole cloud's is needed); each pre-tile loads its core and halo only.
 #include <pcl_vts/ground_tiles.h>
 #include <pcl_vts/io/point_cloud_loader.h>
 
@@ -231,6 +233,29 @@ TEST_F(GroundTiles, APointAFullWindowAwayDecidesAClass)
   for (std::size_t k = 2; k < memory.size(); k += 3)
     ASSERT_EQ(memory[k], 100.0); // the plateaus are gone
   expectTheInMemoryPoints(xyz, pre, {7, 13, 31});
+}
+
+TEST_F(GroundTiles, TheWholeCloudsShiftDecidesTheTies)
+{
+  // Bumps exactly 0.5 (in decimal) above their opening, the first threshold: whether
+  // PCL keeps one depends on how its float copy rounds, so on the shift. The
+  // pre-tiles must use the whole cloud's shift to keep the same bumps.
+  std::vector<double> xyz;
+  for (int m = 0; m < 3000; ++m) {
+    const double g = 100.0 + 0.01 * m;
+    const double z = m % 3 == 1 ? 100.0 + 0.01 * (m + 1) + 0.5 : g; // g(m+1) + 0.5
+    xyz.insert(xyz.end(), {500000.0 + m, 4000000.0, std::round(z * 100.0) / 100.0});
+  }
+  PreprocessOptions pre;
+  pre.ground_pmf = true;
+  pre.pmf_max_window = 3; // one round, threshold 0.5
+  std::vector<double> memory = xyz;
+  std::vector<PreprocessStep> steps;
+  ASSERT_TRUE(preprocessCloud(memory, pre, steps).ok());
+  const std::size_t dropped = (xyz.size() - memory.size()) / 3;
+  EXPECT_GT(dropped, 500u);  // the ties fall both ways: most of the 1000 bumps drop,
+  EXPECT_LT(dropped, 1000u); // some stay
+  expectTheInMemoryPoints(xyz, pre, {5, 16});
 }
 
 TEST_F(GroundTiles, TheMemoryLimitSetsThePreTiles)

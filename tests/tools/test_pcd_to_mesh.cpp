@@ -1774,6 +1774,21 @@ TEST_F(PcdToMesh, TiledGroundPmfWritesTheInMemoryBytes)
   ASSERT_EQ(tiled_crop.exit_code, 0) << tiled_crop.err;
   EXPECT_TRUE(readText(work("tiled_crop.ply")) == readText(work("memory_crop.ply")));
   EXPECT_TRUE(readText(work("tiled_crop.ply")) != readText(work("memory.ply")));
+  // samp24 has 559 duplicates among its ground points: every rule sees the in-memory
+  // order (equal XY share a pre-tile file, in input order).
+  const std::string samp24 = SHARED_DATA + "/pcd/isprs_filtertest/samp24-utm.pcd";
+  for (const std::string rule : {"first", "mean"}) {
+    SCOPED_TRACE(rule);
+    const std::vector<std::string> dup = {"--duplicates", rule};
+    const CliResult m = run(with({samp24, "dup_memory.ply"}, dup));
+    ASSERT_EQ(m.exit_code, 0) << m.err;
+    EXPECT_GT(summaryValue(m.out, "duplicates merged"), 500u);
+    ASSERT_EQ(run(with({samp24, "dup_tiled.ply"},
+                       {dup[0], dup[1], "--tile-level", "2", "--temp-dir", "."}))
+                  .exit_code,
+              0);
+    EXPECT_TRUE(readText(work("dup_tiled.ply")) == readText(work("dup_memory.ply")));
+  }
   // The other steps are not tiled: a clear refusal, nothing left behind.
   const auto before = workFiles();
   expectFailure(run(with({input, "out.ply"}, {"--voxel", "0.5", "--tile-level", "1"})),
