@@ -147,6 +147,22 @@ std::uint64_t TempFolder::bytesUsed() const
   return bytes;
 }
 
+void TempFolder::removeFilesExcept(const std::string& keep) const
+{
+  DIR* dir = path_.empty() ? nullptr : ::opendir(path_.c_str());
+  if (dir == nullptr)
+    return;
+  std::vector<std::string> doomed;
+  while (const dirent* entry = ::readdir(dir)) {
+    const std::string name = entry->d_name;
+    if (name != "." && name != ".." && name.compare(0, keep.size(), keep) != 0)
+      doomed.push_back(name);
+  }
+  for (const std::string& name : doomed)
+    ::unlinkat(::dirfd(dir), name.c_str(), 0);
+  ::closedir(dir);
+}
+
 void TempFolder::remove()
 {
   if (path_.empty())

@@ -512,6 +512,8 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     report.seconds_fill = watch.seconds();
     measureTemp();
   }
+  if (edited && job.rank == 0) // every rank is past the last sweep (its agreement)
+    temp.removeFilesExcept("result_"); // the post-passes' files: the writer needs none
   if (!options.tile_output.empty() && edited && !(status = writeTileOutputs(job)).ok())
     return status;
 

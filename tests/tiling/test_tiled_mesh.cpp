@@ -613,8 +613,9 @@ TEST_F(TiledMeshTest, DefaultPipelineFillsHolesAcrossTilesAsInMemory)
 }
 
 // The bucketed points are read only while tiles are meshed: they are gone from the
-// temporary folder before the post-passes and the writer add their files, and the
-// report's peak covers the points and the tile results together.
+// temporary folder before the post-passes and the writer add their files; the
+// post-passes' files are gone before the writer starts; the report's peak covers the
+// points and the tile results together.
 TEST_F(TiledMeshTest, PointFilesAreRemovedOnceEveryTileIsMeshed)
 {
   const SyntheticTerrain terrain = makeSyntheticTerrain(5);
@@ -624,6 +625,7 @@ TEST_F(TiledMeshTest, PointFilesAreRemovedOnceEveryTileIsMeshed)
   options.tile_level = 2;
   options.block_level = 5;
   std::map<std::string, std::pair<int, int>> seen; // phase: point files, result files
+  int others_at_writing = -1;                      // files neither points nor results
   options.progress = [&](const TiledProgress& p) {
     int points = 0, results = 0;
     for (const auto& folder : std::filesystem::directory_iterator(root_))
@@ -634,6 +636,14 @@ TEST_F(TiledMeshTest, PointFilesAreRemovedOnceEveryTileIsMeshed)
           results += name.rfind("result_", 0) == 0;
         }
     seen[p.phase] = {points, results};
+    if (std::string(p.phase) == "writing") {
+      others_at_writing = 0;
+      for (const auto& folder : std::filesystem::directory_iterator(root_))
+        if (folder.path().filename().string().rfind(".pcl_vts-", 0) == 0)
+          for (const auto& file : std::filesystem::directory_iterator(folder.path()))
+            others_at_writing +=
+                file.path().filename().string().rfind("result_", 0) != 0;
+    }
   };
   TiledMeshReport report;
   ASSERT_TRUE(runTiledMesh(feedOf(terrain.xyz), options, (root_ / "t.ply").string(),
@@ -646,6 +656,7 @@ TEST_F(TiledMeshTest, PointFilesAreRemovedOnceEveryTileIsMeshed)
     EXPECT_EQ(seen[phase].first, 0) << "point files left at " << phase;
     EXPECT_GT(seen[phase].second, 0) << "no tile results at " << phase;
   }
+  EXPECT_EQ(others_at_writing, 0) << "the post-passes' files outlived them";
   // Points (24 B) and results (at least 24 B of vertex) for every vertex.
   EXPECT_GE(report.temp_peak_bytes, report.temp_bytes + 24 * report.vertices);
 }
