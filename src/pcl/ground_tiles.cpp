@@ -19,6 +19,9 @@ namespace {
 /// copies of each round, its octree): at most about 230 measured on 3.6e5 points.
 constexpr std::uint64_t PMF_BYTES_PER_POINT = 320;
 
+/// At most this many pre-tiles per side (a million pre-tiles).
+constexpr int MAX_PRE_TILES_PER_SIDE = 1024;
+
 struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
@@ -103,7 +106,7 @@ int choosePreTiles(std::uint64_t n, double width, double height, double halo,
   const double extent = std::max(width, height);
   if (!(extent > 0.0))
     return 1;
-  for (int k = 1; k < 4096; k *= 2) {
+  for (int k = 1; k < MAX_PRE_TILES_PER_SIDE; k *= 2) {
     const double reach = extent / k + 2.0 * halo;
     const double share = std::min(1.0, reach / std::max(width, extent * 1e-9)) *
                          std::min(1.0, reach / std::max(height, extent * 1e-9));
@@ -111,7 +114,7 @@ int choosePreTiles(std::uint64_t n, double width, double height, double halo,
     if (static_cast<double>(n) * share <= budget || extent / k < halo)
       return k;
   }
-  return 4096;
+  return MAX_PRE_TILES_PER_SIDE;
 }
 
 } // namespace
@@ -219,9 +222,10 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   PreTiles tiles;
   tiles.x0 = lo[0];
   tiles.y0 = lo[1];
-  tiles.k = options.tiles_per_side > 0 ? std::min(options.tiles_per_side, 4096)
-                                       : choosePreTiles(n, width, height, halo,
-                                                        options.memory_limit / workers);
+  tiles.k =
+      options.tiles_per_side > 0
+          ? std::min(options.tiles_per_side, MAX_PRE_TILES_PER_SIDE)
+          : choosePreTiles(n, width, height, halo, options.memory_limit / workers);
   tiles.side = extent > 0.0 ? extent / tiles.k : 1.0;
   report.tiles_per_side = tiles.k;
   report.tile_side = tiles.side;
@@ -230,12 +234,26 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   const auto loadPath = [&](std::size_t t) {
     return folder + "/pmf_" + std::to_string(t) + ".xyz";
   };
+  // The points wait in one buffer per pre-tile; all of them go to the files once
+  // they hold an eighth of the limit (the buffers released: their total stays
+  // bounded whatever the number of pre-tiles).
   std::vector<std::vector<double>> buffers(count);
+  std::vector<std::size_t> dirty; // pre-tiles with buffered points
   std::vector<std::uint64_t> loaded(count, 0);
-  const std::size_t flush_values =
-      3 * std::clamp<std::size_t>(
-              static_cast<std::size_t>(options.memory_limit / 8 / (count * 24)), 256,
-              65536);
+  const std::size_t max_buffered =
+      3 * static_cast<std::size_t>(std::clamp<std::uint64_t>(
+              options.memory_limit / 8 / 24, 4096, std::uint64_t{1} << 22));
+  std::size_t buffered = 0;
+  const auto flush = [&]() {
+    for (const std::size_t t : dirty) {
+      if (Status w = appendDoubles(loadPath(t), buffers[t]); !w.ok())
+        return w;
+      std::vector<double>().swap(buffers[t]);
+    }
+    dirty.clear();
+    buffered = 0;
+    return Status::success();
+  };
   std::uint64_t seen = 0;
   s = feed([&](const double* xyz, std::size_t points) {
     progress("ground bucket", seen, n);
@@ -250,13 +268,13 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
         for (int c = c0; c <= c1; ++c) {
           const std::size_t t = static_cast<std::size_t>(r) * tiles.k + c;
           std::vector<double>& b = buffers[t];
+          if (b.empty())
+            dirty.push_back(t);
           b.insert(b.end(), p, p + 3);
           ++loaded[t];
-          if (b.size() >= flush_values) {
-            if (Status w = appendDoubles(loadPath(t), b); !w.ok())
+          if ((buffered += 3) >= max_buffered)
+            if (Status w = flush(); !w.ok())
               return w;
-            b.clear();
-          }
         }
     }
     return Status::success();
@@ -268,11 +286,9 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
                          "the inputs changed while they were read (" +
                              std::to_string(n) + " points kept by the crop, then " +
                              std::to_string(seen) + ")");
-  for (std::size_t t = 0; t < count; ++t) {
-    if (Status w = appendDoubles(loadPath(t), buffers[t]); !w.ok())
-      return w;
-    std::vector<double>().swap(buffers[t]);
-  }
+  if (Status w = flush(); !w.ok())
+    return w;
+  std::vector<std::vector<double>>().swap(buffers);
   report.seconds_bucket = watch.seconds();
 
   // 3. Filter each pre-tile with its halo; keep the ground of its core. The
