@@ -139,6 +139,9 @@ void printHelp()
       "  --max-edge L        also trim boundary triangles with an edge longer than L,\n"
       "                      L >= 0 in XY units; 0 = no such limit (default: 0)\n"
       "  --no-fill           leave holes open (default: fill holes)\n"
+      "  --no-lattice        triangulate rasters by region growing too (default: the\n"
+      "                      lattice fast path for points on a rectilinear lattice;\n"
+      "                      the same mesh, docs/algorithm.md section 7)\n"
       "  --max-hole-area A   fill only holes up to this XY area, A >= 0; 0 = "
       "automatic\n"
       "                      (500 x spacing^2) (default: 0)\n"
@@ -471,6 +474,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
       opt.no_trim = true;
     else if (name == "--no-fill")
       opt.no_fill = true;
+    else if (name == "--no-lattice")
+      opt.vts.lattice = false;
     else if (name == "--ascii")
       opt.ascii = true;
     else if (name == "--double")
@@ -1179,12 +1184,18 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
   const pcl_vts::Diagnostics& d = result.diagnostics;
   const pcl_vts::ReconstructionDiagnostics& rd = result.reconstruction;
   out.done(msSince(start), std::to_string(d.triangles) + " triangles");
-  out.line(
-      "  grid         [done, %.1f ms : %zu non-finite dropped, %zu duplicates merged "
-      "(keep %s z), %zu distinct points, cell size %.6g, %zu cells]\n",
-      1e3 * d.seconds_grid, d.non_finite_dropped, d.duplicates_merged,
-      pcl_vts::duplicateRuleName(opt.vts.duplicate_rule), d.distinct_points,
-      d.cell_size, d.cells);
+  char layout[128];
+  if (d.lattice_columns > 0) // the lattice fast path (docs/algorithm.md section 7)
+    std::snprintf(layout, sizeof layout, "lattice %zu x %zu, %zu fringe pieces",
+                  d.lattice_columns, d.lattice_rows, d.lattice_fringe_pieces);
+  else
+    std::snprintf(layout, sizeof layout, "cell size %.6g, %zu cells", d.cell_size,
+                  d.cells);
+  out.line("  grid         [done, %.1f ms : %zu non-finite dropped, %zu duplicates "
+           "merged (keep %s z), %zu distinct points, %s]\n",
+           1e3 * d.seconds_grid, d.non_finite_dropped, d.duplicates_merged,
+           pcl_vts::duplicateRuleName(opt.vts.duplicate_rule), d.distinct_points,
+           layout);
   out.line("  hull         [done, %.1f ms : %zu hull vertices]\n", 1e3 * d.seconds_hull,
            d.hull_vertices);
   out.line("  triangulate  [done, %.1f ms : %zu triangles]\n",

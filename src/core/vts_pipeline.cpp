@@ -1,3 +1,5 @@
+#include "lattice_triangulation.h"
+
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
 #include <pcl_vts/core/cell_subdivision.h>
@@ -90,6 +92,33 @@ std::vector<double> vertexHeights(const double* xyz, std::size_t n,
   for (std::size_t v = 0; v < z.size(); ++v)
     z[v] /= static_cast<double>(count[v]);
   return z;
+}
+
+/// Output checks and post-passes, after either triangulation path.
+Status finishPipeline(const VtsOptions& options, VtsResult& result)
+{
+  TriangleMesh& mesh = result.mesh;
+  Diagnostics& diag = result.diagnostics;
+  if (options.check_output) {
+    std::string why;
+    if (!halfedgesConsistent(mesh, &why) || !allTrianglesCcw(mesh, &why)) {
+      result.mesh = TriangleMesh{};
+      return Status::error(StatusCode::INTERNAL_ERROR, "output check failed: " + why);
+    }
+  }
+
+  // Trim boundary, fill holes (each optional).
+  if (options.reconstruction.trim || options.reconstruction.fill) {
+    ReconstructionOptions post = options.reconstruction;
+    post.check_output = post.check_output && options.check_output;
+    if (Status s = reconstructSurface(mesh, post, result.reconstruction); !s.ok()) {
+      result.mesh = TriangleMesh{};
+      return s;
+    }
+    result.source_index.resize(mesh.vertexCount(), INVALID_ID); // inserted points
+    diag.triangles = mesh.triangleCount();
+  }
+  return Status::success();
 }
 
 } // namespace
@@ -213,6 +242,12 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
                              std::to_string(INVALID_ID - 1) + " points)");
   if (n > 0 && xyz == nullptr)
     return Status::error(StatusCode::INVALID_PARAMETER, "null point array");
+  if (options.lattice) { // DEM rasters: no search in complete cells (section 7)
+    bool handled = false;
+    const Status s = triangulateLattice(xyz, n, options, result, handled);
+    if (handled)
+      return s.ok() ? finishPipeline(options, result) : s;
+  }
 
   Stopwatch watch;
   const unsigned threads = options.threads > 0 ? options.threads : allCores();
@@ -254,26 +289,7 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   result.source_index = std::move(stage.source);
   diag.triangles = mesh.triangleCount();
 
-  if (options.check_output) {
-    std::string why;
-    if (!halfedgesConsistent(mesh, &why) || !allTrianglesCcw(mesh, &why)) {
-      result.mesh = TriangleMesh{};
-      return Status::error(StatusCode::INTERNAL_ERROR, "output check failed: " + why);
-    }
-  }
-
-  // Trim boundary, fill holes (each optional).
-  if (options.reconstruction.trim || options.reconstruction.fill) {
-    ReconstructionOptions post = options.reconstruction;
-    post.check_output = post.check_output && options.check_output;
-    if (Status s = reconstructSurface(mesh, post, result.reconstruction); !s.ok()) {
-      result.mesh = TriangleMesh{};
-      return s;
-    }
-    result.source_index.resize(mesh.vertexCount(), INVALID_ID); // inserted points
-    diag.triangles = mesh.triangleCount();
-  }
-  return Status::success();
+  return finishPipeline(options, result);
 }
 
 } // namespace pcl_vts

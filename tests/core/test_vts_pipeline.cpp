@@ -174,12 +174,14 @@ TEST(VtsPipeline, CellSizeDoesNotChangeTheTriangulation)
                                Distribution::CLUSTERED, Distribution::THIN_STRIP}) {
     SCOPED_TRACE(test::distributionName(d));
     const std::vector<double> xyz = test::generatePoints(d, 2000, 5);
-    const PipelineRun automatic = runPipeline(xyz);
+    VtsOptions grid_path; // EXACT_GRID would take the lattice path, which has no cell
+    grid_path.lattice = false;
+    const PipelineRun automatic = runPipeline(xyz, grid_path);
     ASSERT_TRUE(automatic.status.ok()) << automatic.status.toString();
     const double cell = automatic.result.diagnostics.cell_size;
     ASSERT_GT(cell, 0.0);
     for (const double factor : {0.25, 4.0, 1e6}) {
-      VtsOptions options;
+      VtsOptions options = grid_path;
       options.cell_size = cell * factor;
       const PipelineRun run = runPipeline(xyz, options);
       ASSERT_TRUE(run.status.ok())

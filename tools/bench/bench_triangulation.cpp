@@ -1,7 +1,12 @@
 // One measurement per process, so that peak RSS belongs to one method and one input:
 //   bench_triangulation METHOD DIST N [SEED [THREADS]]
 //   bench_triangulation METHOD file PATH [--classes LIST] [--name NAME] [THREADS]
-//   METHOD: vts | cgal      DIST: jittered | uniform | clustered | grid
+//   METHOD: vts | vts-grid | cgal
+//   DIST: jittered | uniform | clustered | grid | raster
+//   vts-grid is vts with the lattice fast path off (VtsOptions::lattice), the grid
+//   path on every input; raster is a square DEM-like lattice (N cells, spacing 1,
+//   rows from the top) with NODATA ellipses (one per 20000 cells, radii 0.5 to 12.5
+//   cells) and 0.1 % single-cell dropouts.
 //   bench_triangulation write-pcd DIST N FILE [SEED]: the same input as a binary PCD
 //   with float64 x y z, shifted to UTM-like coordinates (+5e5 east, +5e6 north).
 // Prints one JSON line. The input is generated or read (pcl_vts::loadPointCloud, any
@@ -20,7 +25,9 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Projection_traits_xy_3.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -60,6 +67,35 @@ std::vector<double> generate(const std::string& dist, std::size_t n, unsigned se
     for (std::size_t k = 0; k < n; ++k) {
       const double i = static_cast<double>(k % side), j = static_cast<double>(k / side);
       push(i + jitter * (unit(rng) - 0.5), j + jitter * (unit(rng) - 0.5));
+    }
+  } else if (dist == "raster") {
+    std::vector<std::uint8_t> nodata(side * side, 0);
+    const auto mark = [&](double cx, double cy, double rx, double ry) {
+      const auto lo = [&](double v) {
+        return static_cast<std::size_t>(std::max(0.0, std::floor(v)));
+      };
+      const auto hi = [&](double v) {
+        return std::min(side, static_cast<std::size_t>(std::max(0.0, std::ceil(v))));
+      };
+      for (std::size_t j = lo(cy - ry); j < hi(cy + ry + 1); ++j)
+        for (std::size_t i = lo(cx - rx); i < hi(cx + rx + 1); ++i) {
+          const double u = (static_cast<double>(i) - cx) / rx,
+                       v = (static_cast<double>(j) - cy) / ry;
+          if (u * u + v * v <= 1.0)
+            nodata[j * side + i] = 1;
+        }
+    };
+    for (std::size_t h = 0; h < std::max<std::size_t>(1, n / 20000); ++h)
+      mark(unit(rng) * static_cast<double>(side), unit(rng) * static_cast<double>(side),
+           0.5 + 12.0 * unit(rng), 0.5 + 12.0 * unit(rng));
+    for (std::uint8_t& cell : nodata)
+      if (unit(rng) < 0.001)
+        cell = 1;
+    for (std::size_t r = 0; r < side; ++r) {
+      const std::size_t j = side - 1 - r;
+      for (std::size_t i = 0; i < side; ++i)
+        if (nodata[j * side + i] == 0)
+          push(static_cast<double>(i), static_cast<double>(j));
     }
   } else if (dist == "uniform") {
     for (std::size_t k = 0; k < n; ++k)
@@ -158,11 +194,13 @@ std::string jsonText(const std::string& text)
 
 int usage(const char* self)
 {
-  std::fprintf(stderr,
-               "usage: %s vts|cgal jittered|uniform|clustered|grid N [SEED [THREADS]]\n"
-               "       %s vts|cgal file PATH [--classes LIST] [--name NAME] [THREADS]\n"
-               "       %s write-pcd jittered|uniform|clustered|grid N FILE [SEED]\n",
-               self, self, self);
+  std::fprintf(
+      stderr,
+      "usage: %s vts|vts-grid|cgal jittered|uniform|clustered|grid|raster N "
+      "[SEED [THREADS]]\n"
+      "       %s vts|vts-grid|cgal file PATH [--classes LIST] [--name NAME] [THREADS]\n"
+      "       %s write-pcd jittered|uniform|clustered|grid N FILE [SEED]\n",
+      self, self, self);
   return 1;
 }
 
@@ -220,7 +258,7 @@ int main(int argc, char** argv)
   Measure m;
   m.method = argv[1];
   m.dist = argv[2];
-  if (m.method != "vts" && m.method != "cgal") {
+  if (m.method != "vts" && m.method != "vts-grid" && m.method != "cgal") {
     std::fprintf(stderr, "unknown method '%s'\n", m.method.c_str());
     return usage(argv[0]);
   }
@@ -253,8 +291,9 @@ int main(int argc, char** argv)
   const pcl_vts::Stopwatch watch;
   std::size_t triangles = 0, distinct = 0;
   std::string stages;
-  if (m.method == "vts") {
+  if (m.method != "cgal") {
     pcl_vts::VtsOptions options;
+    options.lattice = m.method == "vts";
     options.check_output = false;
     options.threads = m.threads;
     pcl_vts::VtsResult result;
@@ -267,16 +306,18 @@ int main(int argc, char** argv)
     triangles = result.mesh.triangleCount();
     const pcl_vts::Diagnostics& d = result.diagnostics;
     distinct = d.distinct_points;
-    const double searches = static_cast<double>(d.local_searches + d.widened_searches);
-    char buffer[256];
+    const double searches =
+        std::max(1.0, static_cast<double>(d.local_searches + d.widened_searches));
+    char buffer[384];
     std::snprintf(buffer, sizeof buffer,
                   ",\"grid_s\":%.4f,\"hull_s\":%.4f,\"triangulate_s\":%.4f,"
                   "\"cells_per_search\":%.2f,\"points_per_search\":%.2f,"
-                  "\"widened_share\":%.5f",
+                  "\"widened_share\":%.5f,\"lattice\":%s,\"fringe_points\":%zu",
                   d.seconds_grid, d.seconds_hull, d.seconds_triangulate,
                   static_cast<double>(d.cells_visited) / searches,
                   static_cast<double>(d.points_tested) / searches,
-                  static_cast<double>(d.widened_searches) / searches);
+                  static_cast<double>(d.widened_searches) / searches,
+                  d.lattice_columns > 0 ? "true" : "false", d.lattice_fringe_points);
     stages = buffer;
   } else {
     // Range insertion: CGAL spatially sorts first, its fastest use.

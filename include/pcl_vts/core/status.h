@@ -64,6 +64,15 @@ struct Diagnostics {
   double seconds_grid = 0.0;        ///< input conditioning + grid build
   double seconds_hull = 0.0;        ///< convex hull
   double seconds_triangulate = 0.0; ///< region growing
+  /// Lattice fast path (VtsOptions::lattice): distinct x and y values of the lattice,
+  /// 0 when the ordinary path ran; the fringe (docs/algorithm.md, section 7): its
+  /// pieces, the points they gave the ordinary path in their last rounds, and the
+  /// most rounds a piece took.
+  std::size_t lattice_columns = 0;
+  std::size_t lattice_rows = 0;
+  std::size_t lattice_fringe_pieces = 0;
+  std::size_t lattice_fringe_points = 0;
+  std::size_t lattice_fringe_rounds = 0;
 };
 
 } // namespace pcl_vts

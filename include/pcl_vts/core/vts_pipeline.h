@@ -44,6 +44,17 @@ struct VtsOptions {
   /// Validate the output against its post-conditions (triangle count, twins, CCW)
   /// before returning; a failure is INTERNAL_ERROR. Cheap (linear).
   bool check_output = true;
+  /// Lattice fast path: when the distinct points lie on a rectilinear lattice (DEM
+  /// rasters), complete lattice cells are split without any search and only the
+  /// cells near missing points go through the region growing (docs/algorithm.md,
+  /// section 7). The same triangles, hull and vertex positions; vertex ids follow
+  /// the lattice rows instead of the grid cells. Off: always the ordinary path.
+  bool lattice = true;
+  /// Lattice fast path: width in lattice steps of the ring of points added around
+  /// the points near missing cells before they are triangulated (section 7). A
+  /// tuning and testing knob: the triangulation is the same for every value, only
+  /// the number of rounds changes.
+  std::uint32_t lattice_ring = 2;
 };
 
 /// Checks every option; the message names the offending value.

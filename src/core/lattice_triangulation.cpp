@@ -1,0 +1,860 @@
+// Lattice fast path (lattice_triangulation.h, docs/algorithm.md section 7).
+//
+// Why the output is the Delaunay triangulation DT of the perturbed point set P:
+// 1. A complete cell [x_i, x_i+1] x [y_j, y_j+1] is an exact rectangle: its corners
+//    are cocircular and its circumcircle is the circle on its diagonal. No lattice
+//    value lies strictly between x_i and x_i+1 (or y_j and y_j+1), so any other
+//    lattice point has one coordinate beyond the cell's range and the other at best
+//    on its end: it lies strictly outside. Under the perturbation (smallest point
+//    lifted most) the lower-left corner A rises above the plane of the other three, so
+//    the cell splits along the diagonal that avoids A: triangles (A, B, D) and (B, C,
+//    D) with B the lower-right, C the upper-right and D the upper-left corner. Both are
+//    DT triangles, found with no predicate call.
+// 2. A vertex whose cells are all complete has its whole star in them (on the
+//    lattice border: its cells inside are complete, so its neighbours along the
+//    border are present and the hull there is the border line). So every other DT
+//    triangle has its three vertices in I, the vertices touching an incomplete cell.
+//    Its interior lies in the incomplete cells and is connected, so it lies in one
+//    8-connected component of them (a piece), whose cells have its vertices as
+//    corners.
+// 3. Per piece, S = its I plus a ring of lattice points around it, triangulated by
+//    the ordinary path. The perturbation compares only the lexicographic order of the
+//    four points of a test, the same in S as in P, so every DT triangle with vertices
+//    in S is a triangle of DT(S) (its circle is empty in P, hence in S). A triangle of
+//    DT(S) whose closed circumdisk holds no point of P \ S is a DT triangle (the points
+//    of P \ S lie strictly outside, so the perturbation cannot change their side).
+//    Each round keeps the DT(S) triangles with vertices in the piece's I that are not
+//    complete-cell triangles; if one of them has a point of P \ S in its closed disk,
+//    those points (and their ring) join S and the round is redone. S grows strictly,
+//    so the loop ends (at worst with S = P); in the last round every candidate is
+//    proven, and every DT triangle of the piece is a candidate: the pieces' triangles
+//    are exactly the rest of DT.
+// The triangle count is checked against 2n - h - 2 and every halfedge is paired.
+#include "lattice_triangulation.h"
+
+#include <pcl_vts/core/grid_triangulator.h>
+#include <pcl_vts/core/mediatrix_search.h>
+#include <pcl_vts/core/parallel_for.h>
+#include <pcl_vts/core/predicates.h>
+#include <pcl_vts/core/stopwatch.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <utility>
+#include <vector>
+
+namespace pcl_vts {
+namespace {
+
+// Same bounds as the ordinary path (vts_pipeline.cpp): beyond them it reports the
+// error, so the fast path leaves such inputs to it.
+constexpr double MAX_ABS_COORDINATE = 1e60;
+constexpr double MIN_EXTENT = 1e-80;
+
+/// Distinct values of one coordinate; ids in order of first appearance.
+class ValueTable {
+ public:
+  ValueTable() { rehash(1u << 10); }
+
+  std::uint32_t size() const { return static_cast<std::uint32_t>(values_.size()); }
+  double value(std::uint32_t id) const { return values_[id]; }
+  const std::vector<double>& values() const { return values_; }
+
+  /// The id of v (-0 and +0 are one value), inserted if new.
+  std::uint32_t idOf(double v)
+  {
+    v += 0.0; // -0 -> +0: equal values get equal bits
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    for (std::size_t h = slotOf(bits);; h = (h + 1) & mask_) {
+      const std::uint32_t id = slots_[h];
+      if (id == INVALID_ID) {
+        slots_[h] = size();
+        values_.push_back(v);
+        if (2 * values_.size() > slots_.size())
+          rehash(2 * slots_.size());
+        return size() - 1;
+      }
+      if (values_[id] == v)
+        return id;
+    }
+  }
+
+ private:
+  std::size_t slotOf(std::uint64_t bits) const
+  {
+    return static_cast<std::size_t>((bits * 0x9E3779B97F4A7C15ull) >> 20) & mask_;
+  }
+  void rehash(std::size_t count)
+  {
+    slots_.assign(count, INVALID_ID);
+    mask_ = count - 1;
+    for (std::uint32_t id = 0; id < size(); ++id) {
+      std::uint64_t bits = 0;
+      std::memcpy(&bits, &values_[id], sizeof bits);
+      std::size_t h = slotOf(bits);
+      while (slots_[h] != INVALID_ID)
+        h = (h + 1) & mask_;
+      slots_[h] = id;
+    }
+  }
+
+  std::vector<std::uint32_t> slots_;
+  std::vector<double> values_;
+  std::size_t mask_ = 0;
+};
+
+/// Sorted distinct values and, per first-appearance id, the sorted rank.
+void sortValues(const ValueTable& table, std::vector<double>& sorted,
+                std::vector<std::uint32_t>& rank)
+{
+  std::vector<std::uint32_t> order(table.size());
+  for (std::uint32_t k = 0; k < table.size(); ++k)
+    order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return table.value(a) < table.value(b);
+  });
+  sorted.resize(order.size());
+  rank.resize(order.size());
+  for (std::uint32_t k = 0; k < order.size(); ++k) {
+    sorted[k] = table.value(order[k]);
+    rank[order[k]] = k;
+  }
+}
+
+/// True when input k beats the current representative s (< k) of a position:
+/// mergeDuplicates' rule, ties to the smaller input index.
+bool replaces(DuplicateRule rule, double zk, double zs)
+{
+  switch (rule) {
+  case DuplicateRule::LOWEST_Z:
+    return zk < zs;
+  case DuplicateRule::HIGHEST_Z:
+    return zk > zs;
+  default:
+    return false;
+  }
+}
+
+/// Lattice positions and the vertex at each (row-major, INVALID_ID when absent).
+struct Lattice {
+  std::vector<double> xs, ys; ///< sorted distinct coordinates
+  std::uint32_t nx = 0, ny = 0;
+  std::vector<VertexId> vertex_at; ///< nx * ny
+  /// Per cell ((nx - 1) * (ny - 1), row-major): its rank among the complete cells
+  /// of its row, INVALID_ID when a corner is missing.
+  std::vector<std::uint32_t> cell_rank;
+  std::vector<std::size_t> row_start; ///< complete cells before each cell row
+
+  std::size_t position(std::uint32_t i, std::uint32_t j) const
+  {
+    return static_cast<std::size_t>(j) * nx + i;
+  }
+  std::size_t cell(std::uint32_t i, std::uint32_t j) const
+  {
+    return static_cast<std::size_t>(j) * (nx - 1) + i;
+  }
+  bool complete(std::uint32_t i, std::uint32_t j) const
+  {
+    return cell_rank[cell(i, j)] != INVALID_ID;
+  }
+  /// First of the two triangles of a complete cell.
+  std::size_t firstTriangle(std::uint32_t i, std::uint32_t j) const
+  {
+    return 2 * (row_start[j] + cell_rank[cell(i, j)]);
+  }
+  Point2 point(std::size_t p) const { return {xs[p % nx], ys[p / nx]}; }
+};
+
+/// Reads the input: distinct coordinates, duplicates merged, vertex ids. False when
+/// the points do not form a lattice the fast path should take.
+bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
+                 Lattice& lat, VtsResult& result)
+{
+  Diagnostics& diag = result.diagnostics;
+  ValueTable xt, yt;
+  // Provisional (first-appearance) ids, then the position code in ix.
+  std::vector<std::uint32_t> ix(n), iy(n);
+  double last_x = std::nan(""), last_y = std::nan("");
+  std::uint32_t id_x = 0, id_y = 0;
+  std::size_t finite = 0, dropped = 0;
+  const std::size_t limit = LATTICE_FILL_FACTOR * n;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
+      ix[k] = INVALID_ID;
+      ++dropped;
+      continue;
+    }
+    if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE)
+      return false;
+    ++finite;
+    bool grew = false;
+    if (!(x == last_x)) { // raster order: usually the value after the last one
+      last_x = x;
+      if (id_x + 1 < xt.size() && xt.value(id_x + 1) == x) {
+        ++id_x;
+      } else {
+        const std::uint32_t before = xt.size();
+        id_x = xt.idOf(x);
+        grew = xt.size() != before;
+      }
+    }
+    if (!(y == last_y)) {
+      last_y = y;
+      if (id_y + 1 < yt.size() && yt.value(id_y + 1) == y) {
+        ++id_y;
+      } else {
+        const std::uint32_t before = yt.size();
+        id_y = yt.idOf(y);
+        grew = grew || yt.size() != before;
+      }
+    }
+    if (grew &&
+        static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size()) >
+            limit)
+      return false; // scattered: stops after about sqrt(8 n) points
+    ix[k] = id_x;
+    iy[k] = id_y;
+  }
+  const std::size_t positions =
+      static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size());
+  if (finite == 0 || xt.size() < 2 || yt.size() < 2 ||
+      positions > LATTICE_FILL_FACTOR * finite || positions >= INVALID_ID)
+    return false;
+  std::vector<std::uint32_t> rank_x, rank_y;
+  sortValues(xt, lat.xs, rank_x);
+  sortValues(yt, lat.ys, rank_y);
+  lat.nx = xt.size();
+  lat.ny = yt.size();
+  const double extent =
+      std::max(lat.xs.back() - lat.xs.front(), lat.ys.back() - lat.ys.front());
+  if (extent < MIN_EXTENT)
+    return false;
+
+  // Representatives per position (the input index), then vertex ids in place.
+  std::vector<std::uint32_t>& slot = lat.vertex_at;
+  slot.assign(positions, INVALID_ID);
+  std::size_t merged = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (ix[k] == INVALID_ID)
+      continue;
+    const auto p =
+        static_cast<std::uint32_t>(lat.position(rank_x[ix[k]], rank_y[iy[k]]));
+    ix[k] = p;
+    std::uint32_t& s = slot[p];
+    if (s == INVALID_ID) {
+      s = static_cast<std::uint32_t>(k);
+    } else {
+      ++merged;
+      if (replaces(options.duplicate_rule, xyz[3 * k + 2], xyz[3 * s + 2]))
+        s = static_cast<std::uint32_t>(k);
+    }
+  }
+  std::vector<std::uint32_t>().swap(iy);
+  std::vector<std::uint32_t>& source = result.source_index;
+  source.reserve(finite - merged);
+  for (std::uint32_t& s : slot)
+    if (s != INVALID_ID) {
+      source.push_back(s);
+      s = static_cast<VertexId>(source.size() - 1);
+    }
+  const std::size_t nv = source.size();
+  result.input_to_vertex.resize(n);
+  for (std::size_t k = 0; k < n; ++k)
+    result.input_to_vertex[k] = ix[k] == INVALID_ID ? INVALID_ID : slot[ix[k]];
+  std::vector<std::uint32_t>().swap(ix);
+
+  TriangleMesh& mesh = result.mesh;
+  mesh.xy.resize(nv);
+  mesh.z.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const double* p = xyz + 3 * static_cast<std::size_t>(source[v]);
+    mesh.xy[v] = {p[0], p[1]};
+    mesh.z[v] = p[2];
+  }
+  if (options.duplicate_rule == DuplicateRule::MEAN_Z && merged > 0) {
+    // As vertexHeights (vts_pipeline.cpp): sums in input order.
+    std::vector<std::uint32_t> count(nv, 0);
+    std::fill(mesh.z.begin(), mesh.z.end(), 0.0);
+    for (std::size_t k = 0; k < n; ++k)
+      if (const VertexId v = result.input_to_vertex[k]; v != INVALID_ID) {
+        mesh.z[v] += xyz[3 * k + 2];
+        ++count[v];
+      }
+    for (std::size_t v = 0; v < nv; ++v)
+      mesh.z[v] /= static_cast<double>(count[v]);
+  }
+  diag.non_finite_dropped = dropped;
+  diag.duplicates_merged = merged;
+  diag.distinct_points = nv;
+  diag.cells = positions;
+  diag.cell_size = 0.0;
+  diag.lattice_columns = lat.nx;
+  diag.lattice_rows = lat.ny;
+  return true;
+}
+
+/// The convex hull from the first and last point of every row and column: a
+/// superset of the hull boundary (a supporting line through a boundary point makes
+/// it extreme in its row, or in its column when the line is horizontal). Andrew's
+/// monotone chain as in convexHull (the same vertices from the same start, collinear
+/// boundary points kept), without its passes over all the points.
+Status latticeHull(const Lattice& lat, std::vector<VertexId>& hull)
+{
+  std::vector<std::uint32_t> low(lat.nx, INVALID_ID), high(lat.nx, INVALID_ID);
+  std::vector<std::uint64_t> keys; // (column, row): lexicographic (x, y) order
+  const auto key = [](std::uint32_t i, std::uint32_t j) {
+    return (static_cast<std::uint64_t>(i) << 32) | j;
+  };
+  for (std::uint32_t j = 0; j < lat.ny; ++j) {
+    std::uint32_t first = INVALID_ID, last = INVALID_ID;
+    const VertexId* row = &lat.vertex_at[lat.position(0, j)];
+    for (std::uint32_t i = 0; i < lat.nx; ++i)
+      if (row[i] != INVALID_ID) {
+        if (first == INVALID_ID)
+          first = i;
+        last = i;
+        if (low[i] == INVALID_ID)
+          low[i] = j;
+        high[i] = j;
+      }
+    if (first != INVALID_ID) {
+      keys.push_back(key(first, j));
+      keys.push_back(key(last, j));
+    }
+  }
+  for (std::uint32_t i = 0; i < lat.nx; ++i)
+    if (low[i] != INVALID_ID) {
+      keys.push_back(key(i, low[i]));
+      keys.push_back(key(i, high[i]));
+    }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<Point2> p(keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    p[k] = {lat.xs[keys[k] >> 32], lat.ys[keys[k] & 0xffffffffu]};
+  bool has_area = false;
+  for (std::size_t k = 1; k + 1 < p.size() && !has_area; ++k)
+    has_area = orient2d(p.front(), p.back(), p[k]) != Sign::ZERO;
+  if (!has_area)
+    return Status::error(StatusCode::ALL_COLLINEAR, "collinear"); // not reported
+  std::vector<std::uint32_t> chain;
+  const auto build = [&](auto first, auto last) {
+    const std::size_t base = chain.size();
+    for (auto it = first; it != last; ++it) {
+      while (chain.size() >= base + 2 &&
+             orient2d(p[chain[chain.size() - 2]], p[chain.back()], p[*it]) ==
+                 Sign::NEGATIVE)
+        chain.pop_back();
+      chain.push_back(*it);
+    }
+    chain.pop_back(); // the last point starts the other chain
+  };
+  std::vector<std::uint32_t> order(p.size());
+  for (std::uint32_t k = 0; k < order.size(); ++k)
+    order[k] = k;
+  build(order.begin(), order.end());
+  build(order.rbegin(), order.rend());
+  hull.clear();
+  for (const std::uint32_t k : chain)
+    hull.push_back(lat.vertex_at[lat.position(static_cast<std::uint32_t>(keys[k] >> 32),
+                                              static_cast<std::uint32_t>(keys[k]))]);
+  return Status::success();
+}
+
+/// Ranks of the complete cells per row, and the row offsets.
+void rankCompleteCells(Lattice& lat, unsigned threads)
+{
+  const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
+  lat.cell_rank.assign(static_cast<std::size_t>(cx) * cy, INVALID_ID);
+  lat.row_start.assign(static_cast<std::size_t>(cy) + 1, 0);
+  parallelChunks(threads, cy, [&](std::size_t begin, std::size_t end, unsigned) {
+    for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j) {
+      const VertexId* below = &lat.vertex_at[lat.position(0, j)];
+      const VertexId* above = below + lat.nx;
+      std::uint32_t count = 0;
+      for (std::uint32_t i = 0; i < cx; ++i)
+        if (below[i] != INVALID_ID && below[i + 1] != INVALID_ID &&
+            above[i] != INVALID_ID && above[i + 1] != INVALID_ID)
+          lat.cell_rank[lat.cell(i, j)] = count++;
+      lat.row_start[j + 1] = count;
+    }
+  });
+  for (std::uint32_t j = 0; j < cy; ++j)
+    lat.row_start[j + 1] += lat.row_start[j];
+}
+
+/// The two triangles of every complete cell, with the twins among them; the
+/// halfedges facing an incomplete cell (or the border) are left INVALID_ID and
+/// listed in `open`.
+void emitCompleteCells(const Lattice& lat, unsigned threads,
+                       std::vector<VertexId>& triangles,
+                       std::vector<HalfedgeId>& halfedges,
+                       std::vector<HalfedgeId>& open)
+{
+  const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
+  std::vector<std::vector<HalfedgeId>> open_per_chunk(std::max(1u, threads));
+  parallelChunks(threads, cy, [&](std::size_t begin, std::size_t end, unsigned t) {
+    std::vector<HalfedgeId>& mine = open_per_chunk[t];
+    const auto edge = [&](HalfedgeId e, HalfedgeId twin) {
+      halfedges[e] = twin;
+      if (twin == INVALID_ID)
+        mine.push_back(e);
+    };
+    for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j)
+      for (std::uint32_t i = 0; i < cx; ++i) {
+        if (!lat.complete(i, j))
+          continue;
+        const std::size_t t0 = lat.firstTriangle(i, j), t1 = t0 + 1;
+        const VertexId a = lat.vertex_at[lat.position(i, j)];
+        const VertexId b = lat.vertex_at[lat.position(i + 1, j)];
+        const VertexId c = lat.vertex_at[lat.position(i + 1, j + 1)];
+        const VertexId d = lat.vertex_at[lat.position(i, j + 1)];
+        VertexId* tri = &triangles[3 * t0];
+        tri[0] = a, tri[1] = b, tri[2] = d; // (A, B, D)
+        tri[3] = b, tri[4] = c, tri[5] = d; // (B, C, D)
+        const auto e0 = static_cast<HalfedgeId>(3 * t0),
+                   e1 = static_cast<HalfedgeId>(3 * t1);
+        // A->B faces the cell below (its C->D), D->A the cell on the left (its
+        // B->C), B->C the cell on the right (its D->A), C->D the cell above (A->B).
+        edge(e0, j > 0 && lat.complete(i, j - 1)
+                     ? static_cast<HalfedgeId>(3 * lat.firstTriangle(i, j - 1) + 4)
+                     : INVALID_ID);
+        halfedges[e0 + 1] = e1 + 2; // the diagonal B-D
+        halfedges[e1 + 2] = e0 + 1;
+        edge(e0 + 2, i > 0 && lat.complete(i - 1, j)
+                         ? static_cast<HalfedgeId>(3 * lat.firstTriangle(i - 1, j) + 3)
+                         : INVALID_ID);
+        edge(e1, i + 1 < cx && lat.complete(i + 1, j)
+                     ? static_cast<HalfedgeId>(3 * lat.firstTriangle(i + 1, j) + 2)
+                     : INVALID_ID);
+        edge(e1 + 1, j + 1 < cy && lat.complete(i, j + 1)
+                         ? static_cast<HalfedgeId>(3 * lat.firstTriangle(i, j + 1))
+                         : INVALID_ID);
+      }
+  });
+  for (const std::vector<HalfedgeId>& part : open_per_chunk)
+    open.insert(open.end(), part.begin(), part.end());
+}
+
+/// Position marks for the fringe.
+enum Mark : std::uint8_t {
+  ABSENT = 0,
+  PRESENT = 1, ///< a point not in I
+  IN_I = 2     ///< a point touching an incomplete cell
+};
+
+class Fringe {
+ public:
+  Fringe(const Lattice& lat, const TriangleMesh& mesh, const VtsOptions& options,
+         unsigned threads)
+      : lat_(lat)
+      , mesh_(mesh)
+      , options_(options)
+      , threads_(threads)
+  {}
+
+  /// The DT triangles that are not complete-cell triangles, CCW vertex triples;
+  /// false when a component's triangles do not close up (see triangulateLattice).
+  Status triangulate(std::vector<std::array<VertexId, 3>>& found, Diagnostics& diag);
+
+ private:
+  /// One component of the incomplete cells with its S, triangulated on its own.
+  struct Piece {
+    std::uint32_t label = 0;
+    std::vector<std::size_t> s;     ///< positions in S_C, sorted
+    std::vector<std::size_t> added; ///< positions added by the rounds, sorted
+    std::vector<std::array<VertexId, 3>> found;
+    std::size_t rounds = 0;
+    SearchStats stats;
+    Status status;
+  };
+
+  void markI();
+  void labelPieces(std::vector<Piece>& pieces);
+  void solve(Piece& piece) const;
+  static bool inPiece(const Piece& piece, std::size_t p)
+  {
+    return std::binary_search(piece.s.begin(), piece.s.end(), p) ||
+           std::binary_search(piece.added.begin(), piece.added.end(), p);
+  }
+  /// The present positions within lattice_ring steps of p (p included), appended.
+  void ring(std::size_t p, std::vector<std::size_t>& out) const;
+  bool isCellTriangle(const std::array<std::size_t, 3>& p) const;
+  /// Present positions outside the piece in the closed circumdisk of the CCW
+  /// triangle p, appended to inside.
+  void pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& p,
+                    std::vector<std::size_t>& inside) const;
+
+  const Lattice& lat_;
+  const TriangleMesh& mesh_;
+  const VtsOptions& options_;
+  unsigned threads_;
+  std::vector<std::uint8_t> mark_;
+  std::vector<std::uint32_t> label_; ///< piece of each position of I, else INVALID_ID
+  std::vector<std::size_t> i_;       ///< positions in I
+};
+
+void Fringe::markI()
+{
+  const std::uint32_t nx = lat_.nx, ny = lat_.ny;
+  mark_.assign(lat_.vertex_at.size(), ABSENT);
+  // A cell beyond the border is no gap when the vertex's cells inside are complete:
+  // its neighbours along the border are then present, every point lies on the inner
+  // side of the border line, and those cells cover all of the hull around it.
+  const auto gap = [&](std::uint32_t i, std::uint32_t j, bool inside) {
+    return inside && !lat_.complete(i, j);
+  };
+  parallelChunks(threads_, ny, [&](std::size_t begin, std::size_t end, unsigned) {
+    for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j)
+      for (std::uint32_t i = 0; i < nx; ++i) {
+        const std::size_t p = lat_.position(i, j);
+        if (lat_.vertex_at[p] == INVALID_ID)
+          continue;
+        const bool left = i > 0, right = i + 1 < nx, below = j > 0, above = j + 1 < ny;
+        mark_[p] = gap(i - 1, j - 1, left && below) || gap(i, j - 1, right && below) ||
+                           gap(i - 1, j, left && above) || gap(i, j, right && above)
+                       ? IN_I
+                       : PRESENT;
+      }
+  });
+  for (std::size_t p = 0; p < mark_.size(); ++p)
+    if (mark_[p] == IN_I)
+      i_.push_back(p);
+}
+
+void Fringe::ring(std::size_t p, std::vector<std::size_t>& out) const
+{
+  const std::uint32_t r = options_.lattice_ring;
+  const auto i = static_cast<std::uint32_t>(p % lat_.nx),
+             j = static_cast<std::uint32_t>(p / lat_.nx);
+  const std::uint32_t i0 = i > r ? i - r : 0, j0 = j > r ? j - r : 0;
+  const std::uint32_t i1 = std::min(lat_.nx - 1, i + std::min(r, lat_.nx)),
+                      j1 = std::min(lat_.ny - 1, j + std::min(r, lat_.ny));
+  for (std::uint32_t jj = j0; jj <= j1; ++jj)
+    for (std::uint32_t ii = i0; ii <= i1; ++ii)
+      if (const std::size_t q = lat_.position(ii, jj); mark_[q] != ABSENT)
+        out.push_back(q);
+}
+
+void Fringe::labelPieces(std::vector<Piece>& pieces)
+{
+  // Pieces: the 8-connected components of the incomplete cells (sharing an edge or
+  // a corner). A fringe triangle's interior lies in the incomplete cells (the
+  // complete ones are covered by their own triangles) and is connected, so it lies
+  // in one component, and its vertices are corners of that component's cells.
+  const std::uint32_t cx = lat_.nx - 1, cy = lat_.ny - 1;
+  std::vector<std::uint32_t> cell_label(lat_.cell_rank.size(), INVALID_ID);
+  label_.assign(mark_.size(), INVALID_ID);
+  std::vector<std::size_t> stack;
+  for (std::size_t seed = 0; seed < cell_label.size(); ++seed) {
+    if (lat_.cell_rank[seed] != INVALID_ID || cell_label[seed] != INVALID_ID)
+      continue;
+    const auto label = static_cast<std::uint32_t>(pieces.size());
+    pieces.emplace_back();
+    pieces.back().label = label;
+    cell_label[seed] = label;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::size_t c = stack.back();
+      stack.pop_back();
+      const auto i = static_cast<std::uint32_t>(c % cx),
+                 j = static_cast<std::uint32_t>(c / cx);
+      for (const std::size_t q : {lat_.position(i, j), lat_.position(i + 1, j),
+                                  lat_.position(i, j + 1), lat_.position(i + 1, j + 1)})
+        if (mark_[q] != ABSENT)
+          label_[q] = label;
+      for (std::uint32_t jj = j > 0 ? j - 1 : 0; jj <= std::min(cy - 1, j + 1); ++jj)
+        for (std::uint32_t ii = i > 0 ? i - 1 : 0; ii <= std::min(cx - 1, i + 1); ++ii)
+          if (const std::size_t d = lat_.cell(ii, jj);
+              lat_.cell_rank[d] == INVALID_ID && cell_label[d] == INVALID_ID) {
+            cell_label[d] = label;
+            stack.push_back(d);
+          }
+    }
+  }
+  // S of a piece: its I (the present corners of its cells) and their ring.
+  for (const std::size_t p : i_)
+    ring(p, pieces[label_[p]].s);
+  for (Piece& piece : pieces) {
+    std::sort(piece.s.begin(), piece.s.end());
+    piece.s.erase(std::unique(piece.s.begin(), piece.s.end()), piece.s.end());
+  }
+}
+
+bool Fringe::isCellTriangle(const std::array<std::size_t, 3>& p) const
+{
+  std::uint32_t i0 = INVALID_ID, i1 = 0, j0 = INVALID_ID, j1 = 0;
+  for (const std::size_t q : p) {
+    const auto i = static_cast<std::uint32_t>(q % lat_.nx),
+               j = static_cast<std::uint32_t>(q / lat_.nx);
+    i0 = std::min(i0, i);
+    i1 = std::max(i1, i);
+    j0 = std::min(j0, j);
+    j1 = std::max(j1, j);
+  }
+  // Three corners of one complete cell: one of the cell's two triangles (emitted with
+  // the cells), or, when the fourth corner is not in S (ring 0), a triangle with that
+  // corner on its circle, not Delaunay in P. Either way not a fringe triangle.
+  return i1 == i0 + 1 && j1 == j0 + 1 && lat_.complete(i0, j0);
+}
+
+void Fringe::pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& p,
+                          std::vector<std::size_t>& inside) const
+{
+  const Point2 a = lat_.point(p[0]), b = lat_.point(p[1]), c = lat_.point(p[2]);
+  const SafeDisk disk = safeCircumdisk(a, b, c);
+  std::uint32_t j0 = 0, j1 = lat_.ny; // rows [j0, j1)
+  double reach = 0.0;
+  if (disk.valid) {
+    // Widened once more for the rounding of the row and column bounds below.
+    reach =
+        disk.radius * (1.0 + 1e-9) + 1e-12 * (std::fabs(disk.cx) + std::fabs(disk.cy));
+    j0 = static_cast<std::uint32_t>(
+        std::lower_bound(lat_.ys.begin(), lat_.ys.end(), disk.cy - reach) -
+        lat_.ys.begin());
+    j1 = static_cast<std::uint32_t>(
+        std::upper_bound(lat_.ys.begin(), lat_.ys.end(), disk.cy + reach) -
+        lat_.ys.begin());
+  }
+  for (std::uint32_t j = j0; j < j1; ++j) {
+    std::uint32_t i0 = 0, i1 = lat_.nx;
+    if (disk.valid) {
+      const double dy = lat_.ys[j] - disk.cy;
+      const double h2 = reach * reach - dy * dy;
+      if (h2 < 0.0)
+        continue;
+      const double h = std::sqrt(h2);
+      i0 = static_cast<std::uint32_t>(
+          std::lower_bound(lat_.xs.begin(), lat_.xs.end(), disk.cx - h) -
+          lat_.xs.begin());
+      i1 = static_cast<std::uint32_t>(
+          std::upper_bound(lat_.xs.begin(), lat_.xs.end(), disk.cx + h) -
+          lat_.xs.begin());
+    }
+    const std::size_t row = lat_.position(0, j);
+    for (std::uint32_t i = i0; i < i1; ++i)
+      if (mark_[row + i] != ABSENT && !inPiece(piece, row + i) &&
+          incircle(a, b, c, {lat_.xs[i], lat_.ys[j]}) != Sign::NEGATIVE)
+        inside.push_back(row + i);
+  }
+}
+
+void Fringe::solve(Piece& piece) const
+{
+  VtsOptions inner; // the ordinary path on the piece
+  inner.lattice = false;
+  inner.threads = 1;
+  inner.check_output = options_.check_output;
+  std::vector<double> xyz;
+  std::vector<std::size_t> inside;
+  for (;;) {
+    ++piece.rounds;
+    xyz.clear();
+    std::vector<std::size_t> all;
+    all.reserve(piece.s.size() + piece.added.size());
+    std::merge(piece.s.begin(), piece.s.end(), piece.added.begin(), piece.added.end(),
+               std::back_inserter(all));
+    for (const std::size_t p : all) {
+      const Point2 q = mesh_.xy[lat_.vertex_at[p]];
+      xyz.insert(xyz.end(), {q.x, q.y, 0.0});
+    }
+    VtsResult sub;
+    const Status s = runVtsPipeline(xyz.data(), all.size(), inner, sub);
+    if (s.code == StatusCode::ALL_COLLINEAR || s.code == StatusCode::TOO_FEW_POINTS) {
+      piece.found.clear(); // no triangle has its three vertices in the piece
+      return;
+    }
+    if (!s.ok()) {
+      piece.status = Status::error(StatusCode::INTERNAL_ERROR,
+                                   "lattice fast path: the triangulation of " +
+                                       std::to_string(all.size()) +
+                                       " fringe points failed: " + s.toString());
+      return;
+    }
+    piece.stats.local += sub.diagnostics.local_searches;
+    piece.stats.widened += sub.diagnostics.widened_searches;
+    piece.stats.cells_visited += sub.diagnostics.cells_visited;
+    piece.stats.points_tested += sub.diagnostics.points_tested;
+    piece.found.clear();
+    inside.clear();
+    const std::vector<VertexId>& tri = sub.mesh.triangles;
+    for (std::size_t t = 0; t < tri.size(); t += 3) {
+      const std::array<std::size_t, 3> p = {all[sub.source_index[tri[t]]],
+                                            all[sub.source_index[tri[t + 1]]],
+                                            all[sub.source_index[tri[t + 2]]]};
+      if (mark_[p[0]] != IN_I || mark_[p[1]] != IN_I || mark_[p[2]] != IN_I ||
+          label_[p[0]] != piece.label || label_[p[1]] != piece.label ||
+          label_[p[2]] != piece.label || isCellTriangle(p))
+        continue; // another piece's, or not a candidate
+      const std::size_t before = inside.size();
+      pointsInDisk(piece, p, inside);
+      if (inside.size() == before)
+        piece.found.push_back(
+            {lat_.vertex_at[p[0]], lat_.vertex_at[p[1]], lat_.vertex_at[p[2]]});
+    }
+    if (inside.empty())
+      return;
+    // The points found join the piece with their ring; this round's tests all saw
+    // the same piece.
+    std::vector<std::size_t> grow;
+    for (const std::size_t q : inside)
+      ring(q, grow);
+    for (const std::size_t q : grow)
+      if (!inPiece(piece, q))
+        piece.added.push_back(q);
+    std::sort(piece.added.begin(), piece.added.end());
+    piece.added.erase(std::unique(piece.added.begin(), piece.added.end()),
+                      piece.added.end());
+  }
+}
+
+Status Fringe::triangulate(std::vector<std::array<VertexId, 3>>& found,
+                           Diagnostics& diag)
+{
+  markI();
+  if (i_.empty())
+    return Status::success(); // every vertex has its star in complete cells
+  std::vector<Piece> pieces;
+  labelPieces(pieces);
+  // Pieces are independent: any thread order gives the same pieces' results.
+  parallelChunks(threads_, pieces.size(),
+                 [&](std::size_t begin, std::size_t end, unsigned) {
+                   for (std::size_t k = begin; k < end; ++k)
+                     solve(pieces[k]);
+                 });
+  for (Piece& piece : pieces) {
+    if (!piece.status.ok())
+      return piece.status;
+    found.insert(found.end(), piece.found.begin(), piece.found.end());
+    diag.local_searches += piece.stats.local;
+    diag.widened_searches += piece.stats.widened;
+    diag.cells_visited += piece.stats.cells_visited;
+    diag.points_tested += piece.stats.points_tested;
+    diag.lattice_fringe_points += piece.s.size() + piece.added.size();
+    diag.lattice_fringe_rounds = std::max(diag.lattice_fringe_rounds, piece.rounds);
+  }
+  diag.lattice_fringe_pieces = pieces.size();
+  return Status::success();
+}
+
+/// Pairs the open halfedges of the complete cells and the fringe's halfedges by
+/// vertex pair; unpaired ones are hull edges.
+Status pairHalfedges(const std::vector<VertexId>& triangles,
+                     std::vector<HalfedgeId>& halfedges,
+                     const std::vector<HalfedgeId>& open, std::size_t fringe_first)
+{
+  std::vector<std::pair<std::uint64_t, HalfedgeId>> keys;
+  keys.reserve(open.size() + (triangles.size() - 3 * fringe_first));
+  const auto add = [&](HalfedgeId e) {
+    const VertexId u = triangles[e], v = triangles[nextHalfedge(e)];
+    keys.emplace_back(
+        (static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v), e);
+  };
+  for (const HalfedgeId e : open)
+    add(e);
+  for (std::size_t e = 3 * fringe_first; e < triangles.size(); ++e)
+    add(static_cast<HalfedgeId>(e));
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t k = 0; k < keys.size();) {
+    std::size_t m = k + 1;
+    while (m < keys.size() && keys[m].first == keys[k].first)
+      ++m;
+    if (m - k == 1) {
+      halfedges[keys[k].second] = INVALID_ID;
+    } else if (m - k == 2 &&
+               triangles[keys[k].second] != triangles[keys[k + 1].second]) {
+      halfedges[keys[k].second] = keys[k + 1].second;
+      halfedges[keys[k + 1].second] = keys[k].second;
+    } else {
+      return Status::error(StatusCode::INTERNAL_ERROR,
+                           "lattice fast path: edge " +
+                               std::to_string(triangles[keys[k].second]) + "-" +
+                               std::to_string(triangles[nextHalfedge(keys[k].second)]) +
+                               " is not manifold");
+    }
+    k = m;
+  }
+  return Status::success();
+}
+
+} // namespace
+
+Status triangulateLattice(const double* xyz, std::size_t n, const VtsOptions& options,
+                          VtsResult& result, bool& handled)
+{
+  handled = false;
+  Diagnostics& diag = result.diagnostics;
+  Stopwatch watch;
+  Lattice lat;
+  VtsResult attempt;
+  attempt.diagnostics = diag;
+  if (!readLattice(xyz, n, options, lat, attempt))
+    return Status::success();
+  const unsigned threads = options.threads > 0 ? options.threads : allCores();
+  rankCompleteCells(lat, threads);
+  attempt.diagnostics.seconds_grid = watch.seconds();
+  watch.restart();
+  std::vector<VertexId> hull;
+  if (!latticeHull(lat, hull).ok())
+    return Status::success(); // all collinear: the ordinary path says so
+  attempt.diagnostics.seconds_hull = watch.seconds();
+  handled = true;
+  result = std::move(attempt);
+  result.hull = std::move(hull);
+  diag.hull_vertices = result.hull.size();
+  const std::size_t nv = result.mesh.vertexCount();
+  if (Status s = checkTriangleCapacity(nv, result.hull.size()); !s.ok()) {
+    result.mesh = TriangleMesh{};
+    return s;
+  }
+
+  watch.restart();
+  const std::size_t total = 2 * nv - result.hull.size() - 2;
+  const std::size_t cell_triangles = 2 * lat.row_start.back();
+  TriangleMesh& mesh = result.mesh;
+  std::vector<HalfedgeId> open;
+  std::vector<std::array<VertexId, 3>> fringe;
+  {
+    // Fringe first: its peak memory (the ordinary path on S) comes before the big
+    // arrays exist.
+    Fringe f(lat, mesh, options, threads);
+    if (Status s = f.triangulate(fringe, diag); !s.ok()) {
+      result.mesh = TriangleMesh{};
+      return s;
+    }
+  }
+  if (cell_triangles + fringe.size() != total) {
+    // Not expected (section 7 proves every fringe triangle lies in one piece): the
+    // ordinary path decides. The tests check that this never happens.
+    result = VtsResult{};
+    result.diagnostics.points_in = n;
+    handled = false;
+    return Status::success();
+  }
+  mesh.triangles.resize(3 * total);
+  mesh.halfedges.resize(3 * total);
+  emitCompleteCells(lat, threads, mesh.triangles, mesh.halfedges, open);
+  // Fringe triangles in a canonical order: smallest vertex first, then sorted.
+  for (std::array<VertexId, 3>& t : fringe)
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  std::sort(fringe.begin(), fringe.end());
+  for (std::size_t k = 0; k < fringe.size(); ++k)
+    std::copy(fringe[k].begin(), fringe[k].end(),
+              mesh.triangles.begin() +
+                  static_cast<std::ptrdiff_t>(3 * (cell_triangles + k)));
+  if (Status s = pairHalfedges(mesh.triangles, mesh.halfedges, open, cell_triangles);
+      !s.ok()) {
+    result.mesh = TriangleMesh{};
+    return s;
+  }
+  diag.triangles = mesh.triangleCount();
+  diag.seconds_triangulate = watch.seconds();
+  return Status::success();
+}
+
+} // namespace pcl_vts
