@@ -4,7 +4,7 @@
 # pcd_to_mesh, the headers, the CMake package and the pkg-config files.
 #
 # Depends: the shared libraries it links, as dpkg-shlibdeps finds them (libpcl-*1.13,
-# libgdal32, libstdc++6, ...), and libpcl-dev: the headers include PCL's, and the CMake
+# libgdal32, libboost-program-options1.74.0 for pcd_to_mesh, libstdc++6, ...), and libpcl-dev: the headers include PCL's, and the CMake
 # package calls find_dependency(PCL), which needs PCL's CMake files and the -dev
 # packages they look for (Boost, Eigen, FLANN, VTK). One package rather than a
 # runtime/-dev pair: pcl_vts is used from C++ code, and pcd_to_mesh rides along.

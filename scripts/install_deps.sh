@@ -9,7 +9,8 @@ PACKAGES=(
   libpcl-dev            # PCL 1.13 (pulls FLANN, Boost, Eigen, VTK)
   zlib1g-dev            # the PNG writer's deflate and CRC (also pulled by VTK)
   libcgal-dev libgmp-dev libmpfr-dev   # the Delaunay oracle in tests and benchmarks
-  libgtest-dev libbenchmark-dev
+  libboost-program-options-dev   # the command lines of pcd_to_mesh and compare_methods
+  libgtest-dev
   clang-format
   clang libclang-rt-14-dev   # libFuzzer + ASan/UBSan runtimes: the reader fuzzers in ctest
   time                  # peak-memory figures in make bench

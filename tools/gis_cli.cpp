@@ -1,4 +1,5 @@
 // See gis_cli.h. The GDAL half compiles only with PCL_VTS_HAVE_GIS (pcl_vts::gis).
+#include "command_line.h"
 #include "gis_cli.h"
 
 #ifdef PCL_VTS_HAVE_GIS
@@ -10,59 +11,57 @@
 #include <ogr_spatialref.h>
 #endif
 
-#include <cstdio>
+#include <string>
 
 namespace pcl_vts::tools {
 
-namespace {
-const char* const VALUE_OPTIONS[] = {"--dem",          "--resolution", "--dem-bounds",
-                                     "--hillshade",    "--contours",   "--interval",
-                                     "--contour-base", "--crs"};
-} // namespace
-
-bool gisOptionTakesValue(const std::string& name)
+void GisCli::describe(CommandLine& cli)
 {
-  for (const char* o : VALUE_OPTIONS)
-    if (name == o)
-      return true;
-  return false;
-}
-
-bool isGisOption(const std::string& name)
-{
-  return gisOptionTakesValue(name) || name == "--dem-overviews";
-}
-
-void printGisHelp()
-{
-  std::printf(
-      "\nGIS outputs (written after the mesh, in its coordinate system; %s):\n"
-      "  --dem FILE.tif      DEM of the final mesh: Float32 GeoTIFF, 256x256 tiles,\n"
-      "                      DEFLATE, NODATA -9999 outside the mesh; each pixel "
-      "centre\n"
-      "                      gets the linear interpolation in the triangle holding it\n"
-      "  --resolution R      DEM pixel edge in XY units (needed by --dem); "
-      "pixel-is-area,\n"
-      "                      edges on multiples of R, so centres at k*R + R/2\n"
-      "  --dem-bounds X0,Y0,X1,Y1  DEM extent instead (a whole number of pixels),\n"
-      "                      e.g. a tile of a tiling scheme\n"
-      "  --dem-overviews     also build internal overviews (2x, 4x, ... averages)\n"
-      "  --hillshade FILE.png  a multidirectional hillshade of the DEM (GDAL)\n"
-      "  --contours FILE     contour lines: .gpkg (GeoPackage) or .shp (Shapefile),\n"
-      "                      one LineString per line, fields elev and closed\n"
-      "  --interval I        contour step (needed by --contours); levels k*I + base\n"
-      "  --contour-base B    (default: 0)\n"
-      "  --crs CRS           coordinate system of the input, EPSG:XXXX or WKT; sets "
-      "or\n"
-      "                      overrides what the input says (LAS WKT/GeoTIFF keys,\n"
-      "                      GeoTIFF, a .prj beside the input). Meshes get a .prj\n"
-      "                      sidecar and, in PLY, a comment line\n",
+  const auto set = [this](const char* name) {
+    return [this, name](const std::string& value, std::string& error) {
+      return parse(std::string("--") + name, value, error);
+    };
+  };
+  cli.group("GIS outputs, after the mesh in its CRS ("
 #ifdef PCL_VTS_HAVE_GIS
-      "available in this build"
+            "available in this build"
 #else
-      "NOT available: this pcd_to_mesh was built without GDAL"
+            "NOT available: built without GDAL"
 #endif
-  );
+            ")")
+      .value("dem", "FILE.tif",
+             "DEM of the final mesh: Float32 GeoTIFF, 256x256 tiles, DEFLATE, NODATA "
+             "-9999 outside the mesh; each pixel centre gets the linear interpolation "
+             "in the triangle holding it",
+             set("dem"))
+      .value("resolution", "R",
+             "DEM pixel edge in XY units (needed by --dem); pixel-is-area, edges on "
+             "multiples of R, so centres at k*R + R/2",
+             set("resolution"))
+      .value("dem-bounds", "X0,Y0,X1,Y1",
+             "DEM extent instead (a whole number of pixels), e.g. a tile of a tiling "
+             "scheme",
+             set("dem-bounds"))
+      .flag("dem-overviews", "also build internal overviews (2x, 4x, ... averages)",
+            [this] {
+              std::string error;
+              parse("--dem-overviews", "", error);
+            })
+      .value("hillshade", "FILE.png", "a multidirectional hillshade of the DEM (GDAL)",
+             set("hillshade"))
+      .value("contours", "FILE",
+             "contour lines: .gpkg (GeoPackage) or .shp (Shapefile), one LineString "
+             "per line, fields elev and closed",
+             set("contours"))
+      .value("interval", "I", "contour step (needed by --contours); levels k*I + base",
+             set("interval"))
+      .value("contour-base", "B", "base of the contour levels (default: 0)",
+             set("contour-base"))
+      .value("crs", "CRS",
+             "coordinate system of the input, EPSG:XXXX or WKT; sets or overrides what "
+             "the input says (LAS WKT/GeoTIFF keys, GeoTIFF, a .prj beside the input). "
+             "Meshes get a .prj sidecar and, in PLY, a comment line",
+             set("crs"));
 }
 
 #ifdef PCL_VTS_HAVE_GIS

@@ -1,4 +1,4 @@
-// pcd_to_mesh's GIS outputs (--dem, --contours, --crs and friends): parsing, help and
+// pcd_to_mesh's GIS outputs (--dem, --contours, --crs and friends): their options,
 // the one call after the final mesh, kept out of the tool's main file. Without GDAL
 // in the build the options are still recognised and refused with a clear message.
 #pragma once
@@ -14,12 +14,7 @@
 
 namespace pcl_vts::tools {
 
-/// True for every GIS option name; the ones taking a value.
-bool isGisOption(const std::string& name);
-bool gisOptionTakesValue(const std::string& name);
-
-/// The GIS section of --help.
-void printGisHelp();
+class CommandLine;
 
 class GisCli {
  public:
@@ -28,7 +23,9 @@ class GisCli {
   GisCli(const GisCli&);
   GisCli& operator=(const GisCli&);
 
-  /// One option; false with error set for a bad value.
+  /// Declares the GIS options (their --help group) into cli, each setting this.
+  void describe(CommandLine& cli);
+  /// One option ("--dem"); false with error set for a bad value.
   bool parse(const std::string& name, const std::string& value, std::string& error);
   /// A raster or vector product is asked for.
   bool anyProduct() const;

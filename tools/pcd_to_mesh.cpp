@@ -4,6 +4,8 @@
 // "[done, ...]" line per stage; but every option is validated, each failure class has
 // its own exit code and one stderr line, and the output appears only when complete
 // (mesh_writer.h). --png draws the final mesh (mesh_picture.h).
+#include "cli_words.h"
+#include "command_line.h"
 #include "gis_cli.h"
 #include "input_list.h"
 
@@ -33,6 +35,7 @@
 #include <cstring>
 #include <filesystem>
 #include <new>
+#include <sstream>
 #include <string>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -52,7 +55,7 @@ constexpr int EXIT_OUTPUT = 4;   // the mesh (or the --png picture) could not be
 constexpr int EXIT_INTERNAL = 5; // a bug or out of memory
 
 constexpr double DEFAULT_CELL_SIZE = 0.0;
-constexpr const char* DEFAULT_DUPLICATES = "lowest";
+constexpr pcl_vts::DuplicateRule DEFAULT_DUPLICATES = pcl_vts::DuplicateRule::LOWEST_Z;
 constexpr int DEFAULT_PNG_WIDTH = 1000;
 constexpr int MIN_PNG_WIDTH = 64;
 constexpr int MAX_PNG_WIDTH = 8192;
@@ -84,8 +87,21 @@ struct CliOptions {
   pcl_vts::tools::GisCli gis; ///< --dem, --contours, --crs (gis_cli.h)
 };
 
+/// The text of a default value in --help: "0.5", "33".
+std::string shown(double value)
+{
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+/// The options of pcd_to_mesh, each with its --help text and the setting it fills in
+/// opt (applied in command-line order by parseArgs).
+pcl_vts::tools::CommandLine describeOptions(CliOptions& opt);
+
 void printHelp()
 {
+  CliOptions unused;
   std::printf(
       "Usage: pcd_to_mesh INPUT... OUTPUT.{ply,obj,vtk} [options]\n"
       "\n"
@@ -121,85 +137,11 @@ void printHelp()
       "        by hole filling): a uchar PLY property, VTK point scalars, an OBJ "
       "count.\n"
       "\n"
-      "Options:\n"
-      "  -h, --help          print this help and exit\n"
-      "  --cell-size S       grid cell edge length in input XY units, S >= 0;\n"
-      "                      0 = automatic from the point density (default: %g)\n"
-      "  --classes LIST      LAS only: keep these classification codes, e.g. 2 "
-      "(ground)\n"
-      "                      or 2,9 (ground and water) (default: all classes)\n"
-      "  --returns WHICH     LAS only: all | first | last (default: all)\n"
-      "  --duplicates RULE   z kept where points share the same XY exactly:\n"
-      "                      lowest | highest | mean | first (default: %s)\n"
-      "  --no-trim           keep the whole convex hull: do not remove outward\n"
-      "                      triangles (default: trim; docs/reconstruction.md)\n"
-      "  --trim-factor F     trim triangles whose longest edge or circumradius "
-      "exceeds\n"
-      "                      F x the local point spacing, F > 0 (default: %g)\n"
-      "  --max-edge L        also trim boundary triangles with an edge longer than L,\n"
-      "                      L >= 0 in XY units; 0 = no such limit (default: 0)\n"
-      "  --no-fill           leave holes open (default: fill holes)\n"
-      "  --no-lattice        triangulate rasters by region growing too (default: the\n"
-      "                      lattice fast path for points on a rectilinear lattice;\n"
-      "                      the same mesh, docs/algorithm.md section 7)\n"
-      "  --max-hole-area A   fill only holes up to this XY area, A >= 0; 0 = "
-      "automatic\n"
-      "                      (500 x spacing^2) (default: 0)\n"
-      "  --crop X0,Y0,X1,Y1  keep only points with X0 <= x <= X1, Y0 <= y <= Y1\n"
-      "                      (default: no crop)\n"
-      "  --voxel S           keep one original point per S x S x S voxel, the one\n"
-      "                      nearest its centre, S >= 0 (default: 0 = off)\n"
-      "  --grid-min S        keep the lowest original point per S x S XY cell\n"
-      "                      (pcl::GridMinimum), S >= 0 (default: 0 = off)\n"
-      "  --outliers K,STD    drop statistical outliers "
-      "(pcl::StatisticalOutlierRemoval:\n"
-      "                      mean distance to K neighbours beyond STD deviations)\n"
-      "                      (default: off); preprocessing runs crop, voxel,\n"
-      "                      grid-min, outliers, ground in this order, keeping\n"
-      "                      original points\n"
-      "  --ground pmf        keep only the bare-earth points found by\n"
-      "                      pcl::ProgressiveMorphologicalFilter (default: off);\n"
-      "                      its knobs, defaults for airborne LiDAR in metres:\n"
-      "                      --pmf-cell 1 (grid cell), --pmf-window 33 (largest\n"
-      "                      window, cells: wider than the widest building),\n"
-      "                      --pmf-slope 1 (rise/run), --pmf-initial 0.5 and\n"
-      "                      --pmf-max 3 (height thresholds), --pmf-base 2\n"
-      "                      (window growth); docs/ground.md\n"
-      "  --threads N         threads for the triangulation and LAZ decoding, N >= 0;\n"
-      "                      0 = all cores\n"
-      "                      (default: 0; the mesh is the same for every N)\n"
-      "  --ascii             ASCII PLY instead of binary (default: binary; .obj and "
-      ".vtk\n"
-      "                      are always ASCII)\n"
-      "  --double            declare double vertex coordinates in PLY/VTK even when\n"
-      "                      float32 is exact (default: only when float32 would "
-      "round)\n"
-      "  --png FILE          also draw the final mesh into FILE (.png), written after\n"
-      "                      the mesh: top view (north up) and oblique view from the\n"
-      "                      south-west side by side, hill-shaded and coloured by\n"
-      "                      height, boundary edges red, inserted points as dots\n"
-      "                      (default: no picture)\n"
-      "  --png-width N       pixels per view, whole N in %d..%d (default: %d)\n"
-      "  --memory-limit SIZE memory the job may use, e.g. 512M, 4G (default: half the\n"
-      "                      physical memory, %s here), above what the process takes\n"
-      "                      before reading (~90 MB of libraries); a larger job runs\n"
-      "                      tiled: inputs streamed, points bucketed into temporary\n"
-      "                      files, tiles meshed with halos grown until every\n"
-      "                      triangle is proven, the same mesh (and the same file\n"
-      "                      bytes) as in memory, trimmed, filled, --dem and\n"
-      "                      --contours made out of core; --crop and --ground pmf\n"
-      "                      run tiled too (pre-tiles with the filter's halo, the\n"
-      "                      same points kept), not --voxel, --grid-min, --outliers\n"
-      "  --temp-dir DIR      folder for the tiled path's temporary files, removed at\n"
-      "                      the end, on error and on Ctrl-C (default: the output's\n"
-      "                      folder)\n"
-      "  --tile-output DIR   also write one mesh per tile into DIR (which must "
-      "exist):\n"
-      "                      tile_C_R.ply with the triangles the tile owns and the\n"
-      "                      vertices they use (seams shared exactly), and index.csv\n"
-      "                      (tile bounds, counts, file names); runs tiled\n"
-      "  --tile-level L      testing: force the tiled path with 4^L tiles, L in 0..10\n"
-      "  --quiet             print nothing but errors (default: print a summary)\n"
+      "An option's value follows it (--cell-size 2) or an equal sign (--cell-size=2);\n"
+      "options and file arguments come in any order, '--' ends the options; a\n"
+      "repeated option: the last one counts.\n"
+      "\n"
+      "%s"
       "\n"
       "Exit status:\n"
       "  0  success: the mesh was written\n"
@@ -214,10 +156,7 @@ void printHelp()
       "     missing, not writable, disk full); no partial file is left behind\n"
       "  5  internal error (out of memory, or a bug: please report)\n"
       "Errors print one line on stderr starting with \"pcd_to_mesh: error: \".\n",
-      DEFAULT_CELL_SIZE, DEFAULT_DUPLICATES, pcl_vts::TrimOptions{}.trim_factor,
-      MIN_PNG_WIDTH, MAX_PNG_WIDTH, DEFAULT_PNG_WIDTH,
-      (std::to_string(pcl_vts::tools::physicalMemoryBytes() / 2 >> 20) + "M").c_str());
-  pcl_vts::tools::printGisHelp();
+      describeOptions(unused).help().c_str());
 }
 
 /// Strict: the whole text is one finite number >= 0 (PCL's parse_argument is not).
@@ -293,220 +232,300 @@ bool hasPngExtension(const std::string& path)
   return ext == ".png";
 }
 
+pcl_vts::tools::CommandLine describeOptions(CliOptions& opt)
+{
+  using Apply = pcl_vts::tools::CommandLine::Apply;
+  // A finite number >= 0 into target; > 0 when zero_meaning is null.
+  const auto nonNegative = [](const std::string& name, double& target,
+                              const char* zero_meaning) -> Apply {
+    return [name, &target, zero_meaning](const std::string& value, std::string& error) {
+      return parseNonNegative(name, value.c_str(), target, error, zero_meaning);
+    };
+  };
+  // --crop and --outliers: the combination checked as soon as it is set.
+  const auto checkPreprocess = [&opt](const char* name, std::string& error) {
+    if (pcl_vts::Status st = pcl_vts::validatePreprocessOptions(opt.preprocess);
+        !st.ok()) {
+      error = std::string(name) + ": " + st.message;
+      return false;
+    }
+    return true;
+  };
+  const pcl_vts::PreprocessOptions pre;
+  pcl_vts::tools::CommandLine cli;
+
+  cli.group("General")
+      .flag("help,h", "print this help and exit", [&opt] { opt.help = true; })
+      .value("threads", "N",
+             "threads for the triangulation and LAZ decoding, N >= 0; 0 = all cores "
+             "(default: 0; the mesh is the same for every N)",
+             [&opt](const std::string& value, std::string& error) {
+               double threads = 0.0;
+               if (!parseNonNegative("--threads", value.c_str(), threads, error,
+                                     "all cores"))
+                 return false;
+               if (threads != std::floor(threads) || threads > 4096.0) {
+                 error = "--threads: '" + value +
+                         "' must be a whole number of threads (<= 4096)";
+                 return false;
+               }
+               opt.vts.threads = static_cast<unsigned>(threads);
+               opt.load.threads = opt.vts.threads; // LAZ chunks decode on them too
+               return true;
+             })
+      .flag("quiet", "print nothing but errors (default: print a summary)",
+            [&opt] { opt.quiet = true; });
+
+  cli.group("LAS input")
+      .value("classes", "LIST",
+             "keep these classification codes, e.g. 2 (ground) or 2,9 (ground and "
+             "water) (default: all classes)",
+             [&opt](const std::string& value, std::string& error) {
+               if (pcl_vts::tools::parseClassList(value, opt.load.classes, error))
+                 return true;
+               error = "--classes: " + error;
+               return false;
+             })
+      .value("returns", "WHICH", "all | first | last (default: all)",
+             [&opt](const std::string& value, std::string& error) {
+               if (pcl_vts::tools::parseLasReturnFilter(value, opt.load.returns))
+                 return true;
+               error = "--returns: '" + value + "' is not one of all, first, last";
+               return false;
+             });
+
+  cli.group("Meshing")
+      .value("cell-size", "S",
+             "grid cell edge length in input XY units, S >= 0; 0 = automatic from the "
+             "point density (default: " +
+                 shown(DEFAULT_CELL_SIZE) + ")",
+             nonNegative("--cell-size", opt.vts.cell_size,
+                         "automatic from the point density"))
+      .value("duplicates", "RULE",
+             "z kept where points share the same XY exactly: lowest | highest | mean | "
+             "first (default: " +
+                 std::string(pcl_vts::duplicateRuleName(DEFAULT_DUPLICATES)) + ")",
+             [&opt](const std::string& value, std::string& error) {
+               if (pcl_vts::tools::parseDuplicateRule(value, opt.vts.duplicate_rule))
+                 return true;
+               error = "--duplicates: '" + value +
+                       "' is not one of lowest, highest, mean, first";
+               return false;
+             })
+      .flag("no-trim",
+            "keep the whole convex hull: do not remove outward triangles (default: "
+            "trim; docs/reconstruction.md)",
+            [&opt] { opt.no_trim = true; })
+      .value("trim-factor", "F",
+             "trim triangles whose longest edge or circumradius exceeds F x the local "
+             "point spacing, F > 0 (default: " +
+                 shown(pcl_vts::TrimOptions{}.trim_factor) + ")",
+             nonNegative("--trim-factor",
+                         opt.vts.reconstruction.trim_options.trim_factor, nullptr))
+      .value("max-edge", "L",
+             "also trim boundary triangles with an edge longer than L, L >= 0 in XY "
+             "units; 0 = no such limit (default: 0)",
+             nonNegative("--max-edge", opt.vts.reconstruction.trim_options.max_edge,
+                         "no limit"))
+      .flag("no-fill", "leave holes open (default: fill holes)",
+            [&opt] { opt.no_fill = true; })
+      .flag("no-lattice",
+            "triangulate rasters by region growing too (default: the lattice fast "
+            "path for points on a rectilinear lattice; the same mesh, "
+            "docs/algorithm.md section 7)",
+            [&opt] { opt.vts.lattice = false; })
+      .value("max-hole-area", "A",
+             "fill only holes up to this XY area, A >= 0; 0 = automatic (500 x "
+             "spacing^2) (default: 0)",
+             nonNegative("--max-hole-area",
+                         opt.vts.reconstruction.fill_options.max_hole_area,
+                         "automatic"));
+
+  // The knobs of --ground pmf: a number > 0 each, but the window.
+  using Field = double pcl_vts::PreprocessOptions::*;
+  const auto pmfKnob = [&](const char* name, const char* value_name,
+                           const std::string& what, Field field) {
+    cli.value(name, value_name,
+              "--ground pmf: " + what + ", " + value_name +
+                  " > 0 (default: " + shown(pre.*field) + ")",
+              nonNegative(std::string("--") + name, opt.preprocess.*field, nullptr));
+  };
+  cli.group("Preprocessing, in the order listed (PCL filters; original points kept)")
+      .value("crop", "X0,Y0,X1,Y1",
+             "keep only points with X0 <= x <= X1, Y0 <= y <= Y1 (default: no crop)",
+             [&opt, checkPreprocess](const std::string& value, std::string& error) {
+               std::vector<double> n;
+               if (!parseNumberList("--crop", value, 4, n, error))
+                 return false;
+               opt.preprocess.crop = true;
+               opt.preprocess.crop_min_x = n[0];
+               opt.preprocess.crop_min_y = n[1];
+               opt.preprocess.crop_max_x = n[2];
+               opt.preprocess.crop_max_y = n[3];
+               return checkPreprocess("--crop", error);
+             })
+      .value("voxel", "S",
+             "keep one original point per S x S x S voxel, the one nearest its centre, "
+             "S >= 0 (default: 0 = off)",
+             nonNegative("--voxel", opt.preprocess.voxel, "off"))
+      .value("grid-min", "S",
+             "keep the lowest original point per S x S XY cell (pcl::GridMinimum), "
+             "S >= 0 (default: 0 = off)",
+             nonNegative("--grid-min", opt.preprocess.grid_min, "off"))
+      .value("outliers", "K,STD",
+             "drop statistical outliers, points whose mean distance to K neighbours "
+             "is beyond STD deviations: pcl::StatisticalOutlierRemoval (default: off)",
+             [&opt, checkPreprocess](const std::string& value, std::string& error) {
+               std::vector<double> n;
+               if (!parseNumberList("--outliers", value, 2, n, error))
+                 return false;
+               if (n[0] < 1.0 || n[0] > 10000.0 || n[0] != std::floor(n[0])) {
+                 error = "--outliers: K = '" + value +
+                         "' must start with a whole K in 1..10000";
+                 return false;
+               }
+               opt.preprocess.outlier_k = static_cast<int>(n[0]);
+               opt.preprocess.outlier_std = n[1];
+               return checkPreprocess("--outliers", error);
+             })
+      .value("ground", "pmf",
+             "keep only the bare-earth points found by "
+             "pcl::ProgressiveMorphologicalFilter (default: off); its knobs below, "
+             "their defaults for airborne LiDAR in metres (docs/ground.md)",
+             [&opt](const std::string& value, std::string& error) {
+               if (value != "pmf") {
+                 error = "--ground: '" + value + "' is not a ground filter (pmf)";
+                 return false;
+               }
+               opt.preprocess.ground_pmf = true;
+               return true;
+             });
+  pmfKnob("pmf-cell", "C", "grid cell edge", &pcl_vts::PreprocessOptions::pmf_cell);
+  cli.value("pmf-window", "W",
+            "--ground pmf: largest window in cells, wider than the widest building, "
+            "whole W in 1..4096 (default: " +
+                shown(pre.pmf_max_window) + ")",
+            [&opt](const std::string& value, std::string& error) {
+              double v = 0.0;
+              if (!parseNonNegative("--pmf-window", value.c_str(), v, error, nullptr))
+                return false;
+              if (v < 1.0 || v > 4096.0 || v != std::floor(v)) {
+                error = "--pmf-window: '" + value +
+                        "' must be a whole number of cells, 1..4096";
+                return false;
+              }
+              opt.preprocess.pmf_max_window = static_cast<int>(v);
+              return true;
+            });
+  pmfKnob("pmf-slope", "S", "terrain slope tolerated, rise/run",
+          &pcl_vts::PreprocessOptions::pmf_slope);
+  pmfKnob("pmf-initial", "H", "height threshold of the first window",
+          &pcl_vts::PreprocessOptions::pmf_initial_distance);
+  pmfKnob("pmf-max", "H", "largest height threshold",
+          &pcl_vts::PreprocessOptions::pmf_max_distance);
+  pmfKnob("pmf-base", "B", "window growth, 1, B, B^2, ... cells",
+          &pcl_vts::PreprocessOptions::pmf_base);
+
+  cli.group("Output")
+      .flag("ascii",
+            "ASCII PLY instead of binary (default: binary; .obj and .vtk are always "
+            "ASCII)",
+            [&opt] { opt.ascii = true; })
+      .flag("double",
+            "declare double vertex coordinates in PLY/VTK even when float32 is exact "
+            "(default: only when float32 would round)",
+            [&opt] { opt.force_double = true; })
+      .value("png", "FILE",
+             "also draw the final mesh into FILE (.png), written after the mesh: top "
+             "view (north up) and oblique view from the south-west side by side, "
+             "hill-shaded and coloured by height, boundary edges red, inserted points "
+             "as dots (default: no picture)",
+             [&opt](const std::string& value, std::string& error) {
+               if (!hasPngExtension(value)) {
+                 error = "--png: '" + value + "' must name a .png file";
+                 return false;
+               }
+               opt.png = value;
+               return true;
+             })
+      .value(
+          "png-width", "N",
+          "pixels per view, whole N in " + std::to_string(MIN_PNG_WIDTH) + ".." +
+              std::to_string(MAX_PNG_WIDTH) +
+              " (default: " + std::to_string(DEFAULT_PNG_WIDTH) + ")",
+          [&opt](const std::string& value, std::string& error) {
+            double width = 0.0;
+            if (!parseNonNegative("--png-width", value.c_str(), width, error, nullptr))
+              return false;
+            if (width != std::floor(width) || width < MIN_PNG_WIDTH ||
+                width > MAX_PNG_WIDTH) {
+              error =
+                  "--png-width: '" + value + "' must be a whole number of pixels in " +
+                  std::to_string(MIN_PNG_WIDTH) + ".." + std::to_string(MAX_PNG_WIDTH);
+              return false;
+            }
+            opt.png_width = static_cast<int>(width);
+            opt.png_width_given = true;
+            return true;
+          });
+
+  cli.group("Memory and tiling")
+      .value("memory-limit", "SIZE",
+             "memory the job may use, e.g. 512M, 4G (default: half the physical "
+             "memory, " +
+                 std::to_string(pcl_vts::tools::physicalMemoryBytes() / 2 >> 20) +
+                 "M here), above what the process takes before reading (~90 MB of "
+                 "libraries); a larger job runs tiled: inputs streamed, points "
+                 "bucketed into temporary files, tiles meshed with halos grown until "
+                 "every triangle is proven, the same mesh (and the same file bytes) as "
+                 "in memory, trimmed, filled, --dem and --contours made out of core; "
+                 "--crop and --ground pmf run tiled too (pre-tiles with the filter's "
+                 "halo, the same points kept), not --voxel, --grid-min, --outliers",
+             [&opt](const std::string& value, std::string& error) {
+               if (pcl_vts::tools::parseByteSize(value, opt.memory_limit))
+                 return true;
+               error = "--memory-limit must be a size such as 512M or 4G, got '" +
+                       value + "'";
+               return false;
+             })
+      .value("temp-dir", "DIR",
+             "folder for the tiled path's temporary files, removed at the end, on "
+             "error and on Ctrl-C (default: the output's folder)",
+             pcl_vts::tools::CommandLine::text(opt.temp_dir))
+      .value("tile-output", "DIR",
+             "also write one mesh per tile into DIR (which must exist): tile_C_R.ply "
+             "with the triangles the tile owns and the vertices they use (seams shared "
+             "exactly), and index.csv (tile bounds, counts, file names); runs tiled",
+             pcl_vts::tools::CommandLine::text(opt.tile_output))
+      .value("tile-level", "L",
+             "testing: force the tiled path with 4^L tiles, L in 0..10",
+             [&opt](const std::string& value, std::string& error) {
+               char* end = nullptr;
+               const long level = std::strtol(value.c_str(), &end, 10);
+               if (value.empty() || *end != 0 || level < 0 || level > 10) {
+                 error = "--tile-level must be a whole number in 0..10, got '" + value +
+                         "'";
+                 return false;
+               }
+               opt.tile_level = static_cast<int>(level);
+               return true;
+             });
+
+  opt.gis.describe(cli); // --dem, --contours, --crs ... (gis_cli.h)
+  return cli;
+}
+
 /// Parses argv; on failure error holds the one-line reason.
 bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
 {
-  std::vector<std::string> positional;
-  bool options_done = false;
   opt.vts.cell_size = DEFAULT_CELL_SIZE;
+  opt.vts.duplicate_rule = DEFAULT_DUPLICATES;
   opt.vts.threads = 0; // every core
   opt.load.threads = 0;
   opt.vts.reconstruction = pcl_vts::ReconstructionOptions{}; // trim and fill
-  if (!pcl_vts::parseDuplicateRule(DEFAULT_DUPLICATES, opt.vts.duplicate_rule)) {
-    error = "internal: bad default duplicate rule";
+  std::vector<std::string> positional;
+  if (!describeOptions(opt).parse(argc, argv, positional, error))
     return false;
-  }
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (options_done || arg.size() < 2 || arg[0] != '-') {
-      positional.push_back(arg);
-      continue;
-    }
-    if (arg == "--") {
-      options_done = true;
-      continue;
-    }
-    const std::size_t eq = arg.find('=');
-    const std::string name = arg.substr(0, eq);
-    const bool inline_value = eq != std::string::npos;
-    const bool takes_value =
-        name == "--cell-size" || name == "--duplicates" || name == "--classes" ||
-        name == "--returns" || name == "--trim-factor" || name == "--max-edge" ||
-        name == "--max-hole-area" || name == "--threads" || name == "--crop" ||
-        name == "--voxel" || name == "--grid-min" || name == "--outliers" ||
-        name == "--ground" || name.rfind("--pmf-", 0) == 0 || name == "--png" ||
-        name == "--png-width" || name == "--memory-limit" || name == "--temp-dir" ||
-        name == "--tile-level" || name == "--tile-output" ||
-        pcl_vts::tools::gisOptionTakesValue(name);
-    if (inline_value && !takes_value) {
-      error = "option '" + name + "' takes no value";
-      return false;
-    }
-    std::string value;
-    if (takes_value) {
-      if (inline_value)
-        value = arg.substr(eq + 1);
-      else if (i + 1 < argc)
-        value = argv[++i];
-      else {
-        error = "option '" + name + "' needs a value";
-        return false;
-      }
-    }
-    if (name == "-h" || name == "--help")
-      opt.help = true;
-    else if (name == "--cell-size") {
-      if (!parseNonNegative(name, value.c_str(), opt.vts.cell_size, error,
-                            "automatic from the point density"))
-        return false;
-    } else if (name == "--trim-factor") {
-      if (!parseNonNegative(name, value.c_str(),
-                            opt.vts.reconstruction.trim_options.trim_factor, error,
-                            nullptr))
-        return false;
-    } else if (name == "--max-edge") {
-      if (!parseNonNegative(name, value.c_str(),
-                            opt.vts.reconstruction.trim_options.max_edge, error,
-                            "no limit"))
-        return false;
-    } else if (name == "--max-hole-area") {
-      if (!parseNonNegative(name, value.c_str(),
-                            opt.vts.reconstruction.fill_options.max_hole_area, error,
-                            "automatic"))
-        return false;
-    } else if (name == "--voxel") {
-      if (!parseNonNegative(name, value.c_str(), opt.preprocess.voxel, error, "off"))
-        return false;
-    } else if (name == "--grid-min") {
-      if (!parseNonNegative(name, value.c_str(), opt.preprocess.grid_min, error, "off"))
-        return false;
-    } else if (name == "--ground") {
-      if (value != "pmf") {
-        error = "--ground: '" + value + "' is not a ground filter (pmf)";
-        return false;
-      }
-      opt.preprocess.ground_pmf = true;
-    } else if (name.rfind("--pmf-", 0) == 0) { // ProgressiveMorphologicalFilter knobs
-      pcl_vts::PreprocessOptions& p = opt.preprocess;
-      double v = 0.0;
-      double* const target = name == "--pmf-cell"      ? &p.pmf_cell
-                             : name == "--pmf-slope"   ? &p.pmf_slope
-                             : name == "--pmf-initial" ? &p.pmf_initial_distance
-                             : name == "--pmf-max"     ? &p.pmf_max_distance
-                             : name == "--pmf-base"    ? &p.pmf_base
-                             : name == "--pmf-window"  ? &v
-                                                       : nullptr;
-      if (!target) {
-        error = "unknown option '" + arg + "'";
-        return false;
-      }
-      if (!parseNonNegative(name, value.c_str(), *target, error, nullptr))
-        return false;
-      if (target == &v) {
-        if (v < 1.0 || v > 4096.0 || v != std::floor(v)) {
-          error =
-              "--pmf-window: '" + value + "' must be a whole number of cells, 1..4096";
-          return false;
-        }
-        p.pmf_max_window = static_cast<int>(v);
-      }
-    } else if (name == "--crop" || name == "--outliers") {
-      std::vector<double> numbers;
-      if (!parseNumberList(name, value, name == "--crop" ? 4 : 2, numbers, error))
-        return false;
-      if (name == "--crop") {
-        opt.preprocess.crop = true;
-        opt.preprocess.crop_min_x = numbers[0];
-        opt.preprocess.crop_min_y = numbers[1];
-        opt.preprocess.crop_max_x = numbers[2];
-        opt.preprocess.crop_max_y = numbers[3];
-      } else {
-        if (numbers[0] < 1.0 || numbers[0] > 10000.0 ||
-            numbers[0] != std::floor(numbers[0])) {
-          error =
-              "--outliers: K = '" + value + "' must start with a whole K in 1..10000";
-          return false;
-        }
-        opt.preprocess.outlier_k = static_cast<int>(numbers[0]);
-        opt.preprocess.outlier_std = numbers[1];
-      }
-      if (pcl_vts::Status st = pcl_vts::validatePreprocessOptions(opt.preprocess);
-          !st.ok()) {
-        error = name + ": " + st.message;
-        return false;
-      }
-    } else if (name == "--threads") {
-      double threads = 0.0;
-      if (!parseNonNegative(name, value.c_str(), threads, error, "all cores"))
-        return false;
-      if (threads != std::floor(threads) || threads > 4096.0) {
-        error = name + ": '" + value + "' must be a whole number of threads (<= 4096)";
-        return false;
-      }
-      opt.vts.threads = static_cast<unsigned>(threads);
-      opt.load.threads = opt.vts.threads; // LAZ chunks decode on the same threads
-    } else if (name == "--png") {
-      if (!hasPngExtension(value)) {
-        error = "--png: '" + value + "' must name a .png file";
-        return false;
-      }
-      opt.png = value;
-    } else if (name == "--png-width") {
-      double width = 0.0;
-      if (!parseNonNegative(name, value.c_str(), width, error, nullptr))
-        return false;
-      if (width != std::floor(width) || width < MIN_PNG_WIDTH ||
-          width > MAX_PNG_WIDTH) {
-        error = name + ": '" + value + "' must be a whole number of pixels in " +
-                std::to_string(MIN_PNG_WIDTH) + ".." + std::to_string(MAX_PNG_WIDTH);
-        return false;
-      }
-      opt.png_width = static_cast<int>(width);
-      opt.png_width_given = true;
-    } else if (name == "--duplicates") {
-      if (!pcl_vts::parseDuplicateRule(value.c_str(), opt.vts.duplicate_rule)) {
-        error =
-            "--duplicates: '" + value + "' is not one of lowest, highest, mean, first";
-        return false;
-      }
-    } else if (name == "--classes") {
-      if (pcl_vts::Status s = pcl_vts::parseClassList(value, opt.load.classes);
-          !s.ok()) {
-        error = s.message;
-        return false;
-      }
-    } else if (name == "--returns") {
-      if (!pcl_vts::parseLasReturnFilter(value, opt.load.returns)) {
-        error = "--returns: '" + value + "' is not one of all, first, last";
-        return false;
-      }
-    } else if (name == "--no-trim")
-      opt.no_trim = true;
-    else if (name == "--no-fill")
-      opt.no_fill = true;
-    else if (name == "--no-lattice")
-      opt.vts.lattice = false;
-    else if (name == "--ascii")
-      opt.ascii = true;
-    else if (name == "--double")
-      opt.force_double = true;
-    else if (name == "--quiet")
-      opt.quiet = true;
-    else if (name == "--memory-limit") {
-      if (!pcl_vts::tools::parseByteSize(value, opt.memory_limit)) {
-        error = "--memory-limit must be a size such as 512M or 4G, got '" + value + "'";
-        return false;
-      }
-    } else if (name == "--temp-dir")
-      opt.temp_dir = value;
-    else if (name == "--tile-output")
-      opt.tile_output = value;
-    else if (name == "--tile-level") {
-      char* end = nullptr;
-      const long level = std::strtol(value.c_str(), &end, 10);
-      if (value.empty() || *end != 0 || level < 0 || level > 10) {
-        error = "--tile-level must be a whole number in 0..10, got '" + value + "'";
-        return false;
-      }
-      opt.tile_level = static_cast<int>(level);
-    } else if (pcl_vts::tools::isGisOption(name)) {
-      if (!opt.gis.parse(name, value, error))
-        return false;
-    } else {
-      error = "unknown option '" + arg + "'";
-      return false;
-    }
-  }
   if (opt.help)
     return true;
   if (opt.png_width_given && opt.png.empty()) {
@@ -727,9 +746,10 @@ pcl_vts::Status streamInput(const CliOptions& opt, std::size_t f,
 
 std::string readFailure(const pcl_vts::Status& s)
 {
+  // The loader's only INVALID_PARAMETER: a LAS filter on another format.
   return s.code == pcl_vts::StatusCode::IO_ERROR ? "cannot read input " + s.message
          : s.code == pcl_vts::StatusCode::INVALID_PARAMETER
-             ? s.message
+             ? "--classes/--returns: " + s.message
              : "input unusable: " + s.toString();
 }
 

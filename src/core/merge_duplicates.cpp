@@ -1,25 +1,6 @@
 #include <pcl_vts/core/merge_duplicates.h>
 
-#include <cstring>
-
 namespace pcl_vts {
-
-bool parseDuplicateRule(const char* text, DuplicateRule& rule)
-{
-  if (text == nullptr)
-    return false;
-  if (std::strcmp(text, "lowest") == 0)
-    rule = DuplicateRule::LOWEST_Z;
-  else if (std::strcmp(text, "highest") == 0)
-    rule = DuplicateRule::HIGHEST_Z;
-  else if (std::strcmp(text, "mean") == 0)
-    rule = DuplicateRule::MEAN_Z;
-  else if (std::strcmp(text, "first") == 0)
-    rule = DuplicateRule::FIRST;
-  else
-    return false;
-  return true;
-}
 
 const char* duplicateRuleName(DuplicateRule rule)
 {

@@ -74,13 +74,6 @@ using DatasetPtr = std::unique_ptr<GDALDataset, DatasetCloser>;
 
 } // namespace
 
-bool gisOptionTakesValue(const std::string& name)
-{
-  return name == "--dem" || name == "--resolution" || name == "--dem-bounds" ||
-         name == "--hillshade" || name == "--contours" || name == "--interval" ||
-         name == "--contour-base" || name == "--crs";
-}
-
 bool parseGisOption(const std::string& name, const std::string& value,
                     GisOutputOptions& options, bool& handled, std::string& error)
 {

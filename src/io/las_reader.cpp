@@ -303,19 +303,6 @@ Status parseLasImpl(const std::uint8_t* data, std::size_t size, const std::strin
 
 } // namespace
 
-bool parseLasReturnFilter(const std::string& text, LasReturnFilter& filter)
-{
-  if (text == "all")
-    filter = LasReturnFilter::ALL;
-  else if (text == "first")
-    filter = LasReturnFilter::FIRST;
-  else if (text == "last")
-    filter = LasReturnFilter::LAST;
-  else
-    return false;
-  return true;
-}
-
 const char* lasReturnFilterName(LasReturnFilter filter)
 {
   switch (filter) {

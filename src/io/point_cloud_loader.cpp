@@ -150,33 +150,6 @@ static void describeLas(const LasInfo& info, const CloudLoadOptions& options,
   }
 }
 
-Status parseClassList(const std::string& text, std::vector<std::uint8_t>& classes)
-{
-  classes.clear();
-  const auto bad = [&](const std::string& item) {
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "--classes: '" + item + "' in '" + text +
-                             "' is not a class code 0-255 (e.g. --classes 2 or 2,9)");
-  };
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    const std::string item = text.substr(start, comma - start);
-    if (item.empty() || item.size() > 3 ||
-        item.find_first_not_of("0123456789") != std::string::npos)
-      return bad(item);
-    const int value = std::stoi(item);
-    if (value > 255)
-      return bad(item);
-    if (std::find(classes.begin(), classes.end(), value) == classes.end())
-      classes.push_back(static_cast<std::uint8_t>(value));
-    if (comma == std::string::npos)
-      break;
-    start = comma + 1;
-  }
-  return Status::success();
-}
-
 namespace {
 
 /// The CRS the file declares (LAS records; GeoTIFF's, already in d), else the text
@@ -275,7 +248,7 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
   if (d.format != CloudFileFormat::LAS &&
       (!options.classes.empty() || options.returns != LasReturnFilter::ALL))
     return Status::error(StatusCode::INVALID_PARAMETER,
-                         std::string("--classes and --returns apply to LAS input "
+                         std::string("class and return filters apply to LAS input "
                                      "only; '") +
                              path + "' is " + cloudFileFormatName(d.format));
   Status s;

@@ -269,20 +269,6 @@ TEST(VtsPipeline, DuplicatesFollowTheRule)
   }
 }
 
-TEST(VtsPipeline, DuplicateRuleNamesRoundTrip)
-{
-  for (const DuplicateRule rule : {DuplicateRule::LOWEST_Z, DuplicateRule::HIGHEST_Z,
-                                   DuplicateRule::MEAN_Z, DuplicateRule::FIRST}) {
-    DuplicateRule parsed = DuplicateRule::FIRST;
-    ASSERT_TRUE(parseDuplicateRule(duplicateRuleName(rule), parsed))
-        << duplicateRuleName(rule);
-    EXPECT_EQ(parsed, rule);
-  }
-  DuplicateRule parsed = DuplicateRule::FIRST;
-  EXPECT_FALSE(parseDuplicateRule("median", parsed));
-  EXPECT_FALSE(parseDuplicateRule("", parsed));
-}
-
 TEST(VtsPipeline, NonFinitePointsAreDroppedAndCounted)
 {
   std::vector<double> xyz = test::generatePoints(Distribution::UNIFORM, 500, 3);

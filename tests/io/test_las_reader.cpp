@@ -299,15 +299,6 @@ TEST_F(LasReader, ReturnFilterKeepsFirstOrLastReturns)
   }
 }
 
-TEST(LasReturnFilter, ParsesItsThreeNames)
-{
-  pcl_vts::LasReturnFilter f;
-  EXPECT_TRUE(pcl_vts::parseLasReturnFilter("last", f));
-  EXPECT_EQ(f, pcl_vts::LasReturnFilter::LAST);
-  EXPECT_STREQ(pcl_vts::lasReturnFilterName(f), "last");
-  EXPECT_FALSE(pcl_vts::parseLasReturnFilter("second", f));
-}
-
 // ---- bad files: one-line IO_ERROR / EMPTY_INPUT, nothing returned
 
 LasSpec smallSpec(int minor = 2, int format = 3)

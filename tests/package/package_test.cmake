@@ -6,7 +6,7 @@
 #                          CMAKE_PREFIX_PATH; the version file; pkg-config; run and
 #                          check the programs and where they load pcl_vts from
 #   -DMODE=add_subdirectory  parent/ add_subdirectory()s the source tree with GTest,
-#                          CGAL and Google Benchmark hidden, builds the examples from it
+#                          CGAL hidden, builds the examples from it
 #                          (no build type: the cheapest compile)
 # Other variables: SOURCE_DIR, BUILD_DIR, WORK, SAMPLE (a .pcd), VERSION, JOBS.
 cmake_minimum_required(VERSION 3.21)
@@ -293,11 +293,11 @@ elseif(MODE STREQUAL "find_package")
 elseif(MODE STREQUAL "add_subdirectory")
   set(parent ${WORK}/parent)
   file(REMOVE_RECURSE ${parent})
-  # No CMAKE_BUILD_TYPE: parent/CMakeLists.txt checks that it stays empty. GTest, CGAL
-  # and Google Benchmark hidden: a parent must not need them.
+  # No CMAKE_BUILD_TYPE: parent/CMakeLists.txt checks that it stays empty. GTest and
+  # CGAL hidden: a parent must not need them.
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/parent -B ${parent}
       -DPCL_VTS_SOURCE_DIR=${SOURCE_DIR} -DCMAKE_DISABLE_FIND_PACKAGE_GTest=ON
-      -DCMAKE_DISABLE_FIND_PACKAGE_CGAL=ON -DCMAKE_DISABLE_FIND_PACKAGE_benchmark=ON)
+      -DCMAKE_DISABLE_FIND_PACKAGE_CGAL=ON)
   run(${CMAKE_COMMAND} --build ${parent} -j ${JOBS} --target triangulate_pcd
       triangulate_grid)
   run(${parent}/examples/triangulate_pcd ${SAMPLE})

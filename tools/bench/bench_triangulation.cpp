@@ -17,6 +17,8 @@
 // Both methods get the same points: VTS merges identical XY positions itself (its
 // duplicate rule, timed), CGAL's insertion keeps the first vertex at an XY position
 // (timed too); "distinct" lets the two vertex counts be compared.
+#include "cli_words.h"
+
 #include <pcl_vts/core/stopwatch.h>
 #include <pcl_vts/core/vts_pipeline.h>
 #include <pcl_vts/io/point_cloud_loader.h>
@@ -218,9 +220,9 @@ int loadFile(int argc, char** argv, Measure& m, std::vector<double>& xyz)
       const std::string value = argv[++k];
       if (arg == "--name") {
         m.input = value;
-      } else if (pcl_vts::Status s = pcl_vts::parseClassList(value, options.classes);
-                 !s.ok()) {
-        std::fprintf(stderr, "bench_triangulation: %s\n", s.toString().c_str());
+      } else if (std::string error;
+                 !pcl_vts::tools::parseClassList(value, options.classes, error)) {
+        std::fprintf(stderr, "bench_triangulation: --classes: %s\n", error.c_str());
         return 1;
       }
     } else if (!arg.empty() && arg[0] != '-') {

@@ -1,4 +1,6 @@
 // compare_methods' command line (compare_options.h).
+#include "cli_words.h"
+#include "command_line.h"
 #include "compare_options.h"
 
 #include <algorithm>
@@ -6,12 +8,20 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <iterator>
 #include <sstream>
 
 namespace pcl_vts {
 namespace compare {
 namespace {
+
+using pcl_vts::tools::CommandLine;
+
+std::string shown(double value)
+{
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
 
 bool parseNumber(const std::string& name, const std::string& text, double lo, double hi,
                  double& value, std::string& error)
@@ -42,10 +52,131 @@ bool parseWhole(const std::string& name, const std::string& text, double lo, dou
   return true;
 }
 
+/// A number in [lo, hi] (whole when whole) into target, converted to T.
+template <typename T>
+CommandLine::Apply number(const char* name, double lo, double hi, bool whole, T& target)
+{
+  return [name, lo, hi, whole, &target](const std::string& text, std::string& error) {
+    double value = 0.0;
+    if (!(whole ? parseWhole : parseNumber)(name, text, lo, hi, value, error))
+      return false;
+    target = static_cast<T>(value);
+    return true;
+  };
+}
+
+/// The options of compare_methods with their --help text and settings in opt.
+CommandLine describeOptions(CompareOptions& opt)
+{
+  CommandLine cli;
+  cli.group("Input")
+      .value("synthetic", "N",
+             "synthetic terrain of N points (known surface) instead of INPUT, 100 <= "
+             "N <= 1e8",
+             number("--synthetic", 100, 1e8, true, opt.synthetic))
+      .value("classes", "LIST", "LAS only: classification codes to keep, e.g. 2",
+             [&opt](const std::string& value, std::string& error) {
+               if (pcl_vts::tools::parseClassList(value, opt.load.classes, error))
+                 return true;
+               error = "--classes: " + error;
+               return false;
+             })
+      .value("name", "NAME",
+             "label of the data set: file names and TSV (default: the input's file "
+             "name, or synthetic_N)",
+             CommandLine::text(opt.name))
+      .value("title", "TEXT", "heading of the Markdown section (default: NAME)",
+             CommandLine::text(opt.title));
+  cli.group("Methods")
+      .value("methods", "LIST",
+             "vts-raw,vts,gp3,poisson,bpa or a comma-separated subset (default: all)",
+             [&opt](const std::string& value, std::string& error) {
+               opt.methods.clear();
+               std::stringstream in(value);
+               std::string item;
+               while (std::getline(in, item, ',')) {
+                 const auto& all = allMethodNames();
+                 if (std::find(all.begin(), all.end(), item) == all.end()) {
+                   error = "--methods: '" + item +
+                           "' is not one of vts-raw, vts, gp3, poisson, bpa";
+                   return false;
+                 }
+                 opt.methods.push_back(item);
+               }
+               if (opt.methods.empty()) {
+                 error = "--methods: empty list";
+                 return false;
+               }
+               return true;
+             })
+      .value("time-limit", "S",
+             "seconds per method before it is killed and reported as timed out, S > 0 "
+             "(default: " +
+                 shown(DEFAULT_TIME_LIMIT) + ")",
+             number("--time-limit", 1e-3, 1e6, false, opt.time_limit))
+      .value("poisson-depth", "D",
+             "octree depth 1..16; 0 = from extent / spacing, clamped to 6..9 "
+             "(default: 0)",
+             number("--poisson-depth", 0, 16, true, opt.poisson_depth))
+      .value("poisson-trim", "K",
+             "keep Poisson triangles whose XY centroid is within K x spacing of an "
+             "input point, K > 0 (default: " +
+                 shown(DEFAULT_POISSON_TRIM) + ")",
+             number("--poisson-trim", 1e-6, 1e6, false, opt.poisson_trim));
+  cli.group("Metrics")
+      .value(
+          "samples-per-triangle", "S",
+          "Metro samples per triangle on average, S > 0 (default: " +
+              shown(DEFAULT_SAMPLES_PER_TRIANGLE) + ")",
+          number("--samples-per-triangle", 1e-6, 1e4, false, opt.samples_per_triangle))
+      .value("max-samples", "N", "cap on the samples per mesh; 0 = none (default: 0)",
+             number("--max-samples", 0, 1e10, true, opt.max_samples))
+      .value("threads", "N",
+             "threads for the metrics (methods always run on one); 0 = all cores "
+             "(default: 0)",
+             number("--threads", 0, 4096, true, opt.threads));
+  cli.group("Output")
+      .value("report", "FILE.md", "write the Markdown section here (default: print it)",
+             CommandLine::text(opt.report))
+      .value("tsv", "FILE", "write one tab-separated row per method here",
+             CommandLine::text(opt.tsv))
+      .value("pictures", "DIR", "write DIR/NAME_top.png and DIR/NAME_oblique.png",
+             CommandLine::text(opt.pictures))
+      .value("picture-link", "PATH",
+             "folder of the pictures as the Markdown links it (default: DIR)",
+             CommandLine::text(opt.picture_link))
+      .value("picture-width", "W",
+             "pixels per method, 64..4000 (default: " +
+                 std::to_string(DEFAULT_PICTURE_WIDTH) + ")",
+             number("--picture-width", 64, 4000, true, opt.picture_width))
+      .value("work-dir", "DIR",
+             "folder for the exchanged files (default: a new folder under $TMPDIR or "
+             "/tmp, removed at the end)",
+             CommandLine::text(opt.work_dir))
+      .flag("keep-work", "keep the exchanged files and logs",
+            [&opt] { opt.keep_work = true; });
+  cli.group("General").flag("help,h", "print this help and exit",
+                            [&opt] { opt.help = true; });
+  // A method process (--run-method), started by the parent only.
+  cli.hiddenValue("run-method", CommandLine::text(opt.run_method))
+      .hiddenValue("points", CommandLine::text(opt.points_file))
+      .hiddenValue("out", CommandLine::text(opt.mesh_file))
+      .hiddenValue("method-report", CommandLine::text(opt.report_file))
+      .hiddenValue("spacing",
+                   number("--spacing", 1e-300, 1e300, false, opt.parameters.spacing))
+      .hiddenValue("extent", number("--extent", 0, 1e300, false, opt.parameters.extent))
+      .hiddenValue("normal-k",
+                   number("--normal-k", 3, 1000, true, opt.parameters.normal_k))
+      .hiddenValue("gp3-mu",
+                   number("--gp3-mu", 1e-3, 1e3, false, opt.parameters.gp3_mu));
+  return cli;
+}
+
 } // namespace
 
 void printCompareHelp()
 {
+  CompareOptions unused;
   std::printf(
       "Usage: compare_methods INPUT [options]\n"
       "       compare_methods --synthetic N [options]\n"
@@ -64,39 +195,7 @@ void printCompareHelp()
       "\n"
       "INPUT: any file pcd_to_mesh reads (.pcd .las .asc .tif .xyz .ply).\n"
       "\n"
-      "Options:\n"
-      "  -h, --help               print this help and exit\n"
-      "  --synthetic N            synthetic terrain of N points (known surface) "
-      "instead\n"
-      "                           of INPUT, 100 <= N <= 1e8\n"
-      "  --classes LIST           LAS only: classification codes to keep, e.g. 2\n"
-      "  --name NAME              label of the data set: file names and TSV (default:\n"
-      "                           the input's file name, or synthetic_N)\n"
-      "  --title TEXT             heading of the Markdown section (default: NAME)\n"
-      "  --methods LIST           comma-separated subset of "
-      "vts-raw,vts,gp3,poisson,bpa\n"
-      "                           (default: all)\n"
-      "  --time-limit S           seconds per method before it is killed and reported\n"
-      "                           as timed out, S > 0 (default: %g)\n"
-      "  --poisson-depth D        octree depth 1..16; 0 = from extent / spacing,\n"
-      "                           clamped to 6..9 (default: 0)\n"
-      "  --poisson-trim K         keep Poisson triangles whose XY centroid is within\n"
-      "                           K x spacing of an input point, K > 0 (default: %g)\n"
-      "  --samples-per-triangle S Metro samples per triangle on average, S > 0\n"
-      "                           (default: %g)\n"
-      "  --max-samples N          cap on the samples per mesh; 0 = none (default: 0)\n"
-      "  --threads N              threads for the metrics (methods always run on "
-      "one);\n"
-      "                           0 = all cores (default: 0)\n"
-      "  --report FILE.md         write the Markdown section here (default: print it)\n"
-      "  --tsv FILE               write one tab-separated row per method here\n"
-      "  --pictures DIR           write DIR/NAME_top.png and DIR/NAME_oblique.png\n"
-      "  --picture-link PATH      folder of the pictures as the Markdown links it\n"
-      "                           (default: DIR)\n"
-      "  --picture-width W        pixels per method, 64..4000 (default: %d)\n"
-      "  --work-dir DIR           folder for the exchanged files (default: a new\n"
-      "                           folder under $TMPDIR or /tmp, removed at the end)\n"
-      "  --keep-work              keep the exchanged files and logs\n"
+      "%s"
       "\n"
       "Exit status: 0 done (a method that failed or timed out is a row, not an "
       "error);\n"
@@ -104,135 +203,16 @@ void printCompareHelp()
       "4 report, TSV or pictures not writable; 5 internal error. Errors print one "
       "line\n"
       "on stderr starting with \"compare_methods: error: \".\n",
-      DEFAULT_TIME_LIMIT, DEFAULT_POISSON_TRIM, DEFAULT_SAMPLES_PER_TRIANGLE,
-      DEFAULT_PICTURE_WIDTH);
+      describeOptions(unused).help().c_str());
 }
 
 bool parseCompareArgs(int argc, char** argv, CompareOptions& opt, std::string& error)
 {
-  static const char* const WITH_VALUE[] = {
-      "--synthetic",     "--classes",      "--name",
-      "--title",         "--methods",      "--time-limit",
-      "--poisson-depth", "--poisson-trim", "--samples-per-triangle",
-      "--max-samples",   "--threads",      "--report",
-      "--tsv",           "--pictures",     "--picture-link",
-      "--picture-width", "--work-dir",     "--run-method",
-      "--points",        "--out",          "--method-report",
-      "--spacing",       "--extent",       "--normal-k",
-      "--gp3-mu"};
   std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg.size() < 2 || arg[0] != '-') {
-      positional.push_back(arg);
-      continue;
-    }
-    const bool takes_value = std::any_of(std::begin(WITH_VALUE), std::end(WITH_VALUE),
-                                         [&](const char* name) { return arg == name; });
-    std::string value;
-    if (takes_value) {
-      if (i + 1 >= argc) {
-        error = "option '" + arg + "' needs a value";
-        return false;
-      }
-      value = argv[++i];
-    }
-    double number = 0.0;
-    if (arg == "-h" || arg == "--help")
-      opt.help = true;
-    else if (arg == "--keep-work")
-      opt.keep_work = true;
-    else if (arg == "--synthetic") {
-      if (!parseWhole(arg, value, 100, 1e8, number, error))
-        return false;
-      opt.synthetic = static_cast<std::size_t>(number);
-    } else if (arg == "--classes") {
-      if (Status s = pcl_vts::parseClassList(value, opt.load.classes); !s.ok()) {
-        error = "--classes: " + s.message;
-        return false;
-      }
-    } else if (arg == "--name")
-      opt.name = value;
-    else if (arg == "--title")
-      opt.title = value;
-    else if (arg == "--methods") {
-      opt.methods.clear();
-      std::stringstream in(value);
-      std::string item;
-      while (std::getline(in, item, ',')) {
-        const auto& all = allMethodNames();
-        if (std::find(all.begin(), all.end(), item) == all.end()) {
-          error =
-              "--methods: '" + item + "' is not one of vts-raw, vts, gp3, poisson, bpa";
-          return false;
-        }
-        opt.methods.push_back(item);
-      }
-      if (opt.methods.empty()) {
-        error = "--methods: empty list";
-        return false;
-      }
-    } else if (arg == "--time-limit") {
-      if (!parseNumber(arg, value, 1e-3, 1e6, opt.time_limit, error))
-        return false;
-    } else if (arg == "--poisson-depth") {
-      if (!parseWhole(arg, value, 0, 16, number, error))
-        return false;
-      opt.poisson_depth = static_cast<int>(number);
-    } else if (arg == "--poisson-trim") {
-      if (!parseNumber(arg, value, 1e-6, 1e6, opt.poisson_trim, error))
-        return false;
-    } else if (arg == "--samples-per-triangle") {
-      if (!parseNumber(arg, value, 1e-6, 1e4, opt.samples_per_triangle, error))
-        return false;
-    } else if (arg == "--max-samples") {
-      if (!parseWhole(arg, value, 0, 1e10, number, error))
-        return false;
-      opt.max_samples = static_cast<std::size_t>(number);
-    } else if (arg == "--threads") {
-      if (!parseWhole(arg, value, 0, 4096, number, error))
-        return false;
-      opt.threads = static_cast<unsigned>(number);
-    } else if (arg == "--report")
-      opt.report = value;
-    else if (arg == "--tsv")
-      opt.tsv = value;
-    else if (arg == "--pictures")
-      opt.pictures = value;
-    else if (arg == "--picture-link")
-      opt.picture_link = value;
-    else if (arg == "--picture-width") {
-      if (!parseWhole(arg, value, 64, 4000, number, error))
-        return false;
-      opt.picture_width = static_cast<int>(number);
-    } else if (arg == "--work-dir")
-      opt.work_dir = value;
-    // Method-process options (internal).
-    else if (arg == "--run-method")
-      opt.run_method = value;
-    else if (arg == "--points")
-      opt.points_file = value;
-    else if (arg == "--out")
-      opt.mesh_file = value;
-    else if (arg == "--method-report")
-      opt.report_file = value;
-    else if (arg == "--spacing") {
-      if (!parseNumber(arg, value, 1e-300, 1e300, opt.parameters.spacing, error))
-        return false;
-    } else if (arg == "--extent") {
-      if (!parseNumber(arg, value, 0, 1e300, opt.parameters.extent, error))
-        return false;
-    } else if (arg == "--normal-k") {
-      if (!parseWhole(arg, value, 3, 1000, number, error))
-        return false;
-      opt.parameters.normal_k = static_cast<int>(number);
-    } else if (arg == "--gp3-mu") {
-      if (!parseNumber(arg, value, 1e-3, 1e3, opt.parameters.gp3_mu, error))
-        return false;
-    } else {
-      error = "unknown option '" + arg + "' (see --help)";
-      return false;
-    }
+  if (!describeOptions(opt).parse(argc, argv, positional, error)) {
+    if (error.rfind("unknown option", 0) == 0)
+      error += " (see --help)";
+    return false;
   }
   opt.parameters.poisson_depth = opt.poisson_depth;
   if (opt.help)

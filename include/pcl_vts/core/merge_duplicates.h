@@ -20,8 +20,7 @@ enum class DuplicateRule {
   FIRST      ///< keep the point that comes first in the input
 };
 
-/// Parses "lowest" | "highest" | "mean" | "first"; false on anything else.
-PCL_VTS_CORE_EXPORT bool parseDuplicateRule(const char* text, DuplicateRule& rule);
+/// "lowest", "highest", "mean" or "first".
 PCL_VTS_CORE_EXPORT const char* duplicateRuleName(DuplicateRule rule);
 
 /// Folds each run of equal XY in grid.points into one point.

@@ -35,9 +35,6 @@ struct GisOutputOptions {
   bool any() const { return !dem.empty() || !contours.empty(); }
 };
 
-/// True for the options parseGisOption understands that take a value.
-PCL_VTS_GIS_EXPORT bool gisOptionTakesValue(const std::string& name);
-
 /// Parses one of --dem, --resolution, --dem-bounds, --dem-overviews, --hillshade,
 /// --contours, --interval, --contour-base, --crs into options.
 /// \return false, with error set, for a bad value; `handled` false for another name.

@@ -25,9 +25,7 @@ enum class LasReturnFilter {
   LAST   ///< return number == number of returns
 };
 
-/// Parses "all" | "first" | "last"; false on anything else.
-PCL_VTS_IO_EXPORT bool parseLasReturnFilter(const std::string& text,
-                                            LasReturnFilter& filter);
+/// "all", "first" or "last".
 PCL_VTS_IO_EXPORT const char* lasReturnFilterName(LasReturnFilter filter);
 
 struct LasReadOptions {

@@ -61,11 +61,6 @@ struct CloudDescription {
   std::string crs_source;
 };
 
-/// Parses a classification list "2" or "2,9" (each 0-255) for CloudLoadOptions.
-/// \return INVALID_PARAMETER naming the bad item.
-PCL_VTS_IO_EXPORT Status parseClassList(const std::string& text,
-                                        std::vector<std::uint8_t>& classes);
-
 /// Reads path into 3 doubles per kept point.
 /// \return the reader's status (IO_ERROR, EMPTY_INPUT); IO_ERROR for an unknown
 ///         extension whose content is not recognised either; INVALID_PARAMETER for a
