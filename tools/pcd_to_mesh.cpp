@@ -932,15 +932,24 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   pcl_vts::GroundTilesReport ground;
   if (pre.any()) {
     options.prepare = [&](const pcl_vts::PointInputs& all, const std::string& folder,
-                          std::vector<std::string>& files) {
+                          pcl_vts::JobComm& job, std::vector<std::string>& files) {
       pcl_vts::GroundTilesOptions g;
       g.preprocess = pre;
       g.memory_limit = opt.memory_limit;
       g.threads = opt.vts.threads;
       g.tiles_per_side = opt.tile_level >= 0 ? 1 << opt.tile_level : 0;
       g.progress = [&](const char* phase, std::uint64_t done, std::uint64_t total) {
-        progress.update(pcl_vts::TiledProgress{phase, done, total});
+        if (job.rank() == 0)
+          progress.update(pcl_vts::TiledProgress{phase, done, total});
       };
+      g.share.rank = job.rank(); // rank 0 reads, every rank filters pre-tiles
+      g.share.ranks = job.size();
+      g.share.broadcast = [&job](std::string& bytes, int root) {
+        job.broadcast(bytes, root);
+      };
+      g.share.sum = [&job](std::vector<std::uint64_t>& values) { job.sum(values); };
+      g.share.start_tasks = [&job] { job.startTasks(); };
+      g.share.next_task = [&job] { return job.nextTask(); };
       const auto feed = [&](const pcl_vts::GroundSink& sink) {
         for (std::size_t f = 0; f < all.count; ++f)
           if (pcl_vts::Status s = all.read(f, sink); !s.ok())

@@ -30,6 +30,18 @@ namespace pcl_vts {
 using GroundSink = std::function<Status(const double* xyz, std::size_t n)>;
 using GroundFeed = std::function<Status(const GroundSink& sink)>;
 
+/// How several processes (MPI ranks) share the pre-pass: every rank calls groundTiles
+/// with the same arguments; rank 0 reads the inputs and writes the pre-tile files
+/// (into a folder every rank sees), then every rank filters the pre-tiles it takes
+/// from the shared counter. Default: one process.
+struct GroundShare {
+  int rank = 0, ranks = 1;
+  std::function<void(std::string& bytes, int root)> broadcast;
+  std::function<void(std::vector<std::uint64_t>& values)> sum; ///< element-wise
+  std::function<void()> start_tasks;        ///< collective: the counter to 0
+  std::function<std::uint64_t()> next_task; ///< thread-safe: 0, 1, 2, ...
+};
+
 struct GroundTilesOptions {
   /// crop and ground_pmf only: voxel, grid-min and outliers are not tiled
   /// (INVALID_PARAMETER); fixed_shift is set by the pre-pass.
@@ -41,6 +53,8 @@ struct GroundTilesOptions {
   unsigned threads = 1;
   /// Testing knob: pre-tiles per side (0 = from memory_limit).
   int tiles_per_side = 0;
+  /// Several processes (default: one).
+  GroundShare share;
   /// Called with "ground scan", "ground bucket" (points done so far) and "ground
   /// filter" (pre-tiles done of total); from the calling thread only.
   std::function<void(const char* phase, std::uint64_t done, std::uint64_t total)>

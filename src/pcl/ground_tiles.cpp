@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 
 namespace pcl_vts {
@@ -117,6 +118,66 @@ int choosePreTiles(std::uint64_t n, double width, double height, double halo,
   return MAX_PRE_TILES_PER_SIDE;
 }
 
+/// What every process needs for the filter phase (from the one that read).
+struct Plan {
+  PreTiles tiles;
+  double shift[3] = {0.0, 0.0, 0.0};
+  std::vector<std::uint64_t> loaded; ///< points per pre-tile file, halo included
+
+  std::size_t count() const
+  {
+    return static_cast<std::size_t>(tiles.k) * static_cast<std::size_t>(tiles.k);
+  }
+};
+
+std::string loadFile(const std::string& folder, std::size_t t)
+{
+  return folder + "/pmf_" + std::to_string(t) + ".xyz";
+}
+
+/// A status, or the plan and the reading's report, as text (doubles in hex: exact).
+std::string encodePlan(const Status& status, const Plan& plan,
+                       const GroundTilesReport& report)
+{
+  if (!status.ok())
+    return "error " + std::to_string(static_cast<int>(status.code)) + " " +
+           status.message;
+  char text[512];
+  std::snprintf(text, sizeof(text), "ok %d %a %a %a %a %a %a %a %llu %llu %llu %llu",
+                plan.tiles.k, plan.tiles.x0, plan.tiles.y0, plan.tiles.side,
+                plan.shift[0], plan.shift[1], plan.shift[2], report.halo,
+                static_cast<unsigned long long>(report.points),
+                static_cast<unsigned long long>(report.non_finite),
+                static_cast<unsigned long long>(report.cropped),
+                static_cast<unsigned long long>(report.kept));
+  return text;
+}
+
+Status decodePlan(const std::string& bytes, Plan& plan, GroundTilesReport& report)
+{
+  if (bytes.rfind("error ", 0) == 0) {
+    char* end = nullptr;
+    const long code = std::strtol(bytes.c_str() + 6, &end, 10);
+    return Status::error(static_cast<StatusCode>(code),
+                         *end == ' ' ? std::string(end + 1) : std::string());
+  }
+  unsigned long long points = 0, non_finite = 0, cropped = 0, kept = 0;
+  if (std::sscanf(bytes.c_str(),
+                  "ok %d %la %la %la %la %la %la %la %llu %llu %llu %llu",
+                  &plan.tiles.k, &plan.tiles.x0, &plan.tiles.y0, &plan.tiles.side,
+                  &plan.shift[0], &plan.shift[1], &plan.shift[2], &report.halo, &points,
+                  &non_finite, &cropped, &kept) != 12)
+    return Status::error(StatusCode::INTERNAL_ERROR,
+                         "ground pre-pass: a rank received no plan");
+  report.points = points;
+  report.non_finite = non_finite;
+  report.cropped = cropped;
+  report.kept = kept;
+  report.tiles_per_side = plan.tiles.k;
+  report.tile_side = plan.tiles.side;
+  return Status::success();
+}
+
 } // namespace
 
 Status readGroundFile(const std::string& path, std::size_t chunk_points,
@@ -139,18 +200,13 @@ Status readGroundFile(const std::string& path, std::size_t chunk_points,
   }
 }
 
-Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
-                   const std::string& folder, std::vector<std::string>& files,
-                   GroundTilesReport& report)
+namespace {
+
+/// Phases 1 and 2 (the process that reads the inputs): the plan, the pre-tile files.
+Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
+                     const std::string& folder, Plan& plan, GroundTilesReport& report)
 {
-  report = GroundTilesReport{};
-  files.clear();
   const PreprocessOptions& pre = options.preprocess;
-  if (pre.voxel > 0.0 || pre.grid_min > 0.0 || pre.outlier_k > 0)
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "--voxel, --grid-min and --outliers run in memory only");
-  if (Status s = validatePreprocessOptions(pre); !s.ok())
-    return s;
 
   // 1. Scan: the finite points the crop keeps, their box (the in-memory shift).
   Stopwatch watch;
@@ -200,12 +256,9 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   if (n == 0)
     return emptyAfter("crop");
   if (!pre.ground_pmf) {
-    if (Status w = appendDoubles(cropped_path, buffer); !w.ok())
-      return w;
     report.kept = n;
     report.tiles = report.tiles_per_side = 1;
-    files.push_back(cropped_path);
-    return Status::success();
+    return appendDoubles(cropped_path, buffer);
   }
 
   // 2. Bucket: each point into the file of every pre-tile whose core or halo holds
@@ -219,7 +272,7 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   const unsigned workers = options.threads != 0
                                ? options.threads
                                : std::max(1u, std::thread::hardware_concurrency());
-  PreTiles tiles;
+  PreTiles& tiles = plan.tiles;
   tiles.x0 = lo[0];
   tiles.y0 = lo[1];
   tiles.k =
@@ -231,15 +284,16 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   report.tile_side = tiles.side;
   report.halo = halo;
   const std::size_t count = static_cast<std::size_t>(tiles.k) * tiles.k;
-  const auto loadPath = [&](std::size_t t) {
-    return folder + "/pmf_" + std::to_string(t) + ".xyz";
-  };
+  const auto loadPath = [&](std::size_t t) { return loadFile(folder, t); };
+  for (int c = 0; c < 3; ++c)
+    plan.shift[c] = 0.5 * (lo[c] + hi[c]);
   // The points wait in one buffer per pre-tile; all of them go to the files once
   // they hold an eighth of the limit (the buffers released: their total stays
   // bounded whatever the number of pre-tiles).
   std::vector<std::vector<double>> buffers(count);
   std::vector<std::size_t> dirty; // pre-tiles with buffered points
-  std::vector<std::uint64_t> loaded(count, 0);
+  std::vector<std::uint64_t>& loaded = plan.loaded;
+  loaded.assign(count, 0);
   const std::size_t max_buffered =
       3 * static_cast<std::size_t>(std::clamp<std::uint64_t>(
               options.memory_limit / 8 / 24, 4096, std::uint64_t{1} << 22));
@@ -290,15 +344,66 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
     return w;
   std::vector<std::vector<double>>().swap(buffers);
   report.seconds_bucket = watch.seconds();
+  return Status::success();
+}
+
+} // namespace
+
+Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
+                   const std::string& folder, std::vector<std::string>& files,
+                   GroundTilesReport& report)
+{
+  report = GroundTilesReport{};
+  files.clear();
+  const PreprocessOptions& pre = options.preprocess;
+  if (pre.voxel > 0.0 || pre.grid_min > 0.0 || pre.outlier_k > 0)
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "--voxel, --grid-min and --outliers run in memory only");
+  if (Status s = validatePreprocessOptions(pre); !s.ok())
+    return s;
+  const GroundShare& share = options.share;
+  const bool shared = share.ranks > 1;
+  Plan plan;
+  Status status;
+  if (share.rank == 0)
+    status = readAndBucket(feed, options, folder, plan, report);
+  if (shared) { // rank 0's plan (or error) to every rank
+    std::string bytes = share.rank == 0 ? encodePlan(status, plan, report) : "";
+    share.broadcast(bytes, 0);
+    if (share.rank != 0)
+      status = decodePlan(bytes, plan, report);
+    if (status.ok() && pre.ground_pmf) {
+      plan.loaded.resize(plan.count());
+      share.sum(plan.loaded);
+    }
+  }
+  if (!status.ok())
+    return status;
+  if (!pre.ground_pmf) {
+    files.push_back(folder + "/cropped.xyz");
+    return Status::success();
+  }
+  const PreTiles& tiles = plan.tiles;
+  const std::size_t count = plan.count();
+  const std::vector<std::uint64_t>& loaded = plan.loaded;
+  const auto loadPath = [&](std::size_t t) { return loadFile(folder, t); };
+  const auto progress = [&](const char* phase, std::uint64_t done,
+                            std::uint64_t total) {
+    if (options.progress)
+      options.progress(phase, done, total);
+  };
+  const unsigned workers = options.threads != 0
+                               ? options.threads
+                               : std::max(1u, std::thread::hardware_concurrency());
+  Stopwatch watch;
 
   // 3. Filter each pre-tile with its halo; keep the ground of its core. The
   //    pre-tiles go to whichever worker asks next; the files are listed in order.
-  watch.restart();
   PreprocessOptions ground = pre;
   ground.crop = false;
   ground.fixed_shift = true;
   for (int c = 0; c < 3; ++c)
-    ground.shift[c] = 0.5 * (lo[c] + hi[c]);
+    ground.shift[c] = plan.shift[c];
   struct Result {
     Status status;
     std::uint64_t loaded = 0, kept = 0; ///< loaded = 0: no core point
@@ -308,7 +413,6 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   std::atomic<bool> failed{false};
   std::mutex mutex;
   std::condition_variable changed;
-  std::size_t finished = 0;
   const std::size_t threads_used = std::min<std::size_t>(workers, count);
   const auto filterOne = [&](std::size_t t, std::vector<double>& xyz) {
     Result& result = results[t];
@@ -343,31 +447,45 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
     result.kept = out / 3;
     return appendDoubles(folder + "/ground_" + std::to_string(t) + ".xyz", xyz);
   };
+  // The next pre-tile: from the counter shared by every rank and thread.
+  if (shared)
+    share.start_tasks();
+  const auto nextTask = [&]() -> std::size_t {
+    return shared ? static_cast<std::size_t>(share.next_task()) : next.fetch_add(1);
+  };
+  std::size_t running = 0; // workers still taking pre-tiles (under mutex)
+  std::size_t taken = 0;   // the highest pre-tile taken here (progress)
   const auto work = [&] {
     std::vector<double> xyz;
-    for (std::size_t t; !failed && (t = next.fetch_add(1)) < count;) {
+    for (std::size_t t; !failed && (t = nextTask()) < count;) {
+      {
+        const std::lock_guard<std::mutex> lock(mutex);
+        taken = std::max(taken, t + 1);
+      }
       if (loaded[t] != 0) {
         results[t].status = filterOne(t, xyz);
         if (!results[t].status.ok())
           failed = true;
       }
-      const std::lock_guard<std::mutex> lock(mutex);
-      ++finished;
-      changed.notify_all();
       if (threads_used == 1)
-        progress("ground filter", finished, count);
+        progress("ground filter", taken, count);
     }
+    const std::lock_guard<std::mutex> lock(mutex);
+    --running;
+    changed.notify_all();
   };
   if (threads_used <= 1) {
+    running = 1;
     work(); // on the calling thread, which reports between pre-tiles
   } else {
+    running = threads_used;
     std::vector<std::thread> pool;
     for (std::size_t w = 0; w < threads_used; ++w)
       pool.emplace_back(work);
     { // the calling thread reports while the pool works
       std::unique_lock<std::mutex> lock(mutex);
-      while (finished < count && !failed) {
-        const std::size_t done = finished;
+      while (running > 0) {
+        const std::size_t done = taken;
         lock.unlock();
         progress("ground filter", done, count);
         lock.lock();
@@ -377,18 +495,42 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
     for (std::thread& thread : pool)
       thread.join();
   }
+
+  // Every rank's pre-tiles: the first failure (the lowest rank's), the counts.
+  Status failure;
+  for (std::size_t t = 0; t < count && failure.ok(); ++t)
+    failure = results[t].status;
+  if (shared) {
+    std::vector<std::uint64_t> failed_on(static_cast<std::size_t>(share.ranks), 0);
+    failed_on[static_cast<std::size_t>(share.rank)] = failure.ok() ? 0 : 1;
+    share.sum(failed_on);
+    const auto first = std::find(failed_on.begin(), failed_on.end(), 1u);
+    if (first != failed_on.end()) {
+      const int root = static_cast<int>(first - failed_on.begin());
+      std::string bytes = share.rank == root ? encodePlan(failure, plan, report) : "";
+      share.broadcast(bytes, root);
+      return decodePlan(bytes, plan, report);
+    }
+  }
+  if (!failure.ok())
+    return failure;
+  std::vector<std::uint64_t> counts(2 * count, 0);
   for (std::size_t t = 0; t < count; ++t) {
-    const Result& r = results[t];
-    if (!r.status.ok())
-      return r.status;
-    if (r.loaded == 0)
+    counts[2 * t] = results[t].loaded;
+    counts[2 * t + 1] = results[t].kept;
+  }
+  if (shared)
+    share.sum(counts);
+  for (std::size_t t = 0; t < count; ++t) {
+    const std::uint64_t loaded_here = counts[2 * t], kept = counts[2 * t + 1];
+    if (loaded_here == 0)
       continue;
     ++report.tiles;
-    report.points_loaded += r.loaded;
-    report.max_tile_points = std::max(report.max_tile_points, r.loaded);
-    if (r.kept == 0)
+    report.points_loaded += loaded_here;
+    report.max_tile_points = std::max(report.max_tile_points, loaded_here);
+    if (kept == 0)
       continue;
-    report.kept += r.kept;
+    report.kept += kept;
     files.push_back(folder + "/ground_" + std::to_string(t) + ".xyz");
   }
   report.seconds_filter = watch.seconds();

@@ -427,12 +427,11 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   comm.broadcast(folder, 0);
   if (comm.rank() != 0) // any rank that mpirun stops removes the folder too
     temp.adopt(folder);
-  // The pre-pass (rank 0) replaces the inputs by the files it wrote.
+  // The pre-pass (every rank) replaces the inputs by the files it wrote.
   PointInputs prepared;
   if (options.prepare) {
     std::vector<std::string> files;
-    if (comm.rank() == 0)
-      status = options.prepare(inputs, folder, files);
+    status = options.prepare(inputs, folder, comm, files);
     if (!(status = agree(comm, status)).ok())
       return status;
     std::string list;

@@ -47,8 +47,8 @@ compare trimmed grid0.xyz grid1.xyz
 post=()
 compare surface grid0.xyz grid1.xyz
 compare surface_mixed "${inputs[@]}"
-# --ground pmf: rank 0 filters the pre-tiles (with the filter's halo), every rank
-# meshes their ground points.
+# --ground pmf: rank 0 buckets the points into pre-tiles (with the filter's halo), the
+# ranks share their filtering, every rank meshes their ground points.
 post=(--ground pmf --pmf-window 5 --tile-level 1)
 compare ground grid0.xyz grid1.xyz
 post=(--no-trim --no-fill)

@@ -11,12 +11,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <mutex>
 #include <numeric>
 #include <string>
+#include <thread>
 #include <unistd.h>
 #include <vector>
 
@@ -273,6 +277,132 @@ TEST_F(GroundTiles, TheMemoryLimitSetsThePreTiles)
   std::vector<PreprocessStep> steps;
   ASSERT_TRUE(preprocessCloud(memory, options.preprocess, steps).ok());
   EXPECT_TRUE(byXy(kept) == byXy(memory));
+}
+
+/// In-process "ranks" (threads) for GroundShare: barrier-based collectives.
+class Hub {
+ public:
+  explicit Hub(int ranks)
+      : ranks_(ranks)
+  {}
+  GroundShare share(int rank)
+  {
+    GroundShare s;
+    s.rank = rank;
+    s.ranks = ranks_;
+    s.broadcast = [this, rank](std::string& bytes, int root) {
+      if (rank == root) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        bytes_ = bytes;
+      }
+      barrier();
+      bytes = bytes_;
+      barrier();
+    };
+    s.sum = [this](std::vector<std::uint64_t>& values) {
+      {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (adding_++ == 0)
+          sum_.assign(values.size(), 0);
+        for (std::size_t k = 0; k < values.size(); ++k)
+          sum_[k] += values[k];
+      }
+      barrier();
+      values = sum_;
+      {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        --adding_;
+      }
+      barrier();
+    };
+    s.start_tasks = [this] {
+      barrier();
+      next_ = 0;
+      barrier();
+    };
+    s.next_task = [this] { return next_.fetch_add(1); };
+    return s;
+  }
+
+ private:
+  void barrier()
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const std::uint64_t generation = generation_;
+    if (++arrived_ == ranks_) {
+      arrived_ = 0;
+      ++generation_;
+      changed_.notify_all();
+    } else {
+      changed_.wait(lock, [&] { return generation != generation_; });
+    }
+  }
+
+  int ranks_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  int arrived_ = 0, adding_ = 0;
+  std::uint64_t generation_ = 0;
+  std::string bytes_;
+  std::vector<std::uint64_t> sum_;
+  std::atomic<std::uint64_t> next_{0};
+};
+
+TEST_F(GroundTiles, RanksSharingThePreTilesKeepTheInMemoryPoints)
+{
+  const std::vector<double> xyz = builtTerrain();
+  std::vector<double> memory = xyz;
+  std::vector<PreprocessStep> steps;
+  ASSERT_TRUE(preprocessCloud(memory, smallWindows(), steps).ok());
+  const int ranks = 3;
+  Hub hub(ranks);
+  std::vector<std::vector<std::string>> files(ranks);
+  std::vector<GroundTilesReport> reports(ranks);
+  std::vector<Status> status(ranks);
+  const GroundFeed feed = [&](const GroundSink& sink) {
+    return sink(xyz.data(), xyz.size() / 3);
+  };
+  std::vector<std::thread> threads;
+  for (int r = 0; r < ranks; ++r)
+    threads.emplace_back([&, r] {
+      GroundTilesOptions options;
+      options.preprocess = smallWindows();
+      options.tiles_per_side = 4;
+      options.share = hub.share(r);
+      status[r] = groundTiles(feed, options, folder_.string(), files[r], reports[r]);
+    });
+  for (std::thread& t : threads)
+    t.join();
+  for (int r = 0; r < ranks; ++r) {
+    ASSERT_TRUE(status[r].ok()) << r << ": " << status[r].toString();
+    EXPECT_EQ(files[r], files[0]) << r;
+    EXPECT_EQ(reports[r].kept, memory.size() / 3) << r;
+    EXPECT_EQ(reports[r].points_loaded, reports[0].points_loaded) << r;
+  }
+  std::vector<double> kept;
+  for (const std::string& file : files[0])
+    ASSERT_TRUE(readGroundFile(file, 1000, [&](const double* p, std::size_t n) {
+                  kept.insert(kept.end(), p, p + 3 * n);
+                  return Status::success();
+                }).ok());
+  EXPECT_TRUE(byXy(kept) == byXy(memory));
+  // A failure on rank 0 (nothing left after the crop) is every rank's error.
+  for (int r = 0; r < ranks; ++r)
+    threads[r] = std::thread([&, r] {
+      GroundTilesOptions options;
+      options.preprocess = smallWindows();
+      options.preprocess.crop = true;
+      options.preprocess.crop_min_x = options.preprocess.crop_min_y = 0.0;
+      options.preprocess.crop_max_x = options.preprocess.crop_max_y = 1.0;
+      options.share = hub.share(r);
+      status[r] = groundTiles(feed, options, folder_.string(), files[r], reports[r]);
+    });
+  for (std::thread& t : threads)
+    t.join();
+  for (int r = 0; r < ranks; ++r) {
+    EXPECT_EQ(status[r].code, StatusCode::EMPTY_INPUT) << r;
+    EXPECT_EQ(status[r].message, status[0].message) << r;
+  }
 }
 
 TEST_F(GroundTiles, NothingLeftIsTheInMemoryError)

@@ -75,12 +75,13 @@ struct TiledMeshOptions {
   std::function<Status(const MeshSource& mesh, const std::string& temp_folder)>
       after_write;
   /// An optional pre-pass (the tiled --crop and --ground pmf, ground_tiles.h): run by
-  /// rank 0 once the temporary folder exists, before the scan, with the job's inputs
-  /// (all of them); it writes the points to mesh into files in the folder and names
-  /// them. The job then meshes those files, read by every rank with read_prepared,
-  /// instead of the inputs. Its failure fails the run.
+  /// every rank once the temporary folder exists, before the scan, with the job's
+  /// inputs (all of them: rank 0 reads them, the ranks share the filtering); it writes
+  /// the points to mesh into files in the folder and names them (rank 0's list is
+  /// the job's). The job then meshes those files, read by every rank with
+  /// read_prepared, instead of the inputs. Its failure fails the run.
   std::function<Status(const PointInputs& inputs, const std::string& temp_folder,
-                       std::vector<std::string>& files)>
+                       JobComm& comm, std::vector<std::string>& files)>
       prepare;
   std::function<Status(const std::string& file, const PointSink& sink)> read_prepared;
   /// Testing knobs: quadtree levels of tiles and blocks (-1 = from memory_limit).
