@@ -102,22 +102,23 @@ void labelComponents(const TriangleMesh& mesh, BoundaryLoops& loops)
 
 } // namespace
 
-Status findBoundaryLoops(const TriangleMesh& mesh, BoundaryLoops& loops)
+Status traceBoundaryLoops(const TriangleMesh& mesh, std::vector<BoundaryLoop>& loops)
 {
-  loops = BoundaryLoops{};
+  loops.clear();
   if (mesh.halfedges.size() != mesh.triangles.size() || mesh.triangles.size() % 3 != 0)
     return Status::error(StatusCode::INVALID_PARAMETER,
                          "halfedges (" + std::to_string(mesh.halfedges.size()) +
                              ") must have one entry per triangle corner (" +
                              std::to_string(mesh.triangles.size()) + ")");
-  labelComponents(mesh, loops);
-
-  std::vector<bool> visited(mesh.halfedges.size(), false);
+  std::vector<bool> visited; // sized at the first boundary halfedge
   for (HalfedgeId start = 0; start < mesh.halfedges.size(); ++start) {
-    if (mesh.halfedges[start] != INVALID_ID || visited[start])
+    if (mesh.halfedges[start] != INVALID_ID)
+      continue;
+    if (visited.empty())
+      visited.assign(mesh.halfedges.size(), false);
+    if (visited[start])
       continue;
     BoundaryLoop loop;
-    loop.component = loops.triangle_component[triangleOf(start)];
     HalfedgeId e = start;
     do {
       if (e == INVALID_ID || visited[e])
@@ -135,8 +136,19 @@ Status findBoundaryLoops(const TriangleMesh& mesh, BoundaryLoops& loops)
     std::sort(sorted.begin(), sorted.end());
     loop.has_repeated_vertex =
         std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
-    loops.loops.push_back(std::move(loop));
+    loops.push_back(std::move(loop));
   }
+  return Status::success();
+}
+
+Status findBoundaryLoops(const TriangleMesh& mesh, BoundaryLoops& loops)
+{
+  loops = BoundaryLoops{};
+  if (Status s = traceBoundaryLoops(mesh, loops.loops); !s.ok())
+    return s;
+  labelComponents(mesh, loops);
+  for (BoundaryLoop& loop : loops.loops)
+    loop.component = loops.triangle_component[triangleOf(loop.halfedges.front())];
 
   // The outer loop of a piece encloses all its other loops, so it has the largest
   // signed area (the only positive one in exact arithmetic).

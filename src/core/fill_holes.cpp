@@ -1,5 +1,7 @@
 // Hole filling: loops -> lattice points -> polygon CDT -> spline z -> append.
 // See fill_holes.h and docs/reconstruction.md.
+#include "post_pass_spacing.h"
+
 #include <pcl_vts/core/boundary_loops.h>
 #include <pcl_vts/core/fill_holes.h>
 #include <pcl_vts/core/point_spacing.h>
@@ -191,14 +193,14 @@ class HoleFiller {
  public:
   HoleFiller(TriangleMesh& mesh, const FillOptions& options,
              const PointSpacing& spacing, double global_h,
-             std::vector<Point2> piece_probe, FillResult& result)
+             std::vector<Point2> piece_probe, Adjacency adjacency, FillResult& result)
       : mesh_(mesh)
       , options_(options)
       , spacing_(spacing)
       , global_h_(global_h)
       , piece_probe_(std::move(piece_probe))
       , result_(result)
-      , adj_(buildAdjacency(mesh))
+      , adj_(std::move(adjacency))
       , input_vertices_(mesh.vertexCount())
       , input_corners_(mesh.triangles.size())
       , stamp_(input_vertices_, 0)
@@ -385,12 +387,19 @@ Status fillHoles(TriangleMesh& mesh, const FillOptions& options, FillResult& res
 Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
                        const MeshPart* part, FillResult& result)
 {
+  return detail::fillHolesOfPart(mesh, options, part, nullptr, result);
+}
+
+Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
+                               const MeshPart* part, const VertexSpacing* known,
+                               FillResult& result)
+{
   result = FillResult{};
   Status status = validateFillOptions(options);
   if (!status.ok())
     return status;
-  BoundaryLoops loops;
-  status = findBoundaryLoops(mesh, loops);
+  BoundaryLoops loops; // the pieces are not needed: holes run clockwise
+  status = traceBoundaryLoops(mesh, loops.loops);
   if (!status.ok())
     return status;
   // A loop runs counter-clockwise around its piece's outside, clockwise inside a
@@ -412,7 +421,25 @@ Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
     if (is_hole(loop))
       for (const VertexId v : loop.vertices)
         on_rim[v] = true;
-  const PointSpacing spacing = measurePointSpacing(mesh, &on_rim);
+  Adjacency adjacency = buildAdjacency(mesh);
+  PointSpacing spacing;
+  if (known != nullptr) {
+    // measurePointSpacing's local figure at the rims, from the known own medians
+    // and the same rows (buildAdjacency's rule is measurePointSpacing's).
+    spacing.global_median = known->global_median;
+    spacing.local.assign(mesh.vertexCount(), 0.0);
+    std::vector<double> values;
+    for (VertexId v = 0; v < mesh.vertexCount(); ++v) {
+      if (!on_rim[v] || adjacency.start[v] == adjacency.start[v + 1])
+        continue;
+      values.assign(1, known->own[v]);
+      for (std::size_t k = adjacency.start[v]; k < adjacency.start[v + 1]; ++k)
+        values.push_back(known->own[adjacency.ring[k]]);
+      spacing.local[v] = medianOf(values);
+    }
+  } else {
+    spacing = measurePointSpacing(mesh, &on_rim);
+  }
   const double global_h =
       part != nullptr ? part->global_spacing : spacing.global_median;
   result.max_hole_area = options.max_hole_area > 0.0
@@ -420,7 +447,7 @@ Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
                              : FillOptions::AUTO_HOLE_AREA_FACTOR * global_h * global_h;
 
   HoleFiller filler(mesh, options, spacing, global_h, pieceProbes(mesh, loops, real),
-                    result);
+                    std::move(adjacency), result);
   for (const BoundaryLoop& loop : loops.loops)
     if (is_hole(loop))
       if (Status s = filler.fill(loop); !s.ok())

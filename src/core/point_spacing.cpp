@@ -1,10 +1,13 @@
 // Point spacing: median incident edge per vertex, then a one-ring median.
+#include "post_pass_spacing.h"
+
 #include <pcl_vts/core/point_spacing.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 namespace pcl_vts {
 
@@ -91,7 +94,8 @@ double medianInPlace(std::vector<double>& values)
 
 /// measurePointSpacing with rows indexed by Index (32 bits while they fit).
 template <typename Index>
-PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_for)
+PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_for,
+                     std::vector<double>* own_out)
 {
   const std::size_t n = mesh.vertexCount();
   const std::size_t corners = mesh.triangles.size();
@@ -149,6 +153,8 @@ PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_fo
       values.push_back(own[ring[k]]);
     spacing.local[v] = medianInPlace(values);
   }
+  if (own_out != nullptr)
+    own_out->swap(own);
   return spacing;
 }
 
@@ -162,10 +168,65 @@ double medianOf(std::vector<double> values)
 PointSpacing measurePointSpacing(const TriangleMesh& mesh,
                                  const std::vector<bool>* local_for)
 {
+  return detail::measurePointSpacing(mesh, local_for, nullptr);
+}
+
+namespace detail {
+
+PointSpacing measurePointSpacing(const TriangleMesh& mesh,
+                                 const std::vector<bool>* local_for,
+                                 std::vector<double>* own)
+{
   // A row entry per halfedge, two for a boundary one.
   if (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max())
-    return measure<std::uint32_t>(mesh, local_for);
-  return measure<std::size_t>(mesh, local_for);
+    return measure<std::uint32_t>(mesh, local_for, own);
+  return measure<std::size_t>(mesh, local_for, own);
 }
+
+void remeasureOwnSpacing(const TriangleMesh& mesh, const std::vector<bool>& changed,
+                         std::vector<double>& own)
+{
+  // The rows of the changed vertices only (measure's rule: every halfedge leaving
+  // the vertex, and the boundary ones entering it), as (vertex, edge length).
+  std::vector<std::pair<VertexId, double>> rows;
+  auto length = [&](VertexId a, VertexId b) {
+    const double dx = mesh.xy[a].x - mesh.xy[b].x, dy = mesh.xy[a].y - mesh.xy[b].y;
+    return std::sqrt(dx * dx + dy * dy);
+  };
+  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
+    const VertexId a = mesh.triangles[e];
+    const VertexId b = mesh.triangles[nextHalfedge(e)];
+    if (changed[a])
+      rows.emplace_back(a, length(a, b));
+    if (mesh.halfedges[e] == INVALID_ID && changed[b])
+      rows.emplace_back(b, length(b, a));
+  }
+  std::sort(rows.begin(), rows.end()); // a row's order does not change its median
+  for (std::size_t v = 0; v < changed.size(); ++v)
+    if (changed[v])
+      own[v] = 0.0; // left without triangles unless a row says otherwise
+  std::vector<double> values;
+  for (std::size_t i = 0; i < rows.size();) {
+    std::size_t j = i;
+    values.clear();
+    for (; j < rows.size() && rows[j].first == rows[i].first; ++j)
+      values.push_back(rows[j].second);
+    own[rows[i].first] = medianInPlace(values);
+    i = j;
+  }
+}
+
+double medianOverUsed(const std::vector<double>& own,
+                      const std::vector<bool>& has_triangle)
+{
+  std::vector<double> used;
+  used.reserve(own.size());
+  for (std::size_t v = 0; v < own.size(); ++v)
+    if (has_triangle[v])
+      used.push_back(own[v]);
+  return medianInPlace(used);
+}
+
+} // namespace detail
 
 } // namespace pcl_vts

@@ -1,4 +1,6 @@
 // Trim -> fill, timed and checked. See reconstruct_surface.h.
+#include "post_pass_spacing.h"
+
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/core/reconstruct_surface.h>
 #include <pcl_vts/core/stopwatch.h>
@@ -40,16 +42,21 @@ Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& optio
                                " is not a vertex id (" +
                                std::to_string(mesh.vertexCount()) + " vertices)");
   diagnostics.triangles_in = mesh.triangleCount();
+  // The trim hands the trimmed mesh's spacing to the fill (post_pass_spacing.h).
+  detail::VertexSpacing spacing;
+  const bool handed = options.trim && options.fill;
   if (options.trim) {
     const Stopwatch watch;
-    status = trimOutwardTriangles(mesh, options.trim_options, diagnostics.trim);
+    status = detail::trimOutwardTriangles(mesh, options.trim_options, diagnostics.trim,
+                                          handed ? &spacing : nullptr);
     diagnostics.seconds_trim = watch.seconds();
     if (!status.ok())
       return status;
   }
   if (options.fill) {
     const Stopwatch watch;
-    status = fillHoles(mesh, options.fill_options, diagnostics.fill);
+    status = detail::fillHolesOfPart(mesh, options.fill_options, nullptr,
+                                     handed ? &spacing : nullptr, diagnostics.fill);
     diagnostics.seconds_fill = watch.seconds();
     if (!status.ok())
       return status;

@@ -1,6 +1,8 @@
 // Outward-triangle removal: static oversize test, flood over oversized triangles
 // from the outline and void seeds, then pinch repair by restoring fan gaps.
 // See trim_outward_triangles.h.
+#include "post_pass_spacing.h"
+
 #include <pcl_vts/core/point_spacing.h>
 #include <pcl_vts/core/trim_outward_triangles.h>
 
@@ -310,6 +312,12 @@ std::size_t peelOutwardTriangles(const TriangleMesh& mesh,
 Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
                             TrimResult& result)
 {
+  return detail::trimOutwardTriangles(mesh, options, result, nullptr);
+}
+
+Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
+                                    TrimResult& result, VertexSpacing* after)
+{
   result = TrimResult{};
   Status status = validateTrimOptions(options);
   if (!status.ok())
@@ -317,7 +325,9 @@ Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
   if (mesh.halfedges.size() != mesh.triangles.size())
     return Status::error(StatusCode::INVALID_PARAMETER,
                          "halfedges must have one entry per triangle corner");
-  const PointSpacing spacing = measurePointSpacing(mesh);
+  std::vector<double> own;
+  const PointSpacing spacing =
+      detail::measurePointSpacing(mesh, nullptr, after != nullptr ? &own : nullptr);
   result.spacing = spacing.global_median;
   const std::vector<std::uint8_t> flags = classifyTriangles(mesh, spacing, options);
 
@@ -327,8 +337,17 @@ Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
   std::vector<bool> removed;
   result.kept_to_stay_manifold =
       peelOutwardTriangles(mesh, flags, options.open_voids, removed);
-  for (const bool r : removed)
-    result.triangles_removed += r ? 1 : 0;
+  std::vector<bool> changed; // corners of removed triangles: their rows changed
+  if (after != nullptr)
+    changed.assign(mesh.vertexCount(), false);
+  for (TriangleId t = 0; t < removed.size(); ++t) {
+    if (!removed[t])
+      continue;
+    ++result.triangles_removed;
+    if (after != nullptr)
+      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+        changed[mesh.triangles[e]] = true;
+  }
   compactTriangles(mesh, removed);
 
   std::vector<bool> has_triangle(mesh.vertexCount(), false);
@@ -337,6 +356,14 @@ Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
   for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
     if (had_triangle[v] && !has_triangle[v])
       ++result.vertices_lost;
+  if (after != nullptr) {
+    if (result.triangles_removed > 0)
+      remeasureOwnSpacing(mesh, changed, own);
+    after->global_median = result.triangles_removed > 0
+                               ? medianOverUsed(own, has_triangle)
+                               : spacing.global_median;
+    after->own.swap(own);
+  }
   return Status::success();
 }
 

@@ -426,5 +426,50 @@ TEST(ReconstructSurface, TrimThenFillOnTheSyntheticTerrain)
             StatusCode::INVALID_PARAMETER);
 }
 
+TEST(ReconstructSurface, EqualsTrimThenFillCalledApart)
+{
+  // reconstructSurface hands the trim's spacing to the fill (measured again only at
+  // the corners of removed triangles); the passes called apart measure the whole
+  // trimmed mesh: the same mesh, bit for bit, with the automatic hole limit (the
+  // global median) and a fixed one (the rims' local spacing alone).
+  std::vector<std::vector<double>> inputs;
+  for (const std::uint64_t seed : {7u, 8u, 9u})
+    inputs.push_back(test::makeSyntheticTerrain(seed).xyz);
+  inputs.push_back(test::generatePoints(test::Distribution::BIG_VOIDS, 20000, 3));
+  inputs.push_back(test::generatePoints(test::Distribution::CLUSTERED, 20000, 4));
+  std::size_t filled = 0;
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    for (const double limit : {0.0, HOLE_LIMIT}) {
+      SCOPED_TRACE(std::to_string(i) + " limit " + std::to_string(limit));
+      const test::PipelineRun run = test::runPipeline(inputs[i]);
+      ASSERT_TRUE(run.status.ok()) << run.status.toString();
+      ReconstructionOptions options;
+      options.fill_options.max_hole_area = limit;
+      TriangleMesh together = run.result.mesh;
+      ReconstructionDiagnostics diagnostics;
+      ASSERT_TRUE(reconstructSurface(together, options, diagnostics).ok());
+
+      TriangleMesh apart = run.result.mesh;
+      TrimResult trimmed;
+      ASSERT_TRUE(trimOutwardTriangles(apart, options.trim_options, trimmed).ok());
+      FillResult result;
+      ASSERT_TRUE(fillHoles(apart, options.fill_options, result).ok());
+      EXPECT_EQ(together.triangles, apart.triangles);
+      EXPECT_EQ(together.halfedges, apart.halfedges);
+      EXPECT_EQ(together.z, apart.z);
+      ASSERT_EQ(together.xy.size(), apart.xy.size());
+      for (std::size_t v = 0; v < apart.xy.size(); ++v)
+        ASSERT_TRUE(together.xy[v].x == apart.xy[v].x &&
+                    together.xy[v].y == apart.xy[v].y)
+            << "vertex " << v;
+      EXPECT_EQ(diagnostics.fill.inserted, result.inserted);
+      EXPECT_EQ(diagnostics.fill.max_hole_area, result.max_hole_area);
+      EXPECT_EQ(diagnostics.fill.holes_found, result.holes_found);
+      EXPECT_EQ(diagnostics.trim.spacing, trimmed.spacing);
+      filled += result.holes_filled;
+    }
+  EXPECT_GT(filled, 10u);
+}
+
 } // namespace
 } // namespace pcl_vts

@@ -51,6 +51,12 @@ struct PCL_VTS_CORE_EXPORT BoundaryLoops {
 PCL_VTS_CORE_EXPORT Status findBoundaryLoops(const TriangleMesh& mesh,
                                              BoundaryLoops& loops);
 
+/// The loops of findBoundaryLoops without the pieces (component 0, is_outer false):
+/// one pass over the halfedges and one walk per loop, for callers that tell holes by
+/// the sign of twice_area alone (hole filling).
+PCL_VTS_CORE_EXPORT Status traceBoundaryLoops(const TriangleMesh& mesh,
+                                              std::vector<BoundaryLoop>& loops);
+
 /// Next twin-less halfedge after boundary halfedge e along its loop: rotates around
 /// the end vertex of e inside e's fan. Precondition: halfedges[e] == INVALID_ID.
 /// Returns INVALID_ID if the rotation does not reach a boundary halfedge within the

@@ -1,0 +1,49 @@
+// The spacing handed from the trim to the fill inside reconstructSurface (internal to
+// the core): the fill needs the trimmed mesh's spacing, which differs from the
+// trim's only at the corners of removed triangles, so those are measured again
+// instead of the whole mesh. Every figure equals measurePointSpacing's on the
+// trimmed mesh (point_spacing.h).
+#pragma once
+
+#include <pcl_vts/core/fill_holes.h>
+#include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/core/point_spacing.h>
+#include <pcl_vts/core/trim_outward_triangles.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace pcl_vts::detail {
+
+/// Per vertex, the median length of its edges (0 without triangle), and their
+/// median over the vertices with triangles (PointSpacing::global_median).
+struct VertexSpacing {
+  std::vector<double> own;
+  double global_median = 0.0;
+};
+
+/// measurePointSpacing, also giving each vertex's own median (own may be null).
+PointSpacing measurePointSpacing(const TriangleMesh& mesh,
+                                 const std::vector<bool>* local_for,
+                                 std::vector<double>* own);
+
+/// Measures own[v] again on mesh for every vertex flagged in `changed` (0 for one
+/// left without triangles); the others keep theirs.
+void remeasureOwnSpacing(const TriangleMesh& mesh, const std::vector<bool>& changed,
+                         std::vector<double>& own);
+
+/// The upper median of own over the vertices flagged in `has_triangle`.
+double medianOverUsed(const std::vector<double>& own,
+                      const std::vector<bool>& has_triangle);
+
+/// trimOutwardTriangles; with `after`, also the trimmed mesh's VertexSpacing.
+Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
+                            TrimResult& result, VertexSpacing* after);
+
+/// fillHolesOfPart; with `spacing` (the mesh's own VertexSpacing), the local
+/// spacing at hole rims is read from it instead of measuring the whole mesh.
+Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
+                       const MeshPart* part, const VertexSpacing* spacing,
+                       FillResult& result);
+
+} // namespace pcl_vts::detail
