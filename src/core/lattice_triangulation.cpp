@@ -147,7 +147,8 @@ struct Lattice {
   /// Per cell ((nx - 1) * (ny - 1), row-major): its rank among the complete cells
   /// of its row, INVALID_ID when a corner is missing.
   std::vector<std::uint32_t> cell_rank;
-  std::vector<std::size_t> row_start; ///< complete cells before each cell row
+  std::vector<std::size_t> row_start;  ///< complete cells before each cell row
+  std::vector<std::size_t> incomplete; ///< the other cells, sorted
 
   std::size_t position(std::uint32_t i, std::uint32_t j) const
   {
@@ -157,6 +158,7 @@ struct Lattice {
   {
     return static_cast<std::size_t>(j) * (nx - 1) + i;
   }
+  bool present(std::size_t p) const { return vertex_at[p] != INVALID_ID; }
   bool complete(std::uint32_t i, std::uint32_t j) const
   {
     return cell_rank[cell(i, j)] != INVALID_ID;
@@ -176,16 +178,24 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
 {
   Diagnostics& diag = result.diagnostics;
   ValueTable xt, yt;
-  // Provisional (first-appearance) ids, then the position code in ix.
-  std::vector<std::uint32_t> ix(n), iy(n);
+  // Pass 1: the distinct values, giving up early on scattered points.
   double last_x = std::nan(""), last_y = std::nan("");
   std::uint32_t id_x = 0, id_y = 0;
   std::size_t finite = 0, dropped = 0;
   const std::size_t limit = LATTICE_FILL_FACTOR * n;
+  // Raster order: the value is usually the last one or the one after it.
+  const auto lookup = [](ValueTable& table, double v, std::uint32_t& id) {
+    if (id + 1 < table.size() && table.value(id + 1) == v) {
+      ++id;
+      return false;
+    }
+    const std::uint32_t before = table.size();
+    id = table.idOf(v);
+    return table.size() != before;
+  };
   for (std::size_t k = 0; k < n; ++k) {
     const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
-      ix[k] = INVALID_ID;
       ++dropped;
       continue;
     }
@@ -193,32 +203,18 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
       return false;
     ++finite;
     bool grew = false;
-    if (!(x == last_x)) { // raster order: usually the value after the last one
+    if (!(x == last_x)) {
       last_x = x;
-      if (id_x + 1 < xt.size() && xt.value(id_x + 1) == x) {
-        ++id_x;
-      } else {
-        const std::uint32_t before = xt.size();
-        id_x = xt.idOf(x);
-        grew = xt.size() != before;
-      }
+      grew = lookup(xt, x, id_x);
     }
     if (!(y == last_y)) {
       last_y = y;
-      if (id_y + 1 < yt.size() && yt.value(id_y + 1) == y) {
-        ++id_y;
-      } else {
-        const std::uint32_t before = yt.size();
-        id_y = yt.idOf(y);
-        grew = grew || yt.size() != before;
-      }
+      grew = lookup(yt, y, id_y) || grew;
     }
     if (grew &&
         static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size()) >
             limit)
       return false; // scattered: stops after about sqrt(8 n) points
-    ix[k] = id_x;
-    iy[k] = id_y;
   }
   const std::size_t positions =
       static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size());
@@ -235,26 +231,52 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   if (extent < MIN_EXTENT)
     return false;
 
-  // Representatives per position (the input index), then vertex ids in place.
+  // Pass 2: the position of every point (in input_to_vertex for now) and the
+  // representative input point of every position.
+  std::vector<std::uint32_t>& code = result.input_to_vertex;
+  code.resize(n);
   std::vector<std::uint32_t>& slot = lat.vertex_at;
   slot.assign(positions, INVALID_ID);
+  // Sorted ranks, predicted from the last one (rows may come top down).
+  const auto rankOf = [](ValueTable& table, const std::vector<std::uint32_t>& rank,
+                         const std::vector<double>& sorted, double v,
+                         std::uint32_t& r) {
+    if (r + 1 < sorted.size() && sorted[r + 1] == v)
+      ++r;
+    else if (r > 0 && sorted[r - 1] == v)
+      --r;
+    else
+      r = rank[table.idOf(v)];
+  };
   std::size_t merged = 0;
+  std::uint32_t r_x = 0, r_y = 0;
+  last_x = last_y = std::nan("");
   for (std::size_t k = 0; k < n; ++k) {
-    if (ix[k] == INVALID_ID)
+    const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
+      code[k] = INVALID_ID;
       continue;
-    const auto p =
-        static_cast<std::uint32_t>(lat.position(rank_x[ix[k]], rank_y[iy[k]]));
-    ix[k] = p;
+    }
+    if (!(x == last_x)) {
+      last_x = x;
+      rankOf(xt, rank_x, lat.xs, x, r_x);
+    }
+    if (!(y == last_y)) {
+      last_y = y;
+      rankOf(yt, rank_y, lat.ys, y, r_y);
+    }
+    const auto p = static_cast<std::uint32_t>(lat.position(r_x, r_y));
+    code[k] = p;
     std::uint32_t& s = slot[p];
     if (s == INVALID_ID) {
       s = static_cast<std::uint32_t>(k);
     } else {
       ++merged;
-      if (replaces(options.duplicate_rule, xyz[3 * k + 2], xyz[3 * s + 2]))
+      if (replaces(options.duplicate_rule, h, xyz[3 * static_cast<std::size_t>(s) + 2]))
         s = static_cast<std::uint32_t>(k);
     }
   }
-  std::vector<std::uint32_t>().swap(iy);
+  // Vertex ids in lattice order, in place; then each input's vertex.
   std::vector<std::uint32_t>& source = result.source_index;
   source.reserve(finite - merged);
   for (std::uint32_t& s : slot)
@@ -263,10 +285,9 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
       s = static_cast<VertexId>(source.size() - 1);
     }
   const std::size_t nv = source.size();
-  result.input_to_vertex.resize(n);
-  for (std::size_t k = 0; k < n; ++k)
-    result.input_to_vertex[k] = ix[k] == INVALID_ID ? INVALID_ID : slot[ix[k]];
-  std::vector<std::uint32_t>().swap(ix);
+  for (std::uint32_t& c : code)
+    if (c != INVALID_ID)
+      c = slot[c];
 
   TriangleMesh& mesh = result.mesh;
   mesh.xy.resize(nv);
@@ -366,13 +387,14 @@ Status latticeHull(const Lattice& lat, std::vector<VertexId>& hull)
   return Status::success();
 }
 
-/// Ranks of the complete cells per row, and the row offsets.
+/// Ranks of the complete cells per row, the row offsets, the incomplete cells.
 void rankCompleteCells(Lattice& lat, unsigned threads)
 {
   const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
   lat.cell_rank.assign(static_cast<std::size_t>(cx) * cy, INVALID_ID);
   lat.row_start.assign(static_cast<std::size_t>(cy) + 1, 0);
-  parallelChunks(threads, cy, [&](std::size_t begin, std::size_t end, unsigned) {
+  std::vector<std::vector<std::size_t>> incomplete(std::max(1u, threads));
+  parallelChunks(threads, cy, [&](std::size_t begin, std::size_t end, unsigned t) {
     for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j) {
       const VertexId* below = &lat.vertex_at[lat.position(0, j)];
       const VertexId* above = below + lat.nx;
@@ -381,11 +403,15 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
         if (below[i] != INVALID_ID && below[i + 1] != INVALID_ID &&
             above[i] != INVALID_ID && above[i + 1] != INVALID_ID)
           lat.cell_rank[lat.cell(i, j)] = count++;
+        else
+          incomplete[t].push_back(lat.cell(i, j));
       lat.row_start[j + 1] = count;
     }
   });
   for (std::uint32_t j = 0; j < cy; ++j)
     lat.row_start[j + 1] += lat.row_start[j];
+  for (const std::vector<std::size_t>& part : incomplete) // chunks in row order
+    lat.incomplete.insert(lat.incomplete.end(), part.begin(), part.end());
 }
 
 /// The two triangles of every complete cell, with the twins among them; the
@@ -441,13 +467,6 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
     open.insert(open.end(), part.begin(), part.end());
 }
 
-/// Position marks for the fringe.
-enum Mark : std::uint8_t {
-  ABSENT = 0,
-  PRESENT = 1, ///< a point not in I
-  IN_I = 2     ///< a point touching an incomplete cell
-};
-
 class Fringe {
  public:
   Fringe(const Lattice& lat, const TriangleMesh& mesh, const VtsOptions& options,
@@ -474,8 +493,15 @@ class Fringe {
     Status status;
   };
 
-  void markI();
   void labelPieces(std::vector<Piece>& pieces);
+  /// The piece of an I position, INVALID_ID for any other position.
+  std::uint32_t labelOf(std::size_t p) const
+  {
+    const auto it = std::lower_bound(i_.begin(), i_.end(), p);
+    return it != i_.end() && *it == p
+               ? label_[static_cast<std::size_t>(it - i_.begin())]
+               : INVALID_ID;
+  }
   void solve(Piece& piece) const;
   static bool inPiece(const Piece& piece, std::size_t p)
   {
@@ -494,38 +520,9 @@ class Fringe {
   const TriangleMesh& mesh_;
   const VtsOptions& options_;
   unsigned threads_;
-  std::vector<std::uint8_t> mark_;
-  std::vector<std::uint32_t> label_; ///< piece of each position of I, else INVALID_ID
-  std::vector<std::size_t> i_;       ///< positions in I
+  std::vector<std::size_t> i_;       ///< positions in I, sorted
+  std::vector<std::uint32_t> label_; ///< the piece of each i_
 };
-
-void Fringe::markI()
-{
-  const std::uint32_t nx = lat_.nx, ny = lat_.ny;
-  mark_.assign(lat_.vertex_at.size(), ABSENT);
-  // A cell beyond the border is no gap when the vertex's cells inside are complete:
-  // its neighbours along the border are then present, every point lies on the inner
-  // side of the border line, and those cells cover all of the hull around it.
-  const auto gap = [&](std::uint32_t i, std::uint32_t j, bool inside) {
-    return inside && !lat_.complete(i, j);
-  };
-  parallelChunks(threads_, ny, [&](std::size_t begin, std::size_t end, unsigned) {
-    for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j)
-      for (std::uint32_t i = 0; i < nx; ++i) {
-        const std::size_t p = lat_.position(i, j);
-        if (lat_.vertex_at[p] == INVALID_ID)
-          continue;
-        const bool left = i > 0, right = i + 1 < nx, below = j > 0, above = j + 1 < ny;
-        mark_[p] = gap(i - 1, j - 1, left && below) || gap(i, j - 1, right && below) ||
-                           gap(i - 1, j, left && above) || gap(i, j, right && above)
-                       ? IN_I
-                       : PRESENT;
-      }
-  });
-  for (std::size_t p = 0; p < mark_.size(); ++p)
-    if (mark_[p] == IN_I)
-      i_.push_back(p);
-}
 
 void Fringe::ring(std::size_t p, std::vector<std::size_t>& out) const
 {
@@ -537,7 +534,7 @@ void Fringe::ring(std::size_t p, std::vector<std::size_t>& out) const
                       j1 = std::min(lat_.ny - 1, j + std::min(r, lat_.ny));
   for (std::uint32_t jj = j0; jj <= j1; ++jj)
     for (std::uint32_t ii = i0; ii <= i1; ++ii)
-      if (const std::size_t q = lat_.position(ii, jj); mark_[q] != ABSENT)
+      if (const std::size_t q = lat_.position(ii, jj); lat_.present(q))
         out.push_back(q);
 }
 
@@ -546,13 +543,32 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
   // Pieces: the 8-connected components of the incomplete cells (sharing an edge or
   // a corner). A fringe triangle's interior lies in the incomplete cells (the
   // complete ones are covered by their own triangles) and is connected, so it lies
-  // in one component, and its vertices are corners of that component's cells.
+  // in one component, and its vertices are corners of that component's cells. I is
+  // the set of their present corners: the vertices with an incomplete cell (on the
+  // lattice border, cells beyond it do not count: the border vertex's cells inside
+  // being complete, its neighbours along the border are present, every point lies
+  // on the inner side of the border line, and those cells cover the hull around it).
+  const std::vector<std::size_t>& cells = lat_.incomplete;
   const std::uint32_t cx = lat_.nx - 1, cy = lat_.ny - 1;
-  std::vector<std::uint32_t> cell_label(lat_.cell_rank.size(), INVALID_ID);
-  label_.assign(mark_.size(), INVALID_ID);
+  std::vector<std::uint32_t> cell_label(cells.size(), INVALID_ID);
+  // Index of an incomplete cell in `cells`: a table over all cells when they are
+  // many (large NODATA areas), else a bisection.
+  std::vector<std::uint32_t> dense;
+  if (cells.size() > lat_.cell_rank.size() / 16) {
+    dense.assign(lat_.cell_rank.size(), INVALID_ID);
+    for (std::size_t k = 0; k < cells.size(); ++k)
+      dense[cells[k]] = static_cast<std::uint32_t>(k);
+  }
+  const auto index = [&](std::size_t c) {
+    return dense.empty()
+               ? static_cast<std::size_t>(
+                     std::lower_bound(cells.begin(), cells.end(), c) - cells.begin())
+               : static_cast<std::size_t>(dense[c]);
+  };
+  std::vector<std::pair<std::size_t, std::uint32_t>> corners;
   std::vector<std::size_t> stack;
-  for (std::size_t seed = 0; seed < cell_label.size(); ++seed) {
-    if (lat_.cell_rank[seed] != INVALID_ID || cell_label[seed] != INVALID_ID)
+  for (std::size_t seed = 0; seed < cells.size(); ++seed) {
+    if (cell_label[seed] != INVALID_ID)
       continue;
     const auto label = static_cast<std::uint32_t>(pieces.size());
     pieces.emplace_back();
@@ -560,26 +576,34 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
     cell_label[seed] = label;
     stack.push_back(seed);
     while (!stack.empty()) {
-      const std::size_t c = stack.back();
+      const std::size_t c = cells[stack.back()];
       stack.pop_back();
       const auto i = static_cast<std::uint32_t>(c % cx),
                  j = static_cast<std::uint32_t>(c / cx);
       for (const std::size_t q : {lat_.position(i, j), lat_.position(i + 1, j),
                                   lat_.position(i, j + 1), lat_.position(i + 1, j + 1)})
-        if (mark_[q] != ABSENT)
-          label_[q] = label;
+        if (lat_.present(q))
+          corners.emplace_back(q, label);
       for (std::uint32_t jj = j > 0 ? j - 1 : 0; jj <= std::min(cy - 1, j + 1); ++jj)
         for (std::uint32_t ii = i > 0 ? i - 1 : 0; ii <= std::min(cx - 1, i + 1); ++ii)
-          if (const std::size_t d = lat_.cell(ii, jj);
-              lat_.cell_rank[d] == INVALID_ID && cell_label[d] == INVALID_ID) {
-            cell_label[d] = label;
-            stack.push_back(d);
-          }
+          if (const std::size_t d = lat_.cell(ii, jj); lat_.cell_rank[d] == INVALID_ID)
+            if (const std::size_t k = index(d); cell_label[k] == INVALID_ID) {
+              cell_label[k] = label;
+              stack.push_back(k);
+            }
     }
   }
-  // S of a piece: its I (the present corners of its cells) and their ring.
-  for (const std::size_t p : i_)
-    ring(p, pieces[label_[p]].s);
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  i_.reserve(corners.size());
+  label_.reserve(corners.size());
+  for (const auto& [p, label] : corners) {
+    i_.push_back(p);
+    label_.push_back(label);
+  }
+  // S of a piece: its I and their ring.
+  for (std::size_t k = 0; k < i_.size(); ++k)
+    ring(i_[k], pieces[label_[k]].s);
   for (Piece& piece : pieces) {
     std::sort(piece.s.begin(), piece.s.end());
     piece.s.erase(std::unique(piece.s.begin(), piece.s.end()), piece.s.end());
@@ -638,7 +662,7 @@ void Fringe::pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& 
     }
     const std::size_t row = lat_.position(0, j);
     for (std::uint32_t i = i0; i < i1; ++i)
-      if (mark_[row + i] != ABSENT && !inPiece(piece, row + i) &&
+      if (lat_.present(row + i) && !inPiece(piece, row + i) &&
           incircle(a, b, c, {lat_.xs[i], lat_.ys[j]}) != Sign::NEGATIVE)
         inside.push_back(row + i);
   }
@@ -687,9 +711,8 @@ void Fringe::solve(Piece& piece) const
       const std::array<std::size_t, 3> p = {all[sub.source_index[tri[t]]],
                                             all[sub.source_index[tri[t + 1]]],
                                             all[sub.source_index[tri[t + 2]]]};
-      if (mark_[p[0]] != IN_I || mark_[p[1]] != IN_I || mark_[p[2]] != IN_I ||
-          label_[p[0]] != piece.label || label_[p[1]] != piece.label ||
-          label_[p[2]] != piece.label || isCellTriangle(p))
+      if (labelOf(p[0]) != piece.label || labelOf(p[1]) != piece.label ||
+          labelOf(p[2]) != piece.label || isCellTriangle(p))
         continue; // another piece's, or not a candidate
       const std::size_t before = inside.size();
       pointsInDisk(piece, p, inside);
@@ -716,11 +739,10 @@ void Fringe::solve(Piece& piece) const
 Status Fringe::triangulate(std::vector<std::array<VertexId, 3>>& found,
                            Diagnostics& diag)
 {
-  markI();
-  if (i_.empty())
-    return Status::success(); // every vertex has its star in complete cells
   std::vector<Piece> pieces;
   labelPieces(pieces);
+  if (pieces.empty())
+    return Status::success(); // every vertex has its star in complete cells
   // Pieces are independent: any thread order gives the same pieces' results.
   parallelChunks(threads_, pieces.size(),
                  [&](std::size_t begin, std::size_t end, unsigned) {

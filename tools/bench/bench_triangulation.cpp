@@ -314,12 +314,14 @@ int main(int argc, char** argv)
     std::snprintf(buffer, sizeof buffer,
                   ",\"grid_s\":%.4f,\"hull_s\":%.4f,\"triangulate_s\":%.4f,"
                   "\"cells_per_search\":%.2f,\"points_per_search\":%.2f,"
-                  "\"widened_share\":%.5f,\"lattice\":%s,\"fringe_points\":%zu",
+                  "\"widened_share\":%.5f,\"lattice\":%s,\"fringe_points\":%zu,"
+                  "\"fringe_rounds\":%zu",
                   d.seconds_grid, d.seconds_hull, d.seconds_triangulate,
                   static_cast<double>(d.cells_visited) / searches,
                   static_cast<double>(d.points_tested) / searches,
                   static_cast<double>(d.widened_searches) / searches,
-                  d.lattice_columns > 0 ? "true" : "false", d.lattice_fringe_points);
+                  d.lattice_columns > 0 ? "true" : "false", d.lattice_fringe_points,
+                  d.lattice_fringe_rounds);
     stages = buffer;
   } else {
     // Range insertion: CGAL spatially sorts first, its fastest use.

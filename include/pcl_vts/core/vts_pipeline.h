@@ -54,7 +54,7 @@ struct VtsOptions {
   /// the points near missing cells before they are triangulated (section 7). A
   /// tuning and testing knob: the triangulation is the same for every value, only
   /// the number of rounds changes.
-  std::uint32_t lattice_ring = 2;
+  std::uint32_t lattice_ring = 1;
 };
 
 /// Checks every option; the message names the offending value.
