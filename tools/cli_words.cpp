@@ -3,6 +3,10 @@
 #include "cli_words.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 
 namespace pcl_vts {
 namespace tools {
@@ -27,6 +31,35 @@ bool parseLasReturnFilter(const std::string& word, LasReturnFilter& filter)
       return true;
     }
   return false;
+}
+
+bool parseFiniteNumber(const std::string& text, double& value)
+{
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0])))
+    return false;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (*end != '\0' || errno == ERANGE || !std::isfinite(v))
+    return false;
+  value = v;
+  return true;
+}
+
+bool parseNumberList(const std::string& text, std::size_t count,
+                     std::vector<double>& numbers)
+{
+  numbers.clear();
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = text.find(',', start);
+    double v = 0.0;
+    if (!parseFiniteNumber(text.substr(start, comma - start), v))
+      return false;
+    numbers.push_back(v);
+    if (comma == std::string::npos)
+      return numbers.size() == count;
+    start = comma + 1;
+  }
 }
 
 bool parseClassList(const std::string& text, std::vector<std::uint8_t>& classes,

@@ -6,6 +6,7 @@
 #include <pcl_vts/core/merge_duplicates.h>
 #include <pcl_vts/io/las_reader.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,6 +20,13 @@ bool parseDuplicateRule(const std::string& word, DuplicateRule& rule);
 
 /// "all" | "first" | "last" (lasReturnFilterName's words); false on anything else.
 bool parseLasReturnFilter(const std::string& word, LasReturnFilter& filter);
+
+/// The whole text is one finite number (strtod's syntax, no leading blank).
+bool parseFiniteNumber(const std::string& text, double& value);
+
+/// Exactly `count` comma-separated finite numbers ("X0,Y0,X1,Y1").
+bool parseNumberList(const std::string& text, std::size_t count,
+                     std::vector<double>& numbers);
 
 /// A classification list "2" or "2,9", each code 0-255, repeats kept once, in order.
 /// False with error naming the bad item ("'300' in '2,300' is not a class code ...").

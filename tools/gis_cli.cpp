@@ -1,4 +1,5 @@
 // See gis_cli.h. The GDAL half compiles only with PCL_VTS_HAVE_GIS (pcl_vts::gis).
+#include "cli_words.h"
 #include "command_line.h"
 #include "gis_cli.h"
 
@@ -11,7 +12,9 @@
 #include <ogr_spatialref.h>
 #endif
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 namespace pcl_vts::tools {
 
@@ -97,8 +100,42 @@ GisCli& GisCli::operator=(const GisCli& o)
 bool GisCli::parse(const std::string& name, const std::string& value,
                    std::string& error)
 {
-  bool handled = false;
-  return parseGisOption(name, value, impl_->options, handled, error) && handled;
+  GisOutputOptions& o = impl_->options;
+  if (name == "--dem")
+    o.dem = value;
+  else if (name == "--hillshade")
+    o.hillshade = value;
+  else if (name == "--contours")
+    o.contours = value;
+  else if (name == "--crs")
+    o.crs = value;
+  else if (name == "--dem-overviews")
+    o.overviews = true;
+  else if (name == "--resolution" || name == "--interval") {
+    double v = 0.0;
+    if (!parseFiniteNumber(value, v) || !(v > 0.0)) {
+      error = name + ": '" + value + "' is not a positive number";
+      return false;
+    }
+    (name == "--resolution" ? o.resolution : o.interval) = v;
+  } else if (name == "--contour-base") {
+    if (!parseFiniteNumber(value, o.contour_base)) {
+      error = name + ": '" + value + "' is not a number";
+      return false;
+    }
+  } else if (name == "--dem-bounds") {
+    std::vector<double> n;
+    if (!parseNumberList(value, 4, n)) {
+      error = "--dem-bounds: '" + value + "' is not X0,Y0,X1,Y1";
+      return false;
+    }
+    std::copy(n.begin(), n.end(), o.bounds);
+    o.bounds_given = true;
+  } else {
+    error = "internal: '" + name + "' is not a GIS option";
+    return false;
+  }
+  return true;
 }
 
 bool GisCli::anyProduct() const

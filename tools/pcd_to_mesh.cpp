@@ -159,37 +159,16 @@ void printHelp()
       describeOptions(unused).help().c_str());
 }
 
-/// Strict: the whole text is one finite number >= 0 (PCL's parse_argument is not).
 /// Exactly `expected` comma-separated finite numbers for option `name`.
 bool parseNumberList(const std::string& name, const std::string& text,
                      std::size_t expected, std::vector<double>& numbers,
                      std::string& error)
 {
-  numbers.clear();
-  std::size_t start = 0;
-  for (;;) {
-    const std::size_t comma = text.find(',', start);
-    const std::string item = text.substr(start, comma - start);
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(item.c_str(), &end);
-    if (item.empty() || std::isspace(static_cast<unsigned char>(item[0])) ||
-        *end != '\0' || errno == ERANGE || !std::isfinite(v)) {
-      error = name + ": '" + text + "' is not " + std::to_string(expected) +
-              " comma-separated numbers";
-      return false;
-    }
-    numbers.push_back(v);
-    if (comma == std::string::npos)
-      break;
-    start = comma + 1;
-  }
-  if (numbers.size() != expected) {
-    error = name + ": '" + text + "' is not " + std::to_string(expected) +
-            " comma-separated numbers";
-    return false;
-  }
-  return true;
+  if (pcl_vts::tools::parseNumberList(text, expected, numbers))
+    return true;
+  error = name + ": '" + text + "' is not " + std::to_string(expected) +
+          " comma-separated numbers";
+  return false;
 }
 
 /// A finite number >= 0 (or > 0 when zero_meaning is null) for option `name`.

@@ -52,16 +52,6 @@ std::string tempPath(const std::string& path, const std::string& ext)
   return dir + "." + name + ".tmp." + std::to_string(::getpid()) + ext;
 }
 
-bool parseNumber(const std::string& text, double& value)
-{
-  if (text.empty())
-    return false;
-  char* end = nullptr;
-  errno = 0;
-  value = std::strtod(text.c_str(), &end);
-  return errno == 0 && end && *end == '\0' && std::isfinite(value);
-}
-
 Status ioError(const std::string& what)
 {
   return Status::error(StatusCode::IO_ERROR, what + lastGdalError());
@@ -73,51 +63,6 @@ struct DatasetCloser {
 using DatasetPtr = std::unique_ptr<GDALDataset, DatasetCloser>;
 
 } // namespace
-
-bool parseGisOption(const std::string& name, const std::string& value,
-                    GisOutputOptions& options, bool& handled, std::string& error)
-{
-  handled = true;
-  if (name == "--dem")
-    options.dem = value;
-  else if (name == "--hillshade")
-    options.hillshade = value;
-  else if (name == "--contours")
-    options.contours = value;
-  else if (name == "--crs")
-    options.crs = value;
-  else if (name == "--dem-overviews")
-    options.overviews = true;
-  else if (name == "--resolution" || name == "--interval") {
-    double v = 0.0;
-    if (!parseNumber(value, v) || !(v > 0.0)) {
-      error = name + ": '" + value + "' is not a positive number";
-      return false;
-    }
-    (name == "--resolution" ? options.resolution : options.interval) = v;
-  } else if (name == "--contour-base") {
-    if (!parseNumber(value, options.contour_base)) {
-      error = name + ": '" + value + "' is not a number";
-      return false;
-    }
-  } else if (name == "--dem-bounds") {
-    std::size_t start = 0;
-    for (int i = 0; i < 4; ++i) {
-      const std::size_t comma = value.find(',', start);
-      const std::string item = value.substr(
-          start, comma == std::string::npos ? std::string::npos : comma - start);
-      if (!parseNumber(item, options.bounds[i]) ||
-          (i < 3) == (comma == std::string::npos)) {
-        error = "--dem-bounds: '" + value + "' is not X0,Y0,X1,Y1";
-        return false;
-      }
-      start = comma + 1;
-    }
-    options.bounds_given = true;
-  } else
-    handled = false;
-  return true;
-}
 
 Status validateGisOptions(const GisOutputOptions& o)
 {

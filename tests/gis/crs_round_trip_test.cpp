@@ -375,6 +375,37 @@ TEST_F(CrsRoundTrip, PrjSidecarOverrideAndConflict)
   EXPECT_NE(err.find("--crs"), std::string::npos) << err;
 }
 
+TEST_F(CrsRoundTrip, BadGisOptionValuesAreUsageErrorsNamingTheOption)
+{
+  std::string xyz;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i)
+      xyz += std::to_string(i) + " " + std::to_string(j) + " 1\n";
+  write("a.xyz", xyz);
+  const char* const bad[][2] = {
+      {"--resolution -1", "--resolution: '-1' is not a positive number"},
+      {"--resolution 1e999", "--resolution: '1e999' is not a positive number"},
+      {"--interval x", "--interval: 'x' is not a positive number"},
+      {"--contour-base 2m", "--contour-base: '2m' is not a number"},
+      {"--dem-bounds 1,2,3", "--dem-bounds: '1,2,3' is not X0,Y0,X1,Y1"},
+      {"--dem-bounds 1,2,3,4,5", "--dem-bounds: '1,2,3,4,5' is not X0,Y0,X1,Y1"},
+      {"--dem-bounds 0,0,10.2,5 --dem d.tif --resolution 1", "--dem-bounds"},
+  };
+  for (const auto& c : bad) {
+    SCOPED_TRACE(c[0]);
+    std::string err;
+    EXPECT_EQ(run(std::string("a.xyz m.ply ") + c[0], &err), 1);
+    EXPECT_NE(err.find(c[1]), std::string::npos) << err;
+  }
+  std::string err;
+  ASSERT_EQ(run("a.xyz m.ply --dem d.tif --resolution 1 --dem-bounds -1,0,2,3 "
+                "--contour-base -0.5",
+                &err),
+            0)
+      << err;
+  EXPECT_TRUE(std::ifstream(root() + "/d.tif").good()) << "the DEM of the given bounds";
+}
+
 TEST_F(CrsRoundTrip, RealLasFilesDeclareTheirCrs)
 {
   // Publishers' files (PDAL's test data): a WKT record, GeoTIFF keys, none.

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pcl_vts {
@@ -62,6 +63,29 @@ TEST(CliWords, ClassListTakesCommaSeparatedCodesOnce)
     EXPECT_NE(error.find("is not a class code 0-255"), std::string::npos) << error;
     EXPECT_NE(error.find("'" + std::string(bad) + "'"), std::string::npos) << error;
   }
+}
+
+TEST(CliWords, NumbersAreWholeFiniteTexts)
+{
+  double v = 7.0;
+  for (const auto& [text, value] : std::vector<std::pair<const char*, double>>{
+           {"0", 0.0}, {"-2.5", -2.5}, {"1e3", 1000.0}, {"0x10", 16.0}, {".5", 0.5}}) {
+    ASSERT_TRUE(parseFiniteNumber(text, v)) << text;
+    EXPECT_EQ(v, value) << text;
+  }
+  v = 7.0;
+  for (const char* bad : {"", " 1", "1 ", "2m", "inf", "nan", "1e999", "-", "1,2"})
+    EXPECT_FALSE(parseFiniteNumber(bad, v)) << bad;
+  EXPECT_EQ(v, 7.0) << "a refused text changes nothing";
+
+  std::vector<double> n;
+  ASSERT_TRUE(parseNumberList("0,-1.5,10,5e1", 4, n));
+  EXPECT_EQ(n, (std::vector<double>{0.0, -1.5, 10.0, 50.0}));
+  ASSERT_TRUE(parseNumberList("3", 1, n));
+  EXPECT_EQ(n, std::vector<double>{3.0});
+  for (const char* bad : {"1,2,3", "1,2,3,4,5", "1,2,,4", "1,2,3,", ",1,2,3", "1,2,3,x",
+                          "1;2;3;4", "1, 2,3,4"})
+    EXPECT_FALSE(parseNumberList(bad, 4, n)) << bad;
 }
 
 /// argv for CommandLine::parse from words, the program name first.

@@ -4,10 +4,8 @@
 #include "compare_options.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <sstream>
 
 namespace pcl_vts {
@@ -26,12 +24,7 @@ std::string shown(double value)
 bool parseNumber(const std::string& name, const std::string& text, double lo, double hi,
                  double& value, std::string& error)
 {
-  char* end = nullptr;
-  errno = 0;
-  value = std::strtod(text.c_str(), &end);
-  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0])) ||
-      *end != '\0' || errno == ERANGE || !std::isfinite(value) || value < lo ||
-      value > hi) {
+  if (!pcl_vts::tools::parseFiniteNumber(text, value) || value < lo || value > hi) {
     std::ostringstream out;
     out << name << ": '" << text << "' is not a number in [" << lo << ", " << hi << "]";
     error = out.str();

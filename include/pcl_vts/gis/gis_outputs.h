@@ -35,14 +35,6 @@ struct GisOutputOptions {
   bool any() const { return !dem.empty() || !contours.empty(); }
 };
 
-/// Parses one of --dem, --resolution, --dem-bounds, --dem-overviews, --hillshade,
-/// --contours, --interval, --contour-base, --crs into options.
-/// \return false, with error set, for a bad value; `handled` false for another name.
-PCL_VTS_GIS_EXPORT bool parseGisOption(const std::string& name,
-                                       const std::string& value,
-                                       GisOutputOptions& options, bool& handled,
-                                       std::string& error);
-
 /// Checks the combination (--resolution with --dem, --interval with --contours, the
 /// extensions, --crs parses). INVALID_PARAMETER naming the problem.
 PCL_VTS_GIS_EXPORT Status validateGisOptions(const GisOutputOptions& options);
