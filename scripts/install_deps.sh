@@ -11,7 +11,7 @@ PACKAGES=(
   libcgal-dev libgmp-dev libmpfr-dev   # the Delaunay oracle in tests and benchmarks
   libboost-program-options-dev   # the command lines of pcd_to_mesh and compare_methods
   libgtest-dev
-  clang-format
+  clang-format clang-tidy   # .ci/run: the format check, clang-tidy on changed files
   clang libclang-rt-14-dev   # libFuzzer + ASan/UBSan runtimes: the reader fuzzers in ctest
   time                  # peak-memory figures in make bench
   gnuplot-nox           # make bench: docs/img/bench_ns_per_point.png

@@ -35,7 +35,7 @@ using test::PipelineRun;
 using test::runPipeline;
 using test::trianglesByPosition;
 
-constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double QUIET_NAN = std::numeric_limits<double>::quiet_NaN();
 constexpr double INF = std::numeric_limits<double>::infinity();
 
 // ---- Property tests over generators x sizes x seeds ---------------------------------
@@ -273,9 +273,9 @@ TEST(VtsPipeline, NonFinitePointsAreDroppedAndCounted)
 {
   std::vector<double> xyz = test::generatePoints(Distribution::UNIFORM, 500, 3);
   const std::size_t bad[] = {0, 17, 18, 250, 499};
-  xyz[3 * bad[0]] = NaN;
+  xyz[3 * bad[0]] = QUIET_NAN;
   xyz[3 * bad[1] + 1] = INF;
-  xyz[3 * bad[2] + 2] = NaN; // z alone is enough to drop a point
+  xyz[3 * bad[2] + 2] = QUIET_NAN; // z alone is enough to drop a point
   xyz[3 * bad[3]] = -INF;
   xyz[3 * bad[4] + 2] = INF;
   const PipelineRun run = runPipeline(xyz);
@@ -310,7 +310,8 @@ TEST(VtsPipelineErrors, EmptyInput)
 
 TEST(VtsPipelineErrors, AllNonFiniteIsEmptyInput)
 {
-  const std::vector<double> xyz = {NaN, 0, 0, 1, NaN, 0, 1, 1, INF, -INF, 2, 2};
+  const std::vector<double> xyz = {QUIET_NAN, 0, 0,   1,    QUIET_NAN, 0,
+                                   1,         1, INF, -INF, 2,         2};
   const PipelineRun run = runPipeline(xyz);
   expectError(run, StatusCode::EMPTY_INPUT, {"4"});
   EXPECT_EQ(run.result.diagnostics.non_finite_dropped, 4u);
@@ -336,9 +337,9 @@ TEST(VtsPipelineErrors, AllCollinear)
   expectError(runPipeline(test::generatePoints(Distribution::COLLINEAR, 1000, 1)),
               StatusCode::ALL_COLLINEAR, {});
   // Collinear with duplicates and a NaN among them, at UTM magnitude.
-  const std::vector<double> xyz = {5e5,     5e6,     0,       5e5 + 1, 5e6 + 2,
-                                   0,       5e5 + 2, 5e6 + 4, 0,       5e5 + 1,
-                                   5e6 + 2, 9,       NaN,     0,       0};
+  const std::vector<double> xyz = {5e5,     5e6,     0,         5e5 + 1, 5e6 + 2,
+                                   0,       5e5 + 2, 5e6 + 4,   0,       5e5 + 1,
+                                   5e6 + 2, 9,       QUIET_NAN, 0,       0};
   expectError(runPipeline(xyz), StatusCode::ALL_COLLINEAR, {});
   // One point a single ulp off the line is enough to triangulate.
   std::vector<double> off = xyz;
@@ -356,7 +357,7 @@ TEST(VtsPipelineErrors, InvalidCellSizeIsNamed)
   expectError(runPipeline(xyz, options), StatusCode::INVALID_PARAMETER,
               {"cell_size", "-2"});
   EXPECT_EQ(validateOptions(options).code, StatusCode::INVALID_PARAMETER);
-  options.cell_size = NaN;
+  options.cell_size = QUIET_NAN;
   expectError(runPipeline(xyz, options), StatusCode::INVALID_PARAMETER,
               {"cell_size", "nan"});
   options.cell_size = INF;
