@@ -109,6 +109,8 @@ job=$!
 victim=""
 for _ in $(seq 1 200); do # find rank 1 once it runs (its environment names its rank)
   for pid in $(pgrep -f "pcl_vts|pcd_to_mesh_mpi" || true); do
+    # Only this job's rank (its working folder is ours): other MPI jobs may run beside.
+    [ "$(readlink "/proc/$pid/cwd" 2>/dev/null)" = "$(pwd -P)" ] || continue
     if tr '\0' '\n' < "/proc/$pid/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then
       victim=$pid
     fi
