@@ -485,10 +485,12 @@ class Fringe {
   /// One component of the incomplete cells with its S, triangulated on its own.
   struct Piece {
     std::uint32_t label = 0;
+    std::vector<std::size_t> own;   ///< its positions in I, sorted
     std::vector<std::size_t> s;     ///< positions in S_C, sorted
     std::vector<std::size_t> added; ///< positions added by the rounds, sorted
     std::vector<std::array<VertexId, 3>> found;
     std::size_t rounds = 0;
+    std::size_t points = 0; ///< in S in the last round
     SearchStats stats;
     Status status;
   };
@@ -503,6 +505,9 @@ class Fringe {
                : INVALID_ID;
   }
   void solve(Piece& piece) const;
+  /// One round with S = the piece's I, by testing every triple (small pieces); false
+  /// when a candidate fails its disk check (the rounds then start over with the ring).
+  bool solveSmall(Piece& piece) const;
   static bool inPiece(const Piece& piece, std::size_t p)
   {
     return std::binary_search(piece.s.begin(), piece.s.end(), p) ||
@@ -602,8 +607,10 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
     label_.push_back(label);
   }
   // S of a piece: its I and their ring.
-  for (std::size_t k = 0; k < i_.size(); ++k)
+  for (std::size_t k = 0; k < i_.size(); ++k) {
+    pieces[label_[k]].own.push_back(i_[k]); // i_ is sorted
     ring(i_[k], pieces[label_[k]].s);
+  }
   for (Piece& piece : pieces) {
     std::sort(piece.s.begin(), piece.s.end());
     piece.s.erase(std::unique(piece.s.begin(), piece.s.end()), piece.s.end());
@@ -668,8 +675,59 @@ void Fringe::pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& 
   }
 }
 
+/// Pieces this small go through solveSmall first.
+constexpr std::size_t SMALL_PIECE = 12;
+
+bool Fringe::solveSmall(Piece& piece) const
+{
+  // The triangles of DT(I) are the triples whose circle is empty under the
+  // perturbation: it decides every test (no three of them collinear with the fourth
+  // off the line can tie), so this is the same set the ordinary path would return.
+  const std::vector<std::size_t>& s = piece.own;
+  std::vector<Point2> q(s.size());
+  for (std::size_t k = 0; k < s.size(); ++k)
+    q[k] = lat_.point(s[k]);
+  std::vector<std::size_t> inside;
+  piece.rounds = 1;
+  for (std::size_t a = 0; a < s.size(); ++a)
+    for (std::size_t b = a + 1; b < s.size(); ++b)
+      for (std::size_t c = b + 1; c < s.size(); ++c) {
+        const Sign o = orient2d(q[a], q[b], q[c]);
+        if (o == Sign::ZERO)
+          continue;
+        const std::size_t c2 = o == Sign::POSITIVE ? c : b,
+                          b2 = o == Sign::POSITIVE ? b : c;
+        bool empty = true;
+        for (std::size_t d = 0; d < s.size() && empty; ++d)
+          empty = d == a || d == b2 || d == c2 ||
+                  incirclePerturbed(q[a], q[b2], q[c2], q[d]) == Sign::NEGATIVE;
+        const std::array<std::size_t, 3> p = {s[a], s[b2], s[c2]};
+        if (!empty || isCellTriangle(p))
+          continue;
+        pointsInDisk(piece, p, inside);
+        if (!inside.empty())
+          return false;
+        piece.found.push_back(
+            {lat_.vertex_at[p[0]], lat_.vertex_at[p[1]], lat_.vertex_at[p[2]]});
+      }
+  return true;
+}
+
 void Fringe::solve(Piece& piece) const
 {
+  if (piece.own.size() <= SMALL_PIECE) {
+    // pointsInDisk counts the ring as outside here: the piece's S is its I alone.
+    Piece alone;
+    alone.label = piece.label;
+    alone.s = piece.own;
+    alone.own = piece.own;
+    if (solveSmall(alone)) {
+      piece.found = std::move(alone.found);
+      piece.rounds = 1;
+      piece.points = piece.own.size();
+      return;
+    }
+  }
   VtsOptions inner; // the ordinary path on the piece
   inner.lattice = false;
   inner.threads = 1;
@@ -683,6 +741,7 @@ void Fringe::solve(Piece& piece) const
     all.reserve(piece.s.size() + piece.added.size());
     std::merge(piece.s.begin(), piece.s.end(), piece.added.begin(), piece.added.end(),
                std::back_inserter(all));
+    piece.points = all.size();
     for (const std::size_t p : all) {
       const Point2 q = mesh_.xy[lat_.vertex_at[p]];
       xyz.insert(xyz.end(), {q.x, q.y, 0.0});
@@ -757,7 +816,7 @@ Status Fringe::triangulate(std::vector<std::array<VertexId, 3>>& found,
     diag.widened_searches += piece.stats.widened;
     diag.cells_visited += piece.stats.cells_visited;
     diag.points_tested += piece.stats.points_tested;
-    diag.lattice_fringe_points += piece.s.size() + piece.added.size();
+    diag.lattice_fringe_points += piece.points;
     diag.lattice_fringe_rounds = std::max(diag.lattice_fringe_rounds, piece.rounds);
   }
   diag.lattice_fringe_pieces = pieces.size();
