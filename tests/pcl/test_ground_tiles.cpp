@@ -8,6 +8,9 @@
 #include <pcl_vts/ground_tiles.h>
 #include <pcl_vts/io/point_cloud_loader.h>
 
+#include <pcl/octree/octree_search.h>
+#include <pcl/point_types.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -260,6 +263,89 @@ TEST_F(GroundTiles, TheWholeCloudsShiftDecidesTheTies)
   EXPECT_GT(dropped, 500u);  // the ties fall both ways: most of the 1000 bumps drop,
   EXPECT_LT(dropped, 1000u); // some stay
   expectTheInMemoryPoints(xyz, pre, {5, 16});
+}
+
+/// The premise of the pre-tiles: PCL's octree boxSearch (what the morphological
+/// opening calls) returns exactly the points that pass the float box test, whatever
+/// the octree's bounds, which follow the cloud it is given (a pre-tile's, not the
+/// whole cloud's). Checked against a sweep over x on a real sample and an exact
+/// lattice (coordinates at 0, box edges on points), whole and cut into tiles.
+TEST_F(GroundTiles, PclsBoxSearchIsTheFloatBoxTestWhateverTheOctreeBounds)
+{
+  std::vector<double> lattice;
+  for (int j = -30; j <= 30; ++j)
+    for (int i = -30; i <= 30; ++i)
+      lattice.insert(lattice.end(), {0.25 * i, 0.25 * j, 0.1 * ((i * j) % 5)});
+  std::vector<std::vector<double>> clouds = {lattice};
+  const std::string path =
+      std::string(PCL_VTS_SHARED_DATA_DIR) + "/pcd/isprs_filtertest/samp24-utm.pcd";
+  if (fs::exists(path)) {
+    std::vector<double> xyz;
+    CloudDescription description;
+    ASSERT_TRUE(loadPointCloud(path, CloudLoadOptions{}, xyz, description).ok());
+    clouds.push_back(xyz);
+  }
+  std::size_t queries = 0;
+  for (const std::vector<double>& xyz : clouds) {
+    double lo[3] = {xyz[0], xyz[1], xyz[2]}, hi[3] = {xyz[0], xyz[1], xyz[2]};
+    for (std::size_t k = 0; k < xyz.size(); ++k) {
+      lo[k % 3] = std::min(lo[k % 3], xyz[k]);
+      hi[k % 3] = std::max(hi[k % 3], xyz[k]);
+    }
+    const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
+    for (const float window : {3.0f, 17.0f})
+      for (const int k : {3}) {
+        if (window > extent / 4) // a box over the whole cloud tests nothing more
+          continue;
+        const double side = extent / k, halo = 2.0 * window;
+        for (int tile = 0; tile < k * k; ++tile) {
+          const double x0 = lo[0] + (tile % k) * side - halo,
+                       y0 = lo[1] + (tile / k) * side - halo;
+          pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+          for (std::size_t p = 0; p < xyz.size(); p += 3)
+            if (xyz[p] >= x0 && xyz[p] <= x0 + side + 2 * halo && xyz[p + 1] >= y0 &&
+                xyz[p + 1] <= y0 + side + 2 * halo)
+              cloud->push_back(pcl::PointXYZ(
+                  static_cast<float>(xyz[p] - 0.5 * (lo[0] + hi[0])),
+                  static_cast<float>(xyz[p + 1] - 0.5 * (lo[1] + hi[1])),
+                  static_cast<float>(xyz[p + 2] - 0.5 * (lo[2] + hi[2]))));
+          pcl::octree::OctreePointCloudSearch<pcl::PointXYZ> tree(window);
+          tree.setInputCloud(cloud);
+          tree.addPointsFromInputCloud();
+          std::vector<float> xs;
+          for (const pcl::PointXYZ& p : *cloud)
+            xs.push_back(p.x);
+          std::vector<std::size_t> by_x(xs.size());
+          std::iota(by_x.begin(), by_x.end(), std::size_t{0});
+          std::sort(by_x.begin(), by_x.end(),
+                    [&](std::size_t a, std::size_t b) { return xs[a] < xs[b]; });
+          std::sort(xs.begin(), xs.end());
+          const float half = window / 2.0f; // as applyMorphologicalOperator
+          for (const pcl::PointXYZ& p : *cloud) {
+            const Eigen::Vector3f min(p.x - half, p.y - half,
+                                      -std::numeric_limits<float>::max());
+            const Eigen::Vector3f max(p.x + half, p.y + half,
+                                      std::numeric_limits<float>::max());
+            pcl::Indices found;
+            tree.boxSearch(min, max, found);
+            std::vector<std::size_t> got(found.begin(), found.end()), exact;
+            for (auto i = static_cast<std::size_t>(
+                     std::lower_bound(xs.begin(), xs.end(), min.x()) - xs.begin());
+                 i < xs.size() && xs[i] <= max.x(); ++i) {
+              const pcl::PointXYZ& q = (*cloud)[by_x[i]];
+              if (q.y >= min.y() && q.y <= max.y())
+                exact.push_back(by_x[i]);
+            }
+            std::sort(got.begin(), got.end());
+            std::sort(exact.begin(), exact.end());
+            ASSERT_EQ(got, exact) << "window " << window << ", tile " << tile << " of "
+                                  << k * k << ", point " << p.x << " " << p.y;
+            ++queries;
+          }
+        }
+      }
+  }
+  EXPECT_GT(queries, 20000u);
 }
 
 TEST_F(GroundTiles, TheMemoryLimitSetsThePreTiles)
