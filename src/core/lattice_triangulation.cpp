@@ -276,27 +276,27 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
         s = static_cast<std::uint32_t>(k);
     }
   }
-  // Vertex ids in lattice order, in place; then each input's vertex.
+  // Vertex ids in lattice order, in place, with their positions and heights; then
+  // each input's vertex.
+  const std::size_t nv = finite - merged;
   std::vector<std::uint32_t>& source = result.source_index;
-  source.reserve(finite - merged);
+  source.resize(nv);
+  TriangleMesh& mesh = result.mesh;
+  mesh.xy.resize(nv);
+  mesh.z.resize(nv);
+  VertexId next = 0;
   for (std::uint32_t& s : slot)
     if (s != INVALID_ID) {
-      source.push_back(s);
-      s = static_cast<VertexId>(source.size() - 1);
+      const double* p = xyz + 3 * static_cast<std::size_t>(s);
+      source[next] = s;
+      mesh.xy[next] = {p[0], p[1]};
+      mesh.z[next] = p[2];
+      s = next++;
     }
-  const std::size_t nv = source.size();
   for (std::uint32_t& c : code)
     if (c != INVALID_ID)
       c = slot[c];
 
-  TriangleMesh& mesh = result.mesh;
-  mesh.xy.resize(nv);
-  mesh.z.resize(nv);
-  for (std::size_t v = 0; v < nv; ++v) {
-    const double* p = xyz + 3 * static_cast<std::size_t>(source[v]);
-    mesh.xy[v] = {p[0], p[1]};
-    mesh.z[v] = p[2];
-  }
   if (options.duplicate_rule == DuplicateRule::MEAN_Z && merged > 0) {
     // As vertexHeights (vts_pipeline.cpp): sums in input order.
     std::vector<std::uint32_t> count(nv, 0);
@@ -414,54 +414,82 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
     lat.incomplete.insert(lat.incomplete.end(), part.begin(), part.end());
 }
 
-/// The two triangles of every complete cell, with the twins among them; the
-/// halfedges facing an incomplete cell (or the border) are left INVALID_ID and
-/// listed in `open`.
+/// The two triangles of complete cell (i, j): vertices and twins; the halfedges
+/// facing an incomplete cell (or the border) get INVALID_ID.
+void cellTriangles(const Lattice& lat, std::uint32_t i, std::uint32_t j,
+                   std::array<VertexId, 6>& tri, std::array<HalfedgeId, 6>& twin)
+{
+  const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
+  const std::size_t t0 = lat.firstTriangle(i, j);
+  const VertexId a = lat.vertex_at[lat.position(i, j)];
+  const VertexId b = lat.vertex_at[lat.position(i + 1, j)];
+  const VertexId c = lat.vertex_at[lat.position(i + 1, j + 1)];
+  const VertexId d = lat.vertex_at[lat.position(i, j + 1)];
+  tri = {a, b, d, b, c, d}; // (A, B, D), (B, C, D)
+  const auto e0 = static_cast<HalfedgeId>(3 * t0), e1 = e0 + 3;
+  const auto he = [](std::size_t t, unsigned k) {
+    return static_cast<HalfedgeId>(3 * t + k);
+  };
+  // A->B faces the cell below (its C->D), D->A the cell on the left (its B->C), B->C
+  // the cell on the right (its D->A), C->D the cell above (its A->B); B-D is shared.
+  twin[0] =
+      j > 0 && lat.complete(i, j - 1) ? he(lat.firstTriangle(i, j - 1), 4) : INVALID_ID;
+  twin[1] = e1 + 2;
+  twin[2] =
+      i > 0 && lat.complete(i - 1, j) ? he(lat.firstTriangle(i - 1, j), 3) : INVALID_ID;
+  twin[3] = i + 1 < cx && lat.complete(i + 1, j) ? he(lat.firstTriangle(i + 1, j), 2)
+                                                 : INVALID_ID;
+  twin[4] = j + 1 < cy && lat.complete(i, j + 1) ? he(lat.firstTriangle(i, j + 1), 0)
+                                                 : INVALID_ID;
+  twin[5] = e0 + 1;
+}
+
+/// The triangles of every complete cell in row-major order (the first
+/// 2 * row_start.back() triangles), with the twins among them; the halfedges facing
+/// an incomplete cell (or the border) are INVALID_ID and listed in `open`. One
+/// thread appends (no pass zeroing the arrays first), several write their rows.
 void emitCompleteCells(const Lattice& lat, unsigned threads,
                        std::vector<VertexId>& triangles,
                        std::vector<HalfedgeId>& halfedges,
-                       std::vector<HalfedgeId>& open)
+                       std::vector<HalfedgeId>& open, std::size_t capacity)
 {
   const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
-  std::vector<std::vector<HalfedgeId>> open_per_chunk(std::max(1u, threads));
+  const std::size_t size = 6 * lat.row_start.back();
+  std::array<VertexId, 6> tri{};
+  std::array<HalfedgeId, 6> twin{};
+  if (threads <= 1) {
+    triangles.reserve(capacity);
+    halfedges.reserve(capacity);
+    for (std::uint32_t j = 0; j < cy; ++j)
+      for (std::uint32_t i = 0; i < cx; ++i)
+        if (lat.complete(i, j)) {
+          cellTriangles(lat, i, j, tri, twin);
+          for (unsigned k = 0; k < 6; ++k)
+            if (twin[k] == INVALID_ID)
+              open.push_back(static_cast<HalfedgeId>(triangles.size() + k));
+          triangles.insert(triangles.end(), tri.begin(), tri.end());
+          halfedges.insert(halfedges.end(), twin.begin(), twin.end());
+        }
+    return;
+  }
+  triangles.resize(size);
+  halfedges.resize(size);
+  std::vector<std::vector<HalfedgeId>> open_per_chunk(threads);
   parallelChunks(threads, cy, [&](std::size_t begin, std::size_t end, unsigned t) {
-    std::vector<HalfedgeId>& mine = open_per_chunk[t];
-    const auto edge = [&](HalfedgeId e, HalfedgeId twin) {
-      halfedges[e] = twin;
-      if (twin == INVALID_ID)
-        mine.push_back(e);
-    };
+    std::array<VertexId, 6> my_tri{};
+    std::array<HalfedgeId, 6> my_twin{};
     for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j)
-      for (std::uint32_t i = 0; i < cx; ++i) {
-        if (!lat.complete(i, j))
-          continue;
-        const std::size_t t0 = lat.firstTriangle(i, j), t1 = t0 + 1;
-        const VertexId a = lat.vertex_at[lat.position(i, j)];
-        const VertexId b = lat.vertex_at[lat.position(i + 1, j)];
-        const VertexId c = lat.vertex_at[lat.position(i + 1, j + 1)];
-        const VertexId d = lat.vertex_at[lat.position(i, j + 1)];
-        VertexId* tri = &triangles[3 * t0];
-        tri[0] = a, tri[1] = b, tri[2] = d; // (A, B, D)
-        tri[3] = b, tri[4] = c, tri[5] = d; // (B, C, D)
-        const auto e0 = static_cast<HalfedgeId>(3 * t0),
-                   e1 = static_cast<HalfedgeId>(3 * t1);
-        // A->B faces the cell below (its C->D), D->A the cell on the left (its
-        // B->C), B->C the cell on the right (its D->A), C->D the cell above (A->B).
-        edge(e0, j > 0 && lat.complete(i, j - 1)
-                     ? static_cast<HalfedgeId>(3 * lat.firstTriangle(i, j - 1) + 4)
-                     : INVALID_ID);
-        halfedges[e0 + 1] = e1 + 2; // the diagonal B-D
-        halfedges[e1 + 2] = e0 + 1;
-        edge(e0 + 2, i > 0 && lat.complete(i - 1, j)
-                         ? static_cast<HalfedgeId>(3 * lat.firstTriangle(i - 1, j) + 3)
-                         : INVALID_ID);
-        edge(e1, i + 1 < cx && lat.complete(i + 1, j)
-                     ? static_cast<HalfedgeId>(3 * lat.firstTriangle(i + 1, j) + 2)
-                     : INVALID_ID);
-        edge(e1 + 1, j + 1 < cy && lat.complete(i, j + 1)
-                         ? static_cast<HalfedgeId>(3 * lat.firstTriangle(i, j + 1))
-                         : INVALID_ID);
-      }
+      for (std::uint32_t i = 0; i < cx; ++i)
+        if (lat.complete(i, j)) {
+          cellTriangles(lat, i, j, my_tri, my_twin);
+          const std::size_t e = 3 * lat.firstTriangle(i, j);
+          for (unsigned k = 0; k < 6; ++k) {
+            triangles[e + k] = my_tri[k];
+            halfedges[e + k] = my_twin[k];
+            if (my_twin[k] == INVALID_ID)
+              open_per_chunk[t].push_back(static_cast<HalfedgeId>(e + k));
+          }
+        }
   });
   for (const std::vector<HalfedgeId>& part : open_per_chunk)
     open.insert(open.end(), part.begin(), part.end());
@@ -917,17 +945,15 @@ Status triangulateLattice(const double* xyz, std::size_t n, const VtsOptions& op
     handled = false;
     return Status::success();
   }
-  mesh.triangles.resize(3 * total);
-  mesh.halfedges.resize(3 * total);
-  emitCompleteCells(lat, threads, mesh.triangles, mesh.halfedges, open);
-  // Fringe triangles in a canonical order: smallest vertex first, then sorted.
+  emitCompleteCells(lat, threads, mesh.triangles, mesh.halfedges, open, 3 * total);
+  // Fringe triangles in a canonical order: smallest vertex first, then sorted; their
+  // twins come from pairHalfedges.
   for (std::array<VertexId, 3>& t : fringe)
     std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
   std::sort(fringe.begin(), fringe.end());
-  for (std::size_t k = 0; k < fringe.size(); ++k)
-    std::copy(fringe[k].begin(), fringe[k].end(),
-              mesh.triangles.begin() +
-                  static_cast<std::ptrdiff_t>(3 * (cell_triangles + k)));
+  for (const std::array<VertexId, 3>& t : fringe)
+    mesh.triangles.insert(mesh.triangles.end(), t.begin(), t.end());
+  mesh.halfedges.resize(3 * total, INVALID_ID);
   if (Status s = pairHalfedges(mesh.triangles, mesh.halfedges, open, cell_triangles);
       !s.ok()) {
     result.mesh = TriangleMesh{};

@@ -9,14 +9,15 @@
 //   cells) and 0.1 % single-cell dropouts.
 //   bench_triangulation write-pcd DIST N FILE [SEED]: the same input as a binary PCD
 //   with float64 x y z, shifted to UTM-like coordinates (+5e5 east, +5e6 north).
-// Prints one JSON line. The input is generated or read (pcl_vts::loadPointCloud, any
-// file pcd_to_mesh reads) before the clock starts. "input_rss_mib" is the resident
-// set once the input is in memory (after malloc_trim); the high-water mark is reset
-// there (/proc/self/clear_refs), so "peak_rss_mib" is the peak while the method ran
-// (input included) and bytes_per_point_above_input counts the method alone.
-// Both methods get the same points: VTS merges identical XY positions itself (its
-// duplicate rule, timed), CGAL's insertion keeps the first vertex at an XY position
-// (timed too); "distinct" lets the two vertex counts be compared.
+// Prints one JSON line ("seconds": wall clock; "cpu_s": the process's user + system
+// CPU time over the same span). The input is generated or read
+// (pcl_vts::loadPointCloud, any file pcd_to_mesh reads) before the clock starts.
+// "input_rss_mib" is the resident set once the input is in memory (after malloc_trim);
+// the high-water mark is reset there (/proc/self/clear_refs), so "peak_rss_mib" is the
+// peak while the method ran (input included) and bytes_per_point_above_input counts the
+// method alone. Both methods get the same points: VTS merges identical XY positions
+// itself (its duplicate rule, timed), CGAL's insertion keeps the first vertex at an XY
+// position (timed too); "distinct" lets the two vertex counts be compared.
 #include "cli_words.h"
 
 #include <pcl_vts/core/stopwatch.h>
@@ -37,6 +38,7 @@
 #include <malloc.h>
 #include <random>
 #include <string>
+#include <sys/resource.h>
 #include <vector>
 
 namespace {
@@ -140,6 +142,18 @@ double statusMiB(const char* key)
     if (line.compare(0, length, key) == 0)
       return std::atof(line.c_str() + length) / 1024.0;
   return 0.0;
+}
+
+/// CPU seconds (user + system) of this process so far: robust to other work on the
+/// machine, where the wall clock is not.
+double cpuSeconds()
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
 /// Sets the high-water mark of the resident set to the current resident set (Linux
@@ -291,6 +305,7 @@ int main(int argc, char** argv)
   const double baseline = statusMiB("VmRSS:");
   const bool peak_reset = resetPeakRss();
   const pcl_vts::Stopwatch watch;
+  const double cpu_start = cpuSeconds();
   std::size_t triangles = 0, distinct = 0;
   std::string stages;
   if (m.method != "cgal") {
@@ -330,17 +345,18 @@ int main(int argc, char** argv)
     distinct = dt.number_of_vertices();
   }
   const double seconds = watch.seconds();
+  const double cpu = cpuSeconds() - cpu_start;
   const double peak = statusMiB("VmHWM:");
   char load[96] = "";
   if (m.load_seconds >= 0.0)
     std::snprintf(load, sizeof load, ",\"load_s\":%.4f", m.load_seconds);
   std::printf("{\"method\":\"%s\",\"dist\":\"%s\",\"input\":\"%s\",\"n\":%zu,"
-              "\"distinct\":%zu,\"threads\":%u,\"seconds\":%.4f,"
+              "\"distinct\":%zu,\"threads\":%u,\"seconds\":%.4f,\"cpu_s\":%.4f,"
               "\"ns_per_point\":%.1f,\"triangles\":%zu,\"peak_rss_mib\":%.1f,"
               "\"input_rss_mib\":%.1f,\"load_peak_mib\":%.1f,\"peak_reset\":%s,"
               "\"bytes_per_point_above_input\":%.1f%s%s}\n",
               m.method.c_str(), m.dist.c_str(), jsonText(m.input).c_str(), n, distinct,
-              m.method == "vts" ? m.threads : 1u, seconds,
+              m.method == "cgal" ? 1u : m.threads, seconds, cpu,
               1e9 * seconds / static_cast<double>(n), triangles, peak, baseline,
               m.load_peak_mib, peak_reset ? "true" : "false",
               (peak - baseline) * 1024.0 * 1024.0 / static_cast<double>(n), load,
