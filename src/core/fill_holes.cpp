@@ -391,7 +391,7 @@ Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
 }
 
 Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
-                               const MeshPart* part, const VertexSpacing* known,
+                               const MeshPart* part, VertexSpacing* known,
                                FillResult& result)
 {
   result = FillResult{};
@@ -424,6 +424,7 @@ Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
   Adjacency adjacency = buildAdjacency(mesh);
   PointSpacing spacing;
   if (known != nullptr) {
+    known->settle(mesh);
     // measurePointSpacing's local figure at the rims, from the known own medians
     // and the same rows (buildAdjacency's rule is measurePointSpacing's).
     spacing.global_median = known->global_median;

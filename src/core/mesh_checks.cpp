@@ -127,15 +127,6 @@ bool edgeUsesManifold(const std::vector<EdgeUse>& uses, std::string* why)
   return true;
 }
 
-/// One more than the largest vertex id used by a triangle (0 for none).
-std::size_t vertexBound(const TriangleMesh& mesh)
-{
-  VertexId top = 0;
-  for (const VertexId v : mesh.triangles)
-    top = std::max(top, v);
-  return mesh.triangles.empty() ? 0 : static_cast<std::size_t>(top) + 1;
-}
-
 } // namespace
 
 bool allTrianglesCcw(const TriangleMesh& mesh, std::string* why)
@@ -200,29 +191,43 @@ bool halfedgesConsistent(const TriangleMesh& mesh, std::string* why)
 
 bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
 {
-  if (!trianglesWellFormed(mesh, why))
-    return false;
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const auto e = static_cast<HalfedgeId>(i);
-    if (mesh.triangles[e] == mesh.triangles[nextHalfedge(e)]) {
-      setWhy(why, halfedgeText(mesh, e) + " joins a vertex to itself");
+  // One pass counts the halfedges by the lower vertex of their edge and looks for
+  // bad ids and self-loops at once; when it finds one, the checks run again in their
+  // order for the message.
+  const std::size_t corners = mesh.triangles.size();
+  const std::size_t n = mesh.xy.size();
+  bool suspect = mesh.xy.size() != mesh.z.size() || corners % 3 != 0;
+  std::vector<std::uint32_t> start;
+  if (!suspect) {
+    start.assign(n + 1, 0);
+    for (std::size_t i = 0; i < corners && !suspect; ++i) {
+      const auto e = static_cast<HalfedgeId>(i);
+      const VertexId from = mesh.triangles[e], to = mesh.triangles[nextHalfedge(e)];
+      suspect = from >= n || from == to;
+      if (!suspect) // to < n: it is the origin of another halfedge, checked there
+        ++start[std::min(from, to) + std::size_t{1}];
+    }
+  }
+  if (suspect) {
+    if (!trianglesWellFormed(mesh, why))
       return false;
+    for (std::size_t i = 0; i < corners; ++i) {
+      const auto e = static_cast<HalfedgeId>(i);
+      if (mesh.triangles[e] == mesh.triangles[nextHalfedge(e)]) {
+        setWhy(why, halfedgeText(mesh, e) + " joins a vertex to itself");
+        return false;
+      }
     }
   }
   // Halfedges bucketed by the lower vertex of their edge (counting sort), each entry
   // the upper vertex and the direction; a bucket is fine when no key repeats (an edge
-  // used three times is used twice in one direction). A failing bucket is sorted again
+  // used three times is used twice in one direction): short buckets compare every
+  // pair, long ones are sorted. A failing bucket is sorted again
   // by (upper vertex, origin, id), the order of one global sort, so the first failure
   // reported is the same.
-  const std::size_t n = vertexBound(mesh);
-  std::vector<std::uint32_t> start(n + 1, 0);
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const auto e = static_cast<HalfedgeId>(i);
-    ++start[std::min(mesh.triangles[e], mesh.triangles[nextHalfedge(e)]) + 1];
-  }
   for (std::size_t v = 0; v < n; ++v)
     start[v + 1] += start[v];
-  // (upper vertex << 1) | (runs downward): equal upper vertices sort together.
+  // (upper vertex << 1) | (runs downward).
   std::vector<std::uint64_t> bucket(mesh.triangles.size());
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
@@ -238,18 +243,16 @@ bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
   for (std::size_t v = 0; v < n; ++v) {
     const auto first = bucket.begin() + start[v];
     const auto last = bucket.begin() + start[v + 1];
-    if (last - first > 16) {
+    bool repeated = false;
+    if (last - first <= 16) { // most buckets: every pair compared, without a branch
+      for (auto i = first; i != last; ++i)
+        for (auto j = i + 1; j != last; ++j)
+          repeated |= *i == *j;
+    } else {
       std::sort(first, last);
-    } else { // insertion sort: most buckets hold a few halfedges
-      for (auto i = first; i != last; ++i) {
-        const std::uint64_t key = *i;
-        auto j = i;
-        for (; j != first && *(j - 1) > key; --j)
-          *j = *(j - 1);
-        *j = key;
-      }
+      repeated = std::adjacent_find(first, last) != last;
     }
-    if (std::adjacent_find(first, last) == last)
+    if (!repeated)
       continue;
     uses.clear(); // the slow path, for the message
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {

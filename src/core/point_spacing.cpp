@@ -216,6 +216,17 @@ void remeasureOwnSpacing(const TriangleMesh& mesh, const std::vector<bool>& chan
   }
 }
 
+void VertexSpacing::settle(const TriangleMesh& trimmed)
+{
+  if (settled)
+    return;
+  remeasureOwnSpacing(trimmed, changed, own);
+  global_median = medianOverUsed(own, has_triangle);
+  std::vector<bool>().swap(changed);
+  std::vector<bool>().swap(has_triangle);
+  settled = true;
+}
+
 double medianOverUsed(const std::vector<double>& own,
                       const std::vector<bool>& has_triangle)
 {

@@ -15,11 +15,19 @@
 
 namespace pcl_vts::detail {
 
-/// Per vertex, the median length of its edges (0 without triangle), and their
-/// median over the vertices with triangles (PointSpacing::global_median).
+/// What the trim hands to the fill: per vertex the median length of its edges before
+/// the trim, the vertices whose rows the trim changed and those left with triangles.
+/// settle() brings them to the trimmed mesh (own for it, and the median of own over
+/// the vertices with triangles, PointSpacing::global_median): only a fill that found
+/// holes pays for it.
 struct VertexSpacing {
   std::vector<double> own;
+  std::vector<bool> changed;
+  std::vector<bool> has_triangle;
   double global_median = 0.0;
+  bool settled = false;
+
+  void settle(const TriangleMesh& trimmed);
 };
 
 /// measurePointSpacing, also giving each vertex's own median (own may be null).
@@ -40,10 +48,10 @@ double medianOverUsed(const std::vector<double>& own,
 Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
                             TrimResult& result, VertexSpacing* after);
 
-/// fillHolesOfPart; with `spacing` (the mesh's own VertexSpacing), the local
-/// spacing at hole rims is read from it instead of measuring the whole mesh.
+/// fillHolesOfPart; with `spacing` (handed over by the trim of this mesh), the
+/// local spacing at hole rims is read from it instead of measuring the whole mesh.
 Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
-                       const MeshPart* part, const VertexSpacing* spacing,
+                       const MeshPart* part, VertexSpacing* spacing,
                        FillResult& result);
 
 } // namespace pcl_vts::detail

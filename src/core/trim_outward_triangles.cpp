@@ -272,6 +272,7 @@ std::vector<std::uint8_t> classifyTriangles(const TriangleMesh& mesh,
 }
 
 /// Drops the removed triangles: the survivors keep their order, twins are remapped.
+/// In place: a survivor only moves down, over triangles already moved or dropped.
 void compactTriangles(TriangleMesh& mesh, const std::vector<bool>& removed)
 {
   const std::size_t count = mesh.triangleCount();
@@ -280,22 +281,20 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<bool>& removed)
   for (TriangleId t = 0; t < count; ++t)
     if (!removed[t])
       new_id[t] = next++;
-  std::vector<VertexId> triangles;
-  std::vector<HalfedgeId> halfedges;
-  triangles.reserve(3 * static_cast<std::size_t>(next));
-  halfedges.reserve(3 * static_cast<std::size_t>(next));
   for (TriangleId t = 0; t < count; ++t) {
     if (removed[t])
       continue;
-    for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e) {
-      triangles.push_back(mesh.triangles[e]);
-      const HalfedgeId twin = mesh.halfedges[e];
+    const HalfedgeId to = 3 * new_id[t];
+    for (HalfedgeId k = 0; k < 3; ++k) {
+      const HalfedgeId twin = mesh.halfedges[3 * t + k];
       const bool open = twin == INVALID_ID || removed[triangleOf(twin)];
-      halfedges.push_back(open ? INVALID_ID : 3 * new_id[triangleOf(twin)] + twin % 3);
+      mesh.triangles[to + k] = mesh.triangles[3 * t + k];
+      mesh.halfedges[to + k] =
+          open ? INVALID_ID : 3 * new_id[triangleOf(twin)] + twin % 3;
     }
   }
-  mesh.triangles.swap(triangles);
-  mesh.halfedges.swap(halfedges);
+  mesh.triangles.resize(3 * static_cast<std::size_t>(next));
+  mesh.halfedges.resize(3 * static_cast<std::size_t>(next));
 }
 
 } // namespace
@@ -331,38 +330,40 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   result.spacing = spacing.global_median;
   const std::vector<std::uint8_t> flags = classifyTriangles(mesh, spacing, options);
 
-  std::vector<bool> had_triangle(mesh.vertexCount(), false);
-  for (const VertexId v : mesh.triangles)
-    had_triangle[v] = true;
   std::vector<bool> removed;
   result.kept_to_stay_manifold =
       peelOutwardTriangles(mesh, flags, options.open_voids, removed);
-  std::vector<bool> changed; // corners of removed triangles: their rows changed
-  if (after != nullptr)
-    changed.assign(mesh.vertexCount(), false);
+  // Only a corner of a removed triangle can be left without triangles, and only its
+  // row of edges changes.
+  std::vector<bool> changed(mesh.vertexCount(), false);
   for (TriangleId t = 0; t < removed.size(); ++t) {
     if (!removed[t])
       continue;
     ++result.triangles_removed;
-    if (after != nullptr)
-      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-        changed[mesh.triangles[e]] = true;
+    for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+      changed[mesh.triangles[e]] = true;
   }
-  compactTriangles(mesh, removed);
+  if (result.triangles_removed > 0)
+    compactTriangles(mesh, removed);
+  std::vector<bool>().swap(removed);
 
-  std::vector<bool> has_triangle(mesh.vertexCount(), false);
-  for (const VertexId v : mesh.triangles)
-    has_triangle[v] = true;
-  for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-    if (had_triangle[v] && !has_triangle[v])
-      ++result.vertices_lost;
+  std::vector<bool> has_triangle;
+  if (result.triangles_removed > 0) {
+    has_triangle.assign(mesh.vertexCount(), false);
+    for (const VertexId v : mesh.triangles)
+      has_triangle[v] = true;
+    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+      if (changed[v] && !has_triangle[v])
+        ++result.vertices_lost;
+  }
   if (after != nullptr) {
-    if (result.triangles_removed > 0)
-      remeasureOwnSpacing(mesh, changed, own);
-    after->global_median = result.triangles_removed > 0
-                               ? medianOverUsed(own, has_triangle)
-                               : spacing.global_median;
     after->own.swap(own);
+    after->global_median = spacing.global_median;
+    after->settled = result.triangles_removed == 0; // the input's spacing holds
+    if (!after->settled) {
+      after->changed.swap(changed);
+      after->has_triangle.swap(has_triangle);
+    }
   }
   return Status::success();
 }
