@@ -1273,9 +1273,11 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
 
   std::vector<std::string> gis_lines; // --dem, --contours, the .prj (gis_cli.h)
   start = Clock::now();
+  // As a tiled run reports a product's failure: a file not written is EXIT_OUTPUT, a
+  // bad value (an interval too small for the data) EXIT_USAGE.
   if (pcl_vts::Status s = opt.gis.write(result.mesh, opt.output, gis_lines); !s.ok())
     return out.fail(s.code == pcl_vts::StatusCode::IO_ERROR ? EXIT_OUTPUT
-                                                            : EXIT_INTERNAL,
+                                                            : exitCodeFor(s.code),
                     s.message);
   for (const std::string& line : gis_lines)
     out.line("GIS: %s\n", line.c_str());

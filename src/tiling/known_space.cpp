@@ -8,9 +8,9 @@
 
 namespace pcl_vts {
 
-SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& c)
+CircumdiskBound boundCircumdisk(const Point2& a, const Point2& b, const Point2& c)
 {
-  SafeDisk disk;
+  CircumdiskBound disk;
   const double bx = b.x - a.x, by = b.y - a.y;
   const double cx = c.x - a.x, cy = c.y - a.y;
   const double t1 = bx * cy, t2 = by * cx;
@@ -105,7 +105,7 @@ void KnownSpace::collect(int level, std::uint32_t node, const MeetsNode& meets_n
     collect(level + 1, (node << 2) | k, meets_node, meets_block, loaded, hits);
 }
 
-void KnownSpace::unknownInDisk(const SafeDisk& disk, const LoadedBlocks& loaded,
+void KnownSpace::unknownInDisk(const CircumdiskBound& disk, const LoadedBlocks& loaded,
                                std::vector<std::uint32_t>& hits) const
 {
   const double r2 = disk.radius * disk.radius;

@@ -16,15 +16,18 @@
 namespace pcl_vts {
 
 /// A disk that contains the exact circumdisk of a triangle, or "unbounded" when
-/// the triangle is too flat for floating point to bound its circle.
-struct SafeDisk {
+/// the triangle is too flat for floating point to bound its circle. Not the core's
+/// SafeDisk (error_bounds.h), which takes counter-clockwise triangles and, when it
+/// cannot bound, lets a search prune nothing: here any orientation, and the proof
+/// must then claim the whole plane.
+struct CircumdiskBound {
   Point2 center;
   double radius = 0;
   bool unbounded = false;
 };
 
 /// The circumdisk of (a, b, c) grown by a bound on the rounding of its computation.
-SafeDisk safeCircumdisk(const Point2& a, const Point2& b, const Point2& c);
+CircumdiskBound boundCircumdisk(const Point2& a, const Point2& b, const Point2& c);
 
 /// Per worker: which blocks the tile being meshed has loaded (1 byte per block).
 using LoadedBlocks = std::vector<std::uint8_t>;
@@ -47,7 +50,7 @@ class KnownSpace {
 
   /// Appends to `hits` every occupied, unloaded block the disk may meet
   /// (each at most once per call; duplicates across calls are the caller's).
-  void unknownInDisk(const SafeDisk& disk, const LoadedBlocks& loaded,
+  void unknownInDisk(const CircumdiskBound& disk, const LoadedBlocks& loaded,
                      std::vector<std::uint32_t>& hits) const;
   /// Appends every occupied, unloaded block that may meet the open half-plane to the
   /// right of the directed line a -> b.

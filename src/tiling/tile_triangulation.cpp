@@ -176,7 +176,7 @@ bool flatTriangleUnknowns(const Point2* v, const KnownSpace& space,
   const double tolerance = 1e-6 * la * lb + 1e-15 * magnitude * (la + lb);
   if (!(ax * bx + ay * by < -tolerance))
     return false;
-  SafeDisk thales;
+  CircumdiskBound thales;
   thales.center = {0.5 * (p.x + q.x), 0.5 * (p.y + q.y)};
   thales.radius = 0.5 * std::sqrt(longest) * (1 + 1e-9) + 1e-15 * magnitude;
   space.unknownInDisk(thales, flags, hits);
@@ -207,7 +207,7 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
     const VertexId* v = &mesh.triangles[3 * t];
     if (!in_tile[v[0]] && !in_tile[v[1]] && !in_tile[v[2]])
       continue;
-    SafeDisk disk = safeCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]);
+    CircumdiskBound disk = boundCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]);
     const std::size_t before = hits.size();
     const Point2 corners[3] = {mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]};
     if (!disk.unbounded ||

@@ -297,6 +297,11 @@ TEST_F(CrsRoundTrip, TiledRunWritesTheInMemoryContours)
             1);
   EXPECT_NE(err.find("contour interval 1e-14 is too small"), std::string::npos) << err;
   EXPECT_EQ(readText(root() + "/bad.gpkg"), "");
+  // The same failure in memory: the same exit code and message.
+  err.clear();
+  EXPECT_EQ(run("t.las bad.ply --contours bad.gpkg --interval 1e-14", &err), 1);
+  EXPECT_NE(err.find("contour interval 1e-14 is too small"), std::string::npos) << err;
+  EXPECT_EQ(readText(root() + "/bad.gpkg"), "");
   for (const auto& entry : std::filesystem::directory_iterator(root()))
     EXPECT_NE(entry.path().filename().string()[0], '.') << entry.path();
 }
