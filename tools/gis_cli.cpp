@@ -13,7 +13,9 @@
 #endif
 
 #include <algorithm>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pcl_vts::tools {
@@ -145,7 +147,52 @@ bool GisCli::anyProduct() const
 
 Status GisCli::validate() const
 {
-  return validateGisOptions(impl_->options);
+  const GisOutputOptions& o = impl_->options;
+  const auto usage = [](std::string message) {
+    return Status::error(StatusCode::INVALID_PARAMETER, std::move(message));
+  };
+  // Which flags need which: the tool's rules, in its words (the library checks the
+  // same pairs in the fields' words).
+  if (!o.dem.empty() && !(o.resolution > 0.0))
+    return usage("--dem needs --resolution R (pixel edge in input units)");
+  if (o.dem.empty() &&
+      (o.resolution > 0.0 || o.bounds_given || o.overviews || !o.hillshade.empty()))
+    return usage(
+        "--resolution, --dem-bounds, --dem-overviews and --hillshade need --dem");
+  if (!o.contours.empty() && !(o.interval > 0.0))
+    return usage("--contours needs --interval I (elevation step)");
+  if (o.contours.empty() && o.interval > 0.0)
+    return usage("--interval needs --contours");
+  // Each value by the library, the flags added one at a time: the first step that
+  // fails names its flag in front of the library's words.
+  const std::pair<const char*, std::function<void(GisOutputOptions&)>> steps[] = {
+      {"--dem",
+       [&o](GisOutputOptions& c) {
+         c.dem = o.dem;
+         c.resolution = o.resolution;
+         c.overviews = o.overviews;
+       }},
+      {"--dem-bounds",
+       [&o](GisOutputOptions& c) {
+         c.bounds_given = o.bounds_given;
+         std::copy(o.bounds, o.bounds + 4, c.bounds);
+       }},
+      {"--hillshade", [&o](GisOutputOptions& c) { c.hillshade = o.hillshade; }},
+      {"--contours",
+       [&o](GisOutputOptions& c) {
+         c.contours = o.contours;
+         c.interval = o.interval;
+         c.contour_base = o.contour_base;
+       }},
+      {"--crs", [&o](GisOutputOptions& c) { c.crs = o.crs; }},
+  };
+  GisOutputOptions checked;
+  for (const auto& [flag, set] : steps) {
+    set(checked);
+    if (Status s = validateGisOptions(checked); !s.ok())
+      return usage(std::string(flag) + ": " + s.message);
+  }
+  return Status::success();
 }
 
 namespace {
@@ -194,7 +241,10 @@ Status GisCli::resolveCrs(const std::vector<std::string>& files,
     }
     declared.emplace_back(file, wkt);
   }
-  return commonCrs(declared, crs_);
+  Status s = commonCrs(declared, crs_);
+  if (!s.ok()) // "... or set the one to use": the tool's way to set it
+    s.message += " with --crs";
+  return s;
 }
 
 std::string GisCli::crsName() const

@@ -29,8 +29,9 @@ class GisCli {
   bool parse(const std::string& name, const std::string& value, std::string& error);
   /// A raster or vector product is asked for.
   bool anyProduct() const;
-  /// Checks the combination; INVALID_PARAMETER (a usage error) otherwise, also for
-  /// any GIS option in a build without GDAL.
+  /// Checks the combination (validateGisOptions, its words behind the flag at fault);
+  /// INVALID_PARAMETER (a usage error) otherwise, also for any GIS option in a build
+  /// without GDAL.
   Status validate() const;
   /// The CRS of the run: --crs if given, else the one the input files declare (LAS
   /// projection records, GeoTIFF, a .prj beside the file; read before the points,

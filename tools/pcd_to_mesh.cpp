@@ -843,6 +843,23 @@ void printFillLine(Reporter& out, bool off, double seconds,
         fill.max_hole_area, fill.points_inserted);
 }
 
+/// The flag a tiled run's failure is about, in front of the library's words ("the
+/// temporary folder is full", "the memory limit of 8 MiB is below ..."); empty when
+/// none is.
+std::string flagOfTiledFailure(const pcl_vts::TiledMeshReport& report)
+{
+  switch (report.failure) {
+  case pcl_vts::TiledFailure::TEMP_FOLDER:
+    return "--temp-dir: ";
+  case pcl_vts::TiledFailure::MEMORY_LIMIT:
+    return "--memory-limit: ";
+  case pcl_vts::TiledFailure::TILE_OUTPUT:
+    return "--tile-output: ";
+  default:
+    return "";
+  }
+}
+
 /// The tiled path (tiled_mesh.h): inputs streamed twice, the mesh streamed out.
 int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
              pcl_vts::JobComm& comm)
@@ -985,9 +1002,10 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
     const int code = input_failed                              ? exitCodeFor(s.code)
                      : s.code == pcl_vts::StatusCode::IO_ERROR ? EXIT_OUTPUT
                                                                : exitCodeFor(s.code);
-    return out.fail(code, input_failed || s.code != pcl_vts::StatusCode::TOO_FEW_POINTS
-                              ? s.message
-                              : "input unusable: " + s.toString());
+    if (input_failed || s.code != pcl_vts::StatusCode::TOO_FEW_POINTS)
+      return out.fail(code, input_failed ? s.message
+                                         : flagOfTiledFailure(report) + s.message);
+    return out.fail(code, "input unusable: " + s.toString());
   }
   const double ground_seconds =
       ground.seconds_scan + ground.seconds_bucket + ground.seconds_filter;

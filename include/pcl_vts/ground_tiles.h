@@ -1,4 +1,5 @@
-// --crop and --ground pmf on inputs larger than memory: the pre-pass of a tiled run.
+// The crop and the PMF ground filter on inputs larger than memory: the pre-pass of a
+// tiled run.
 //
 // pcl::ProgressiveMorphologicalFilter is point-based: each round opens (min z, then
 // max z, over the points still ground in an XY box of half the round's window around

@@ -33,8 +33,8 @@ struct PreprocessOptions {
   double pmf_max_distance = 3.0;     ///< height threshold cap
   double pmf_base = 2.0;             ///< window growth base: 1, base, base^2, ... cells
   /// The PCL filters see float copies shifted by this point (xyz). Unset (the
-  /// default): the centre of the bounding box of the points they see. A tiled
-  /// --ground pmf sets the whole cloud's centre in every pre-tile, so that PCL sees
+  /// default): the centre of the bounding box of the points they see. The tiled PMF
+  /// ground filter sets the whole cloud's centre in every pre-tile, so that PCL sees
   /// the floats of the in-memory run (ground_tiles.h).
   bool fixed_shift = false;
   double shift[3] = {0.0, 0.0, 0.0};

@@ -70,33 +70,33 @@ Status validateGisOptions(const GisOutputOptions& o)
     return Status::error(StatusCode::INVALID_PARAMETER, m);
   };
   if (!o.dem.empty() && !(o.resolution > 0.0))
-    return bad("--dem needs --resolution R (pixel edge in input units)");
+    return bad("a DEM needs a resolution > 0 (the pixel edge in input units)");
   if (o.dem.empty() &&
       (o.resolution > 0.0 || o.bounds_given || o.overviews || !o.hillshade.empty()))
-    return bad(
-        "--resolution, --dem-bounds, --dem-overviews and --hillshade need --dem");
+    return bad("the resolution, the DEM bounds, the overviews and the hillshade are "
+               "settings of a DEM, and no DEM path is given");
   if (!o.dem.empty() && !endsWith(o.dem, ".tif") && !endsWith(o.dem, ".tiff"))
-    return bad("--dem: '" + o.dem + "' does not end in .tif or .tiff");
+    return bad("the DEM path '" + o.dem + "' does not end in .tif or .tiff");
   if (!o.hillshade.empty() && !endsWith(o.hillshade, ".png"))
-    return bad("--hillshade: '" + o.hillshade + "' does not end in .png");
+    return bad("the hillshade path '" + o.hillshade + "' does not end in .png");
   if (!o.contours.empty() && !(o.interval > 0.0))
-    return bad("--contours needs --interval I (elevation step)");
+    return bad("contour lines need an interval > 0 (the elevation step)");
   if (o.contours.empty() && o.interval > 0.0)
-    return bad("--interval needs --contours");
+    return bad("a contour interval is given, and no contour path");
   if (!o.contours.empty() && !endsWith(o.contours, ".gpkg") &&
       !endsWith(o.contours, ".shp"))
-    return bad("--contours: '" + o.contours + "' does not end in .gpkg or .shp");
+    return bad("the contour path '" + o.contours + "' does not end in .gpkg or .shp");
   if (o.bounds_given) {
     DemGrid grid;
     if (Status s = demGridForBounds(o.bounds[0], o.bounds[1], o.bounds[2], o.bounds[3],
                                     o.resolution, grid);
         !s.ok())
-      return bad("--dem-bounds: " + s.message);
+      return bad(s.message); // "DEM bounds ..."
   }
   if (!o.crs.empty()) {
     std::string wkt;
     if (Status s = normalizeCrs(o.crs, wkt); !s.ok())
-      return bad("--crs: " + s.message);
+      return bad(s.message); // "'...' is not a coordinate system ..."
   }
   return Status::success();
 }
@@ -149,7 +149,7 @@ Status commonCrs(const std::vector<std::pair<std::string, std::string>>& inputs,
       return Status::error(StatusCode::INVALID_PARAMETER,
                            "'" + first_file + "' and '" + file +
                                "' are in different coordinate systems; reproject one "
-                               "(gdalwarp, pdal translate) or set one with --crs");
+                               "(gdalwarp, pdal translate) or set the one to use");
   }
   return Status::success();
 }

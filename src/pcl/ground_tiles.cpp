@@ -357,8 +357,9 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   files.clear();
   const PreprocessOptions& pre = options.preprocess;
   if (pre.voxel > 0.0 || pre.grid_min > 0.0 || pre.outlier_k > 0)
-    return Status::error(StatusCode::INVALID_PARAMETER,
-                         "--voxel, --grid-min and --outliers run in memory only");
+    return Status::error(
+        StatusCode::INVALID_PARAMETER,
+        "voxel, grid_min and outlier_k run in memory only, not over pre-tiles");
   if (Status s = validatePreprocessOptions(pre); !s.ok())
     return s;
   const GroundShare& share = options.share;

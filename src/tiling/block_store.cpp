@@ -100,7 +100,7 @@ Status BlockStore::ioError(const std::string& what, const std::string& path,
   std::string why = std::strerror(err);
   if (err == ENOSPC || err == EDQUOT || err == EFBIG)
     why += " (the temporary folder '" + folder_ +
-           "' is full: free space there or choose another with --temp-dir)";
+           "' is full: free space there or choose another folder)";
   return Status::error(StatusCode::IO_ERROR,
                        "cannot " + what + " '" + path + "': " + why);
 }

@@ -82,8 +82,7 @@ Status TempFolder::create(const std::string& parent)
   if (::mkdtemp(buffer.data()) == nullptr)
     return Status::error(StatusCode::IO_ERROR, "cannot create a temporary folder in '" +
                                                    parent +
-                                                   "': " + std::strerror(errno) +
-                                                   " (choose another with --temp-dir)");
+                                                   "': " + std::strerror(errno));
   path_ = buffer.data();
   owned_ = true;
   watchSignals(path_);

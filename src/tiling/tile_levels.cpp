@@ -70,13 +70,13 @@ Status chooseTileLevels(std::uint64_t points, const TileFrame& frame, const Rect
   if (static_cast<double>(options.memory_limit) < minimum)
     return Status::error(
         StatusCode::INVALID_PARAMETER,
-        "--memory-limit " + std::to_string(options.memory_limit >> 20) +
+        "the memory limit of " + std::to_string(options.memory_limit >> 20) +
             " MiB is below the " +
             std::to_string(static_cast<std::uint64_t>(minimum) >> 20) +
             " MiB this job needs at least (" + std::to_string(workers) +
             " tiles of 10000 points meshed at once, an index of " +
             std::to_string(static_cast<std::uint64_t>(blocks)) +
-            " blocks): raise it, or lower --threads");
+            " blocks): raise it, or mesh fewer tiles at once (fewer threads)");
   return Status::success();
 }
 

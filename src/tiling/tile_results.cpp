@@ -22,7 +22,7 @@ std::string ioFailure(const char* what, const std::string& path, int err)
 {
   std::string why = std::strerror(err);
   if (err == ENOSPC || err == EDQUOT || err == EFBIG)
-    why += " (the temporary folder is full: choose another with --temp-dir)";
+    why += " (the temporary folder is full: free space there or choose another folder)";
   return std::string("cannot ") + what + " '" + path + "': " + why;
 }
 

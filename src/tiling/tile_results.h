@@ -1,6 +1,6 @@
 // Tile results on the shared temporary folder: each tile's vertices and owned
 // triangles in one file, read back in tile order as the whole mesh (a MeshSource
-// for the writer), or one tile at a time for --tile-output's per-tile meshes.
+// for the writer), or one tile at a time for the tile meshes (tile_output).
 #pragma once
 #include "tile_triangulation.h"
 

@@ -14,7 +14,7 @@ Status sweepIoFailure(const char* what, const std::string& path, int err)
 {
   std::string why = std::strerror(err);
   if (err == ENOSPC || err == EDQUOT || err == EFBIG)
-    why += " (the temporary folder is full: choose another with --temp-dir)";
+    why += " (the temporary folder is full: free space there or choose another folder)";
   return Status::error(StatusCode::IO_ERROR,
                        std::string("cannot ") + what + " '" + path + "': " + why);
 }

@@ -20,7 +20,7 @@
 
 namespace pcl_vts {
 
-/// "cannot <what> '<path>': <reason>", with the --temp-dir hint when the disk is full.
+/// "cannot <what> '<path>': <reason>", with a hint when the temporary folder is full.
 Status sweepIoFailure(const char* what, const std::string& path, int err);
 
 /// Fixed-size records of doubles indexed by global vertex id, in one scratch file:

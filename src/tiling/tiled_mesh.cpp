@@ -132,6 +132,7 @@ Status scan(Job& job)
 Status bucket(Job& job, BlockStore& store)
 {
   std::uint64_t fed = 0, bucketed = 0;
+  bool store_error = false;
   Status status = job.readMine([&](const double* xyz, std::size_t n) {
     // Runs of finite points straight into the store: no copy of the chunk.
     Status added = Status::success();
@@ -143,31 +144,47 @@ Status bucket(Job& job, BlockStore& store)
       bucketed += end - i;
       i = end + 1; // past the non-finite point (or the end)
     }
+    store_error = !added.ok();
     fed += n;
     job.progress("bucketing", fed * static_cast<std::uint64_t>(job.ranks),
                  job.report.points);
     return added;
   });
+  // The store's failures are the temporary folder's, the others the inputs'.
+  bool store_failed = !status.ok() && store_error;
   if (status.ok() && fed != job.my_points)
     status = Status::error(
         StatusCode::IO_ERROR,
         "the input changed while it was read: " + std::to_string(job.my_points) +
             " points the first time, " + std::to_string(fed) + " the second");
-  if (status.ok())
+  if (status.ok()) {
     status = store.flush();
-  if (!(status = agree(job.comm, status)).ok())
+    store_failed = !status.ok();
+  }
+  if (!(status = agree(job.comm, status)).ok()) {
+    std::vector<std::uint64_t> failed = {store_failed ? 1u : 0u};
+    job.comm.sum(failed); // some rank's store failed (its error, or another rank's)
+    job.report.failure = failed[0] != 0 && status.code == StatusCode::IO_ERROR
+                             ? TiledFailure::TEMP_FOLDER
+                             : TiledFailure::OTHER;
     return status;
+  }
   std::vector<std::uint64_t> bucketed_all = {bucketed};
   job.comm.sum(bucketed_all);
-  if (bucketed_all[0] != job.finite)
+  if (bucketed_all[0] != job.finite) {
+    job.report.failure = TiledFailure::OTHER;
     return Status::error(StatusCode::IO_ERROR, "the input changed while it was read");
+  }
   job.progress("ordering", 0, 0);
   const std::size_t tiles = store.tileCount();
   for (std::size_t t = static_cast<std::size_t>(job.rank); t < tiles && status.ok();
        t += static_cast<std::size_t>(job.ranks))
     status = store.orderTile(static_cast<std::uint32_t>(t));
-  if (!(status = agree(job.comm, status)).ok())
+  if (!(status = agree(job.comm, status)).ok()) {
+    job.report.failure = status.code == StatusCode::IO_ERROR ? TiledFailure::TEMP_FOLDER
+                                                             : TiledFailure::OTHER;
     return status;
+  }
   store.shareIndex(job.comm);
   job.report.temp_bytes = store.bytesOnDisk(); // every rank's points, after shareIndex
   return Status::success();
@@ -269,8 +286,8 @@ Status meshTiles(Job& job, const BlockStore& store)
   return Status::success();
 }
 
-/// 6. --tile-output: each rank writes the meshes of the tiles it meshed; their index
-///    lines ("k line") go to every rank; rank 0 writes index.csv.
+/// 6. The tile meshes (tile_output): each rank writes the meshes of the tiles it
+///    meshed; their index lines ("k line") go to every rank; rank 0 writes index.csv.
 Status writeTileOutputs(Job& job)
 {
   job.progress("writing tiles", 0, 0);
@@ -408,13 +425,19 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
                     TiledMeshReport& report, JobComm& comm)
 {
   report = TiledMeshReport{};
+  // A failure's kind (TiledFailure): by the step, an I/O error told from the others.
+  const auto failed = [&report](Status s, TiledFailure io_kind = TiledFailure::OTHER) {
+    if (report.failure == TiledFailure::NONE)
+      report.failure = s.code == StatusCode::IO_ERROR ? io_kind : TiledFailure::OTHER;
+    return s;
+  };
   // Argument checks: the same answer on every rank, no agreement needed.
   const ReconstructionOptions& post = options.vts.reconstruction;
   if (Status s = validateOptions(options.vts); !s.ok())
-    return s;
+    return failed(s);
   MeshFileFormat format;
   if (Status s = meshFileFormatFromPath(output, format); !s.ok())
-    return s;
+    return failed(s);
   TempFolder temp; // rank 0 makes it (and removes it, last), every rank writes into it
   std::string folder;
   Status status;
@@ -423,7 +446,7 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     folder = temp.path();
   }
   if (!(status = agree(comm, status)).ok())
-    return status;
+    return failed(status, TiledFailure::TEMP_FOLDER);
   comm.broadcast(folder, 0);
   if (comm.rank() != 0) // any rank that mpirun stops removes the folder too
     temp.adopt(folder);
@@ -433,7 +456,7 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     std::vector<std::string> files;
     status = options.prepare(inputs, folder, comm, files);
     if (!(status = agree(comm, status)).ok())
-      return status;
+      return failed(status);
     std::string list;
     for (const std::string& file : files)
       list += file + '\n';
@@ -458,12 +481,14 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
 
   Stopwatch watch;
   if (Status s = scan(job); !s.ok())
-    return s;
+    return failed(s);
   report.seconds_scan = watch.seconds();
   if (Status s = chooseTileLevels(job.finite, job.frame, job.box, options, job.workers,
                                   job.ranks, job.levels);
-      !s.ok())
+      !s.ok()) {
+    report.failure = TiledFailure::MEMORY_LIMIT;
     return s;
+  }
   report.tile_level = job.levels.tile;
   report.block_level = job.levels.block;
 
@@ -474,14 +499,14 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   BlockStore store(job.folder, job.frame, job.levels.tile, job.levels.block,
                    buffer_points, job.rank, job.ranks);
   if (!(status = bucket(job, store)).ok())
-    return status;
+    return failed(status); // bucket() tells the store's failures from the inputs'
   report.seconds_bucket = watch.seconds();
   if (!(status = number(job, store)).ok())
-    return status;
+    return failed(status);
 
   watch.restart();
   if (!(status = meshTiles(job, store)).ok())
-    return status;
+    return failed(status, TiledFailure::TEMP_FOLDER);
   const auto measureTemp = [&]() {
     if (job.rank == 0)
       report.temp_peak_bytes = std::max(report.temp_peak_bytes, temp.bytesUsed());
@@ -494,34 +519,34 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   store.removeTileFiles();
   const bool edited = post.trim || post.fill;
   if (!options.tile_output.empty() && !edited && !(status = writeTileOutputs(job)).ok())
-    return status;
+    return failed(status, TiledFailure::TILE_OUTPUT);
   report.seconds_mesh = watch.seconds();
 
   if (post.trim) {
     watch.restart();
     if (!(status = trim(job)).ok())
-      return status;
+      return failed(status, TiledFailure::TEMP_FOLDER);
     report.seconds_trim = watch.seconds();
     measureTemp();
   }
   if (post.fill) {
     watch.restart();
     if (!(status = fill(job)).ok())
-      return status;
+      return failed(status, TiledFailure::TEMP_FOLDER);
     report.seconds_fill = watch.seconds();
     measureTemp();
   }
   if (edited && job.rank == 0) // every rank is past the last sweep (its agreement)
     temp.removeFilesExcept("result_"); // the post-passes' files: the writer needs none
   if (!options.tile_output.empty() && edited && !(status = writeTileOutputs(job)).ok())
-    return status;
+    return failed(status, TiledFailure::TILE_OUTPUT);
 
   watch.restart();
   status = writeOutput(job, output, write_options);
   report.seconds_write = watch.seconds();
   measureTemp();  // the tile results, and what the products left
   comm.barrier(); // every rank is done with the folder before rank 0 removes it
-  return status;
+  return status.ok() ? status : failed(status, TiledFailure::OUTPUT);
 }
 
 } // namespace pcl_vts

@@ -366,6 +366,7 @@ TEST_F(CrsRoundTrip, PrjSidecarOverrideAndConflict)
   EXPECT_NE(err.find("a.xyz"), std::string::npos) << err;
   EXPECT_NE(err.find("b.xyz"), std::string::npos) << err;
   EXPECT_NE(err.find("different coordinate systems"), std::string::npos) << err;
+  EXPECT_NE(err.find("set the one to use with --crs"), std::string::npos) << err;
   EXPECT_EQ(run("a.xyz b.xyz m6.ply --crs EPSG:25832", &err), 0) << err;
   // A file's CRS GDAL cannot parse (PDAL's warsaw_small.las has a WKT of "''") is
   // ignored with a note, not an error; the tiled run writes the .prj too.
@@ -394,7 +395,21 @@ TEST_F(CrsRoundTrip, BadGisOptionValuesAreUsageErrorsNamingTheOption)
       {"--contour-base 2m", "--contour-base: '2m' is not a number"},
       {"--dem-bounds 1,2,3", "--dem-bounds: '1,2,3' is not X0,Y0,X1,Y1"},
       {"--dem-bounds 1,2,3,4,5", "--dem-bounds: '1,2,3,4,5' is not X0,Y0,X1,Y1"},
-      {"--dem-bounds 0,0,10.2,5 --dem d.tif --resolution 1", "--dem-bounds"},
+      {"--dem-bounds 0,0,10.2,5 --dem d.tif --resolution 1",
+       "--dem-bounds: DEM bounds are not a whole number"},
+      // The combinations: the tool's flags in front of or in place of the library's
+      // words (tools/gis_cli.cpp).
+      {"--dem d.tif", "--dem needs --resolution R"},
+      {"--hillshade h.png", "--resolution, --dem-bounds, --dem-overviews and "
+                            "--hillshade need --dem"},
+      {"--contours c.gpkg", "--contours needs --interval I"},
+      {"--interval 2", "--interval needs --contours"},
+      {"--dem d.jpg --resolution 1",
+       "--dem: the DEM path 'd.jpg' does not end in .tif"},
+      {"--dem d.tif --resolution 1 --hillshade h.jpg",
+       "--hillshade: the hillshade path"},
+      {"--contours c.kml --interval 1", "--contours: the contour path 'c.kml'"},
+      {"--crs EPSG:1", "--crs: 'EPSG:1' is not a coordinate system"},
   };
   for (const auto& c : bad) {
     SCOPED_TRACE(c[0]);

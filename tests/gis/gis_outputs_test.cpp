@@ -253,6 +253,18 @@ TEST(GisOptions, ValidateChecksTheCombination)
   EXPECT_TRUE(validateGisOptions(c).ok());
   c.crs = "EPSG:0";
   EXPECT_FALSE(validateGisOptions(c).ok());
+  // The library's words name the settings, never a tool's flags.
+  GisOutputOptions d;
+  d.dem = "out.tif";
+  Status s = validateGisOptions(d);
+  EXPECT_NE(s.message.find("a DEM needs a resolution > 0"), std::string::npos)
+      << s.message;
+  d.dem.clear();
+  d.interval = 1.0;
+  s = validateGisOptions(d);
+  EXPECT_NE(s.message.find("no contour path"), std::string::npos) << s.message;
+  for (const Status& t : {s, validateGisOptions(o), validateGisOptions(c)})
+    EXPECT_EQ(t.message.find("--"), std::string::npos) << t.message;
 }
 
 } // namespace

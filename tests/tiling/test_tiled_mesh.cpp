@@ -677,6 +677,7 @@ TEST_F(TiledMeshTest, AnInputThatChangesBetweenPassesIsAnError)
                                 MeshWriteOptions{}, report);
   EXPECT_EQ(s.code, StatusCode::IO_ERROR);
   EXPECT_NE(s.message.find("changed"), std::string::npos) << s.message;
+  EXPECT_EQ(report.failure, TiledFailure::OTHER) << "the input's, not the folder's";
   EXPECT_EQ(entriesIn(root_), 0u) << "temporary files or a partial output left behind";
 }
 
@@ -696,8 +697,12 @@ TEST_F(TiledMeshTest, AFullTemporaryDiskIsAClearErrorWithNothingLeft)
     TiledMeshReport report;
     const Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
                                   MeshWriteOptions{}, report);
+    // In the library's words (a tool adds its flag: TiledFailure).
     const bool clear = s.code == StatusCode::IO_ERROR &&
-                       s.message.find("--temp-dir") != std::string::npos;
+                       report.failure == TiledFailure::TEMP_FOLDER &&
+                       s.message.find("temporary folder") != std::string::npos &&
+                       s.message.find("is full") != std::string::npos &&
+                       s.message.find("--") == std::string::npos;
     _exit(clear ? 0 : 1);
   }
   int wstatus = 0;
@@ -717,6 +722,24 @@ TEST_F(TiledMeshTest, ATemporaryFolderThatCannotBeCreatedIsAClearError)
                                 MeshWriteOptions{}, report);
   EXPECT_EQ(s.code, StatusCode::IO_ERROR);
   EXPECT_NE(s.message.find("temporary folder"), std::string::npos) << s.message;
+  EXPECT_EQ(report.failure, TiledFailure::TEMP_FOLDER);
+}
+
+TEST_F(TiledMeshTest, AMemoryLimitBelowTheMinimumNamesItInTheLibrarysWords)
+{
+  const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 20000, 3);
+  TiledMeshOptions options;
+  options.temp_parent = root_.string();
+  options.memory_limit = std::uint64_t{1} << 20;
+  TiledMeshReport report;
+  const Status s = runTiledMesh(feedOf(xyz), options, (root_ / "t.ply").string(),
+                                MeshWriteOptions{}, report);
+  EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER);
+  EXPECT_EQ(report.failure, TiledFailure::MEMORY_LIMIT);
+  EXPECT_NE(s.message.find("the memory limit of 1 MiB is below"), std::string::npos)
+      << s.message;
+  EXPECT_EQ(s.message.find("--"), std::string::npos) << s.message;
+  EXPECT_EQ(entriesIn(root_), 0u) << "temporary files or a partial output left behind";
 }
 
 TEST_F(TiledMeshTest, TilesOnAStraightDataBoundaryLoadAStripOfItNotEverything)

@@ -1927,7 +1927,7 @@ TEST_F(PcdToMesh, AMemoryLimitBelowWhatATileNeedsNamesTheMinimum)
       splitIntoXyzFiles(utmCloud(20000, 2), 1, work_);
   const auto before = workFiles();
   expectFailure(runDelaunay({names[0], "out.ply", "--memory-limit", "1M"}), 1,
-                "at least", before);
+                "--memory-limit: the memory limit of 1 MiB is below the", before);
 }
 
 TEST_F(PcdToMesh, ATemporaryFolderThatIsFullFailsCleanly)
@@ -1939,7 +1939,7 @@ TEST_F(PcdToMesh, ATemporaryFolderThatIsFullFailsCleanly)
   const CliResult r = run({names[0], "out.ply", "--tile-level", "0", "--no-trim",
                            "--no-fill", "--temp-dir", "."},
                           "ulimit -f 200 &&");
-  expectFailure(r, 4, "--temp-dir", before);
+  expectFailure(r, 4, "--temp-dir: cannot ", before);
 }
 
 /// Memory tests: each run under GNU time, its peak measured over the process alone

@@ -21,22 +21,24 @@ namespace pcl_vts {
 constexpr float DEM_NODATA = -9999.0f;
 
 struct GisOutputOptions {
-  std::string dem;         ///< --dem: GeoTIFF path, empty = none
-  double resolution = 0.0; ///< --resolution: pixel edge, input XY units
+  std::string dem;         ///< GeoTIFF path (.tif, .tiff), empty = no DEM
+  double resolution = 0.0; ///< DEM pixel edge, input XY units (> 0 with a DEM)
   bool bounds_given = false;
-  double bounds[4] = {0, 0, 0, 0}; ///< --dem-bounds X0,Y0,X1,Y1
-  bool overviews = false;          ///< --dem-overviews
-  std::string hillshade;           ///< --hillshade: PNG path (needs --dem)
-  std::string contours;            ///< --contours: .gpkg or .shp path
-  double interval = 0.0;           ///< --interval
-  double contour_base = 0.0;       ///< --contour-base: levels are base + k*interval
-  std::string crs;                 ///< --crs: EPSG:XXXX or WKT, overrides the input's
+  double bounds[4] = {0, 0, 0, 0}; ///< DEM extent X0,Y0,X1,Y1 (whole pixels)
+  bool overviews = false;          ///< also build the DEM's internal overviews
+  std::string hillshade;           ///< PNG path of the DEM's hillshade (needs dem)
+  std::string contours;            ///< .gpkg or .shp path, empty = no contour lines
+  double interval = 0.0;           ///< contour step (> 0 with contours)
+  double contour_base = 0.0;       ///< levels are contour_base + k * interval
+  std::string crs;                 ///< EPSG:XXXX or WKT, overrides the input's
 
   bool any() const { return !dem.empty() || !contours.empty(); }
 };
 
-/// Checks the combination (--resolution with --dem, --interval with --contours, the
-/// extensions, --crs parses). INVALID_PARAMETER naming the problem.
+/// Checks the combination (a resolution with a DEM, an interval with contours, no DEM
+/// setting without a DEM, the extensions, the bounds, the CRS parses).
+/// INVALID_PARAMETER naming the problem in these fields' words (a tool names its
+/// flags itself: tools/gis_cli.cpp).
 PCL_VTS_GIS_EXPORT Status validateGisOptions(const GisOutputOptions& options);
 
 /// A CRS from what a user or a file gives: "EPSG:2056", a WKT, a PROJ string,

@@ -74,8 +74,8 @@ struct TiledMeshOptions {
   /// fails the run.
   std::function<Status(const MeshSource& mesh, const std::string& temp_folder)>
       after_write;
-  /// An optional pre-pass (the tiled --crop and --ground pmf, ground_tiles.h): run by
-  /// every rank once the temporary folder exists, before the scan, with the job's
+  /// An optional pre-pass (the tiled crop and PMF ground filter, ground_tiles.h): run
+  /// by every rank once the temporary folder exists, before the scan, with the job's
   /// inputs (all of them: rank 0 reads them, the ranks share the filtering); it writes
   /// the points to mesh into files in the folder and names them (rank 0's list is
   /// the job's). The job then meshes those files, read by every rank with
@@ -88,6 +88,18 @@ struct TiledMeshOptions {
   int tile_level = -1;
   int block_level = -1;
   std::function<void(const TiledProgress&)> progress;
+};
+
+/// What a failed run could not do, beyond its status: for a caller that names the
+/// setting involved in its own words (a tool puts its flag in front of the message).
+enum class TiledFailure {
+  NONE,         ///< the run succeeded
+  OTHER,        ///< the arguments, the inputs or their points (see the status code)
+  TEMP_FOLDER,  ///< creating the temporary folder in temp_parent, or writing or
+                ///< reading its files (a full disk, a quota, permissions)
+  MEMORY_LIMIT, ///< memory_limit is below what the job needs at least
+  TILE_OUTPUT,  ///< writing the tile meshes into tile_output
+  OUTPUT,       ///< writing the output, or after_write
 };
 
 struct TiledMeshReport {
@@ -108,6 +120,7 @@ struct TiledMeshReport {
   double seconds_scan = 0, seconds_bucket = 0, seconds_mesh = 0, seconds_trim = 0,
          seconds_fill = 0, seconds_write = 0;
   MeshWriteInfo written;
+  TiledFailure failure = TiledFailure::NONE; ///< set when the run fails (every rank)
 };
 
 /// Meshes every point of `inputs` and writes the mesh to `output` (atomically, by
