@@ -23,13 +23,12 @@ install(TARGETS ${PCL_VTS_MODULES} EXPORT pcl_vtsTargets
 # generated export headers.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/pcl_vts ${PROJECT_BINARY_DIR}/include/pcl_vts
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT Development)
-# The user tools: every executable the top-level CMakeLists.txt declares (pcd_to_mesh
-# and its siblings; compare_methods, benchmarks and tests live in subfolders).
-get_property(PCL_VTS_TOP_TARGETS DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTY BUILDSYSTEM_TARGETS)
-foreach(target IN LISTS PCL_VTS_TOP_TARGETS)
-  get_target_property(type ${target} TYPE)
-  if(type STREQUAL "EXECUTABLE")
-    install(TARGETS ${target} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
+# The user tools, named: pcd_to_mesh and, when MPI was found, pcd_to_mesh_mpi (the
+# README's list). Other executables (docs_pictures, compare_methods, benchmarks,
+# tests) are never installed.
+foreach(tool pcd_to_mesh pcd_to_mesh_mpi)
+  if(TARGET ${tool})
+    install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
   endif()
 endforeach()
 install(EXPORT pcl_vtsTargets NAMESPACE pcl_vts:: FILE pcl_vtsTargets.cmake
