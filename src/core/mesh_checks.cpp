@@ -267,6 +267,63 @@ bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
   return true;
 }
 
+bool isValidSurfaceMesh(const TriangleMesh& mesh, std::string* why)
+{
+  auto fast = [&] {
+    if (!halfedgesConsistent(mesh, nullptr)) // ids in range, twins reversed
+      return false;
+    // Twins consistent: an interior pair holds both directions of its edge, a
+    // boundary halfedge its own; a directed edge is used twice (also when the edge is
+    // used three times) exactly when two entries of one edge share a direction bit.
+    const std::size_t corners = mesh.triangles.size();
+    const std::size_t n = mesh.xy.size();
+    std::vector<std::uint32_t> start(n + 1, 0);
+    for (std::size_t i = 0; i < corners; ++i) {
+      const auto e = static_cast<HalfedgeId>(i);
+      const VertexId from = mesh.triangles[e], to = mesh.triangles[nextHalfedge(e)];
+      if (from == to)
+        return false;
+      const HalfedgeId twin = mesh.halfedges[e];
+      if (twin == INVALID_ID || e < twin)
+        ++start[std::min(from, to) + std::size_t{1}];
+    }
+    for (std::size_t v = 0; v < n; ++v)
+      start[v + 1] += start[v];
+    // (upper vertex << 2) | directions (1: upward, 2: downward).
+    std::vector<std::uint64_t> bucket(start[n]);
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < corners; ++i) {
+      const auto e = static_cast<HalfedgeId>(i);
+      const HalfedgeId twin = mesh.halfedges[e];
+      if (twin != INVALID_ID && twin < e)
+        continue;
+      const VertexId from = mesh.triangles[e], to = mesh.triangles[nextHalfedge(e)];
+      const std::uint64_t directions = twin != INVALID_ID ? 3 : from < to ? 1 : 2;
+      bucket[fill[std::min(from, to)]++] =
+          (std::uint64_t{std::max(from, to)} << 2) | directions;
+    }
+    for (std::size_t v = 0; v < n; ++v) {
+      const auto first = bucket.begin() + start[v];
+      const auto last = bucket.begin() + start[v + 1];
+      if (last - first > 16)
+        std::sort(first, last);
+      bool shared = false;
+      for (auto i = first; i != last; ++i)
+        for (auto j = i + 1;
+             j != last && (last - first <= 16 || (*j >> 2) == (*i >> 2)); ++j)
+          shared |= (*i >> 2) == (*j >> 2) && (*i & *j & 3) != 0;
+      if (shared)
+        return false;
+    }
+    return allTrianglesCcw(mesh, nullptr);
+  };
+  if (fast())
+    return true;
+  // The checks one by one for the first failure's message (one of them fails).
+  return isEdgeManifold(mesh, why) && halfedgesConsistent(mesh, why) &&
+         allTrianglesCcw(mesh, why);
+}
+
 bool isDelaunay(const TriangleMesh& mesh, std::string* why)
 {
   if (!halfedgesConsistent(mesh, why))

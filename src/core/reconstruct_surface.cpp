@@ -66,8 +66,7 @@ Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& optio
   diagnostics.triangles_out = mesh.triangleCount();
   if (options.check_output) {
     std::string why;
-    if (!isEdgeManifold(mesh, &why) || !halfedgesConsistent(mesh, &why) ||
-        !allTrianglesCcw(mesh, &why))
+    if (!isValidSurfaceMesh(mesh, &why))
       return Status::error(StatusCode::INTERNAL_ERROR,
                            "reconstructed mesh check failed: " + why);
   }

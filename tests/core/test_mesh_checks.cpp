@@ -277,6 +277,67 @@ TEST(IsEdgeManifold, AgreesWithCountingEveryEdgeOnRandomTriangleSoups)
   EXPECT_GT(rejected, 50);
 }
 
+TEST(IsValidSurfaceMesh, AgreesWithTheThreeChecksAndTheirFirstMessage)
+{
+  // Random triangles over a few vertices in general position, turned CCW, twins
+  // rebuilt (consistent, even where the edges are not manifold), then sometimes
+  // damaged: the verdict and message are those of isEdgeManifold, then
+  // halfedgesConsistent, then allTrianglesCcw.
+  std::mt19937 rng(11);
+  int valid = 0, invalid = 0;
+  for (int round = 0; round < 600; ++round) {
+    TriangleMesh mesh;
+    const auto vertices = static_cast<VertexId>(5 + round % 7);
+    std::uniform_real_distribution<double> coordinate(0.0, 100.0);
+    for (VertexId v = 0; v < vertices; ++v) {
+      mesh.xy.push_back({coordinate(rng), coordinate(rng)});
+      mesh.z.push_back(0.0);
+    }
+    std::uniform_int_distribution<VertexId> pick(0, vertices - 1);
+    const int count = 1 + round % 6;
+    for (int t = 0; t < count; ++t) {
+      VertexId a = pick(rng), b = pick(rng), c = pick(rng);
+      while (b == a)
+        b = pick(rng);
+      while (c == a || c == b)
+        c = pick(rng);
+      const Point2 &p = mesh.xy[a], &q = mesh.xy[b], &r = mesh.xy[c];
+      if ((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x) < 0.0)
+        std::swap(b, c);
+      mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
+    }
+    (void)mesh.rebuildHalfedges();
+    switch (round % 5) {
+    case 1: // one twin link broken on one side
+      for (HalfedgeId& twin : mesh.halfedges)
+        if (twin != INVALID_ID) {
+          twin = INVALID_ID;
+          break;
+        }
+      break;
+    case 2: // a clockwise triangle
+      std::swap(mesh.triangles[1], mesh.triangles[2]);
+      (void)mesh.rebuildHalfedges();
+      break;
+    case 3: // a self-loop
+      mesh.triangles[1] = mesh.triangles[0];
+      break;
+    default:
+      break;
+    }
+    std::string expected_why, why;
+    const bool expected = isEdgeManifold(mesh, &expected_why) &&
+                          halfedgesConsistent(mesh, &expected_why) &&
+                          allTrianglesCcw(mesh, &expected_why);
+    ASSERT_EQ(isValidSurfaceMesh(mesh, &why), expected) << "round " << round;
+    EXPECT_EQ(why, expected_why) << "round " << round;
+    (expected ? valid : invalid) += 1;
+  }
+  EXPECT_GT(valid, 50);
+  EXPECT_GT(invalid, 200);
+  EXPECT_TRUE(isValidSurfaceMesh(fanMesh()));
+}
+
 TEST(AllVerticesUsed, FlagsAnUnusedVertex)
 {
   TriangleMesh mesh = fanMesh();
