@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <limits>
 #include <memory>
+#include <unistd.h>
 
 namespace pcl_vts {
 namespace {
@@ -139,12 +141,42 @@ Status TileResultsMesh::readAt(std::uint32_t tile, long offset, void* data,
   return Status::success();
 }
 
+namespace {
+
+/// Gives a read section's disk back: the file is removed once both sections are read
+/// (state 3), else the section's blocks are punched out. A file system that cannot
+/// punch keeps them until the job's folder goes: less room, the same bytes.
+void releaseSection(const std::string& path, std::uint64_t offset, std::uint64_t bytes,
+                    std::uint8_t state)
+{
+  if (state == 3) {
+    ::unlink(path.c_str());
+    return;
+  }
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0)
+    return;
+  ::fallocate(fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE,
+              static_cast<off_t>(offset), static_cast<off_t>(bytes));
+  ::close(fd);
+}
+
+} // namespace
+
 template <typename Visit>
 Status TileResultsMesh::forEachSection(bool vertices, const Visit& visit) const
 {
   const std::size_t item = vertices ? 24 : 12;
+  const std::uint8_t bit = vertices ? 1 : 2;
+  if (release_ && released_.size() != tiles_.size())
+    released_.assign(tiles_.size(), 0);
   std::vector<char> buffer;
-  for (std::uint32_t t : tiles_) {
+  for (std::size_t k = 0; k < tiles_.size(); ++k) {
+    const std::uint32_t t = tiles_[k];
+    if (release_ && (released_[k] & bit) != 0)
+      return Status::error(StatusCode::INTERNAL_ERROR,
+                           "tile " + std::to_string(t) +
+                               ": a result section read again after its release");
     // One open and one sequential read per tile.
     const std::string path = resultPath(folder_, t);
     const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(
@@ -168,6 +200,9 @@ Status TileResultsMesh::forEachSection(bool vertices, const Visit& visit) const
     if (!ok)
       return Status::error(StatusCode::IO_ERROR, "cannot read back '" + path +
                                                      "': shorter than its header says");
+    if (release_)
+      releaseSection(path, vertices ? 24 : 24 + 24 * header[0], count * item,
+                     released_[k] |= bit);
   }
   return Status::success();
 }

@@ -36,6 +36,11 @@ class TileResultsMesh : public MeshSource {
   TileResultsMesh(std::string folder, std::vector<std::uint32_t> tiles);
   /// Reads every header: counts and float-exactness.
   Status scan();
+  /// The last reader: each tile's section goes back to the file system once it has
+  /// been read (a hole punched; the file removed after both), so the output grows
+  /// as the results shrink. A section read again after that is INTERNAL_ERROR,
+  /// never zeros: only for a writer that reads each section once (PLY).
+  void releaseAsRead() { release_ = true; }
   std::uint64_t vertexCount() const override { return nv_; }
   std::uint64_t triangleCount() const override { return nt_; }
   bool exactInFloat() const override { return exact_; }
@@ -52,6 +57,9 @@ class TileResultsMesh : public MeshSource {
   std::vector<std::uint32_t> tiles_;
   std::uint64_t nv_ = 0, nt_ = 0;
   bool exact_ = true;
+  bool release_ = false;
+  mutable std::vector<std::uint8_t>
+      released_; ///< per tile: bit 0 vertices, 1 triangles
 };
 
 /// Where every vertex id lives: the tiles with points, their first ids.

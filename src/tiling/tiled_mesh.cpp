@@ -381,6 +381,13 @@ Status writeOutput(Job& job, const std::string& output,
   Status status;
   if (job.rank == 0) {
     TileResultsMesh mesh(job.folder, job.occupied_tiles);
+    // The writer is the results' last reader unless a product reads them after it;
+    // PLY reads each section once (OBJ and VTK read the vertices twice when points
+    // were inserted).
+    MeshFileFormat format = MeshFileFormat::OBJ;
+    if (!job.options.after_write && meshFileFormatFromPath(output, format).ok() &&
+        format == MeshFileFormat::PLY)
+      mesh.releaseAsRead();
     status = mesh.scan();
     if (status.ok() && mesh.vertexCount() != job.report.vertices)
       status = Status::error(StatusCode::INTERNAL_ERROR,
@@ -544,7 +551,9 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   watch.restart();
   status = writeOutput(job, output, write_options);
   report.seconds_write = watch.seconds();
-  measureTemp();  // the tile results, and what the products left
+  measureTemp(); // the tile results, and what the products left
+  if (job.rank == 0)
+    report.temp_bytes_after_write = temp.bytesUsed();
   comm.barrier(); // every rank is done with the folder before rank 0 removes it
   return status.ok() ? status : failed(status, TiledFailure::OUTPUT);
 }

@@ -661,6 +661,29 @@ TEST_F(TiledMeshTest, PointFilesAreRemovedOnceEveryTileIsMeshed)
   EXPECT_GE(report.temp_peak_bytes, report.temp_bytes + 24 * report.vertices);
 }
 
+// A PLY writer is the tile results' last reader: each section goes back once read,
+// and nothing of them is left after the write. OBJ reads the vertices twice when
+// points were inserted: its results stay, and it still writes the in-memory bytes.
+TEST_F(TiledMeshTest, TileResultsGoBackAsThePlyIsWritten)
+{
+  const SyntheticTerrain terrain = makeSyntheticTerrain(5);
+  VtsOptions vts;
+  vts.reconstruction = ReconstructionOptions{};
+  for (const char* name : {"t.ply", "t.obj"}) {
+    SCOPED_TRACE(name);
+    const std::string reference = (root_ / (std::string("m") + name)).string();
+    ASSERT_TRUE(writeInMemory(terrain.xyz, reference, nullptr, vts).ok());
+    const std::string path = (root_ / name).string();
+    TiledMeshReport report;
+    ASSERT_TRUE(writeTiled(terrain.xyz, path, 2, 5, report, vts).ok());
+    EXPECT_TRUE(slurp(path) == slurp(reference)) << "differs from the in-memory file";
+    if (std::string(name) == "t.ply")
+      EXPECT_EQ(report.temp_bytes_after_write, 0u);
+    else
+      EXPECT_GE(report.temp_bytes_after_write, 24 * report.vertices);
+  }
+}
+
 TEST_F(TiledMeshTest, AnInputThatChangesBetweenPassesIsAnError)
 {
   const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 3000, 2);

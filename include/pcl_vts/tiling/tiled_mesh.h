@@ -114,6 +114,10 @@ struct TiledMeshReport {
   std::uint64_t rounds = 0;          ///< triangulations run, all tiles together
   std::uint64_t temp_bytes = 0;      ///< the bucketed points (24 B a point)
   std::uint64_t temp_peak_bytes = 0; ///< most disk the temporary folder took (rank 0)
+  /// What the folder still held once the mesh was written (rank 0): the tile results
+  /// go back as a PLY writer reads them, so little is left unless a product (the DEM,
+  /// the contours) or another format reads them again.
+  std::uint64_t temp_bytes_after_write = 0;
   int tile_level = 0, block_level = 0;
   TrimResult trim; ///< when trimming (its spacing is left 0)
   FillResult fill; ///< when filling (without per-vertex flags)
