@@ -1064,6 +1064,16 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
            1e3 * report.seconds_write,
            pcl_vts::meshFileFormatName(report.written.format),
            static_cast<unsigned long long>(report.written.bytes));
+  // The products and the .prj beside the mesh (rank 0 only), before the summary as
+  // in memory.
+  for (const std::string& line : product_lines)
+    out.line("GIS: %s\n", line.c_str());
+  if (!product_lines.empty())
+    out.line("GIS: written in %.1f ms\n", product_ms);
+  if (pcl_vts::Status w =
+          g_silent ? pcl_vts::Status::success() : opt.gis.writePrj(opt.output);
+      !w.ok())
+    return out.fail(EXIT_OUTPUT, w.message);
   const std::uint64_t finite = report.points - report.non_finite_dropped;
   out.line("Summary\n");
   out.line("  %-20s %zu\n", "points read", input.points_read);
@@ -1084,15 +1094,6 @@ int runTiled(const CliOptions& opt, Reporter& out, Clock::time_point t_total,
   out.line("  %-20s %s at most (in '%s')\n", "temporary disk",
            mib(report.temp_peak_bytes).c_str(), opt.temp_dir.c_str());
   out.line("  %-20s %s\n", "mesh written to", opt.output.c_str());
-  for (const std::string& line : product_lines)
-    out.line("GIS: %s\n", line.c_str());
-  if (!product_lines.empty())
-    out.line("GIS: written in %.1f ms\n", product_ms);
-  // The .prj beside the mesh, by rank 0 only.
-  if (pcl_vts::Status w =
-          g_silent ? pcl_vts::Status::success() : opt.gis.writePrj(opt.output);
-      !w.ok())
-    return out.fail(EXIT_OUTPUT, w.message);
   std::fflush(stdout);
   return 0;
 }
