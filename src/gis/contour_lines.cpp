@@ -112,15 +112,20 @@ void append(std::vector<Point2>& line, const Point2& p)
     line.push_back(p);
 }
 
-/// Repeats a closed line's first point at its end; false when the line shrank to a
-/// point (a summit exactly at the level) and is not emitted.
-bool finishLine(ContourLine& line)
+/// Hands a traced line to the sink, counted: a closed line gets its first point
+/// repeated at its end; a line that shrank to a point (a summit exactly at the level)
+/// is not emitted.
+Status emitLine(ContourLine& line, ContourStats& stats, const ContourSink& sink)
 {
   if (line.closed && line.points.size() > 1 &&
       (line.points.front().x != line.points.back().x ||
        line.points.front().y != line.points.back().y))
     line.points.push_back(line.points.front());
-  return line.points.size() >= (line.closed ? 4u : 2u);
+  if (line.points.size() < (line.closed ? 4u : 2u))
+    return Status::success();
+  ++stats.lines;
+  stats.closed += line.closed;
+  return sink(line);
 }
 
 } // namespace
@@ -191,11 +196,7 @@ Status traceContours(const TriangleMesh& mesh, double interval, double base,
         if (visited[t] == stamp)
           return notManifold(level);
       }
-      if (!finishLine(line))
-        return Status::success();
-      ++local.lines;
-      local.closed += line.closed;
-      return sink(line);
+      return emitLine(line, local, sink);
     };
     // Open lines first, from the triangle whose entry lies on the boundary...
     for (std::size_t i = begin; i < end; ++i) {
@@ -402,11 +403,7 @@ Status traceContoursOutOfCore(const MeshStream& mesh, double interval, double ba
         if (visited[g])
           return notManifold(level);
       }
-      if (!finishLine(line))
-        return Status::success();
-      ++local.lines;
-      local.closed += line.closed;
-      return sink(line);
+      return emitLine(line, local, sink);
     };
     for (std::size_t i = begin; i < end; ++i)
       if (!entered[i])

@@ -32,27 +32,44 @@ struct LinuxDirent64 {
   char name[1];
 };
 
-/// Unlinks every entry of the folder, then the folder: open, getdents64, unlinkat
-/// and rmdir are async-signal-safe, so the signal handler may call this.
-void removeFolderSignalSafe(const char* folder)
+/// True when name starts with prefix (a loop: the signal handler calls it).
+bool startsWith(const char* name, const char* prefix)
+{
+  for (; *prefix != 0; ++name, ++prefix)
+    if (*name != *prefix)
+      return false;
+  return true;
+}
+
+/// Unlinks every entry of the folder whose name does not start with `keep` ("" keeps
+/// nothing): open, getdents64 and unlinkat are async-signal-safe, so the signal
+/// handler may call this.
+void unlinkEntriesSignalSafe(const char* folder, const char* keep)
 {
   const int fd = ::open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd >= 0) {
-    alignas(8) char buffer[8192];
-    for (;;) {
-      const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof(buffer));
-      if (n <= 0)
-        break;
-      for (long at = 0; at < n;) {
-        const auto* entry = reinterpret_cast<const LinuxDirent64*>(buffer + at);
-        const char* name = entry->name;
-        if (!(name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0))))
-          ::unlinkat(fd, name, 0);
-        at += entry->reclen;
-      }
+  if (fd < 0)
+    return;
+  alignas(8) char buffer[8192];
+  for (;;) {
+    const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof(buffer));
+    if (n <= 0)
+      break;
+    for (long at = 0; at < n;) {
+      const auto* entry = reinterpret_cast<const LinuxDirent64*>(buffer + at);
+      const char* name = entry->name;
+      if (!(name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0))) &&
+          !(*keep != 0 && startsWith(name, keep)))
+        ::unlinkat(fd, name, 0);
+      at += entry->reclen;
     }
-    ::close(fd);
   }
+  ::close(fd);
+}
+
+/// Unlinks every entry of the folder, then the folder (async-signal-safe).
+void removeFolderSignalSafe(const char* folder)
+{
+  unlinkEntriesSignalSafe(folder, "");
   ::rmdir(folder);
 }
 
@@ -148,18 +165,8 @@ std::uint64_t TempFolder::bytesUsed() const
 
 void TempFolder::removeFilesExcept(const std::string& keep) const
 {
-  DIR* dir = path_.empty() ? nullptr : ::opendir(path_.c_str());
-  if (dir == nullptr)
-    return;
-  std::vector<std::string> doomed;
-  while (const dirent* entry = ::readdir(dir)) {
-    const std::string name = entry->d_name;
-    if (name != "." && name != ".." && name.compare(0, keep.size(), keep) != 0)
-      doomed.push_back(name);
-  }
-  for (const std::string& name : doomed)
-    ::unlinkat(::dirfd(dir), name.c_str(), 0);
-  ::closedir(dir);
+  if (!path_.empty())
+    unlinkEntriesSignalSafe(path_.c_str(), keep.c_str());
 }
 
 void TempFolder::remove()

@@ -21,7 +21,8 @@ class TempFolder {
   const std::string& path() const { return path_; }
   /// Disk the folder's files take now (allocated blocks), 0 when there is none.
   std::uint64_t bytesUsed() const;
-  /// Unlinks every file of the folder whose name does not start with `keep`.
+  /// Unlinks every file of the folder whose name does not start with `keep` (an
+  /// empty `keep` keeps nothing).
   void removeFilesExcept(const std::string& keep) const;
   /// Another process's folder (an MPI rank's view of rank 0's): removed by this
   /// process only if it receives SIGINT/SIGTERM/SIGHUP, so that a job stopped while

@@ -374,7 +374,7 @@ Status fill(Job& job)
 }
 
 /// 7. Rank 0 writes the mesh, atomically, from the result files in tile order.
-Status writeOutput(Job& job, const std::string& output,
+Status writeOutput(Job& job, const std::string& output, MeshFileFormat format,
                    const MeshWriteOptions& write_options)
 {
   job.progress("writing", 0, 0);
@@ -384,9 +384,7 @@ Status writeOutput(Job& job, const std::string& output,
     // The writer is the results' last reader unless a product reads them after it;
     // PLY reads each section once (OBJ and VTK read the vertices twice when points
     // were inserted).
-    MeshFileFormat format = MeshFileFormat::OBJ;
-    if (!job.options.after_write && meshFileFormatFromPath(output, format).ok() &&
-        format == MeshFileFormat::PLY)
+    if (!job.options.after_write && format == MeshFileFormat::PLY)
       mesh.releaseAsRead();
     status = mesh.scan();
     if (status.ok() && mesh.vertexCount() != job.report.vertices)
@@ -549,11 +547,13 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     return failed(status, TiledFailure::TILE_OUTPUT);
 
   watch.restart();
-  status = writeOutput(job, output, write_options);
+  status = writeOutput(job, output, format, write_options);
   report.seconds_write = watch.seconds();
-  measureTemp(); // the tile results, and what the products left
-  if (job.rank == 0)
+  if (job.rank == 0) { // the tile results unless released, what the products left
     report.temp_bytes_after_write = temp.bytesUsed();
+    report.temp_peak_bytes =
+        std::max(report.temp_peak_bytes, report.temp_bytes_after_write);
+  }
   comm.barrier(); // every rank is done with the folder before rank 0 removes it
   return status.ok() ? status : failed(status, TiledFailure::OUTPUT);
 }
