@@ -4,7 +4,7 @@
 // vegetation returns (class 1) above ground (class 2). Streams: one tile's points
 // at a time, never the whole set. Same arguments, same bytes.
 //
-//   make_lidar_tiles OUT_DIR TOTAL_POINTS [TILES_PER_SIDE] [SEED]
+//   make_lidar_tiles OUT_DIR TOTAL_POINTS [TILES_PER_SIDE] [SEED] [POINT_FORMAT]
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,7 +19,8 @@ namespace {
 constexpr double TILE_METRES = 1000.0;
 constexpr double ORIGIN_X = 500000.0, ORIGIN_Y = 4100000.0; // UTM-like
 constexpr double SCALE = 0.01;
-constexpr std::uint16_t RECORD_BYTES = 28;
+/// Record length of point formats 0 and 1.
+constexpr std::uint16_t RECORD_BYTES[2] = {20, 28};
 constexpr std::uint32_t HEADER_BYTES = 227;
 
 double ground(double x, double y)
@@ -54,7 +55,7 @@ void put(std::vector<unsigned char>& out, std::size_t at, T v)
 }
 
 bool writeTile(const std::string& path, std::uint64_t points, double x0, double y0,
-               std::mt19937_64& rng)
+               int format, std::mt19937_64& rng)
 {
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (f == nullptr)
@@ -65,7 +66,7 @@ bool writeTile(const std::string& path, std::uint64_t points, double x0, double 
   double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL},
          hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   std::uint32_t by_return[5] = {0, 0, 0, 0, 0};
-  std::vector<unsigned char> record(RECORD_BYTES);
+  std::vector<unsigned char> record(RECORD_BYTES[format]);
   for (std::uint64_t written = 0; written < points;) {
     const double x = x0 + TILE_METRES * u(rng), y = y0 + TILE_METRES * u(rng);
     if (inLake(x, y) || u(rng) > density(x, y))
@@ -92,7 +93,8 @@ bool writeTile(const std::string& path, std::uint64_t points, double x0, double 
     put(record, 12, static_cast<std::uint16_t>(100 + 50 * u(rng)));
     record[14] = static_cast<unsigned char>(return_number | (2 << 3)); // of 2 returns
     record[15] = vegetation ? 1 : 2;
-    put(record, 20, static_cast<double>(written));
+    if (format == 1)
+      put(record, 20, static_cast<double>(written));
     if (std::fwrite(record.data(), 1, record.size(), f) != record.size()) {
       std::fclose(f);
       return false;
@@ -107,8 +109,8 @@ bool writeTile(const std::string& path, std::uint64_t points, double x0, double 
   put(header, 94, static_cast<std::uint16_t>(HEADER_BYTES));
   put(header, 96, HEADER_BYTES); // offset to point data
   put(header, 100, std::uint32_t{0});
-  header[104] = 1; // point format 1
-  put(header, 105, RECORD_BYTES);
+  header[104] = static_cast<unsigned char>(format);
+  put(header, 105, RECORD_BYTES[format]);
   put(header, 107, static_cast<std::uint32_t>(points));
   for (int k = 0; k < 5; ++k)
     put(header, 111 + 4 * static_cast<std::size_t>(k), by_return[k]);
@@ -132,9 +134,9 @@ bool writeTile(const std::string& path, std::uint64_t points, double x0, double 
 int main(int argc, char** argv)
 {
   if (argc < 3) {
-    std::fprintf(
-        stderr,
-        "usage: make_lidar_tiles OUT_DIR TOTAL_POINTS [TILES_PER_SIDE] [SEED]\n");
+    std::fprintf(stderr,
+                 "usage: make_lidar_tiles OUT_DIR TOTAL_POINTS [TILES_PER_SIDE] [SEED] "
+                 "[POINT_FORMAT 0|1]\n");
     return 1;
   }
   const std::string out = argv[1];
@@ -143,8 +145,10 @@ int main(int argc, char** argv)
                             : std::max(1, static_cast<int>(std::lround(std::sqrt(
                                               static_cast<double>(total) / 4e6))));
   const std::uint64_t seed = argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 1;
-  if (total == 0 || side <= 0) {
-    std::fprintf(stderr, "make_lidar_tiles: bad TOTAL_POINTS or TILES_PER_SIDE\n");
+  const int format = argc > 5 ? std::atoi(argv[5]) : 1;
+  if (total == 0 || side <= 0 || (format != 0 && format != 1)) {
+    std::fprintf(
+        stderr, "make_lidar_tiles: bad TOTAL_POINTS, TILES_PER_SIDE or POINT_FORMAT\n");
     return 1;
   }
   const std::uint64_t tiles =
@@ -159,7 +163,7 @@ int main(int argc, char** argv)
       char name[64];
       std::snprintf(name, sizeof(name), "/tile_%03d_%03d.las", tx, ty);
       if (!writeTile(out + name, points, ORIGIN_X + tx * TILE_METRES,
-                     ORIGIN_Y + ty * TILE_METRES, rng)) {
+                     ORIGIN_Y + ty * TILE_METRES, format, rng)) {
         std::fprintf(stderr, "make_lidar_tiles: cannot write %s%s\n", out.c_str(),
                      name);
         return 2;
