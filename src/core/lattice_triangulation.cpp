@@ -43,6 +43,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -506,7 +507,8 @@ class Fringe {
   {}
 
   /// The DT triangles that are not complete-cell triangles, CCW vertex triples;
-  /// false when a component's triangles do not close up (see triangulateLattice).
+  /// INTERNAL_ERROR when the ordinary path fails on a piece (triangulateLattice then
+  /// checks that the count closes up).
   Status triangulate(std::vector<std::array<VertexId, 3>>& found, Diagnostics& diag);
 
  private:
@@ -541,6 +543,8 @@ class Fringe {
     return std::binary_search(piece.s.begin(), piece.s.end(), p) ||
            std::binary_search(piece.added.begin(), piece.added.end(), p);
   }
+  /// The points found in candidates' disks join the piece's S with their ring.
+  void grow(Piece& piece, const std::vector<std::size_t>& inside) const;
   /// The present positions within lattice_ring steps of p (p included), appended.
   void ring(std::size_t p, std::vector<std::size_t>& out) const;
   bool isCellTriangle(const std::array<std::size_t, 3>& p) const;
@@ -662,6 +666,16 @@ bool Fringe::isCellTriangle(const std::array<std::size_t, 3>& p) const
   return i1 == i0 + 1 && j1 == j0 + 1 && lat_.complete(i0, j0);
 }
 
+/// The indices [first, last) of the sorted values within [low, high].
+std::pair<std::uint32_t, std::uint32_t> indicesWithin(const std::vector<double>& sorted,
+                                                      double low, double high)
+{
+  const auto first = std::lower_bound(sorted.begin(), sorted.end(), low);
+  const auto last = std::upper_bound(first, sorted.end(), high);
+  return {static_cast<std::uint32_t>(first - sorted.begin()),
+          static_cast<std::uint32_t>(last - sorted.begin())};
+}
+
 void Fringe::pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& p,
                           std::vector<std::size_t>& inside) const
 {
@@ -673,12 +687,7 @@ void Fringe::pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& 
     // Widened once more for the rounding of the row and column bounds below.
     reach =
         disk.radius * (1.0 + 1e-9) + 1e-12 * (std::fabs(disk.cx) + std::fabs(disk.cy));
-    j0 = static_cast<std::uint32_t>(
-        std::lower_bound(lat_.ys.begin(), lat_.ys.end(), disk.cy - reach) -
-        lat_.ys.begin());
-    j1 = static_cast<std::uint32_t>(
-        std::upper_bound(lat_.ys.begin(), lat_.ys.end(), disk.cy + reach) -
-        lat_.ys.begin());
+    std::tie(j0, j1) = indicesWithin(lat_.ys, disk.cy - reach, disk.cy + reach);
   }
   for (std::uint32_t j = j0; j < j1; ++j) {
     std::uint32_t i0 = 0, i1 = lat_.nx;
@@ -688,12 +697,7 @@ void Fringe::pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& 
       if (h2 < 0.0)
         continue;
       const double h = std::sqrt(h2);
-      i0 = static_cast<std::uint32_t>(
-          std::lower_bound(lat_.xs.begin(), lat_.xs.end(), disk.cx - h) -
-          lat_.xs.begin());
-      i1 = static_cast<std::uint32_t>(
-          std::upper_bound(lat_.xs.begin(), lat_.xs.end(), disk.cx + h) -
-          lat_.xs.begin());
+      std::tie(i0, i1) = indicesWithin(lat_.xs, disk.cx - h, disk.cx + h);
     }
     const std::size_t row = lat_.position(0, j);
     for (std::uint32_t i = i0; i < i1; ++i)
@@ -809,18 +813,21 @@ void Fringe::solve(Piece& piece) const
     }
     if (inside.empty())
       return;
-    // The points found join the piece with their ring; this round's tests all saw
-    // the same piece.
-    std::vector<std::size_t> grow;
-    for (const std::size_t q : inside)
-      ring(q, grow);
-    for (const std::size_t q : grow)
-      if (!inPiece(piece, q))
-        piece.added.push_back(q);
-    std::sort(piece.added.begin(), piece.added.end());
-    piece.added.erase(std::unique(piece.added.begin(), piece.added.end()),
-                      piece.added.end());
+    grow(piece, inside); // this round's tests all saw the same piece
   }
+}
+
+void Fringe::grow(Piece& piece, const std::vector<std::size_t>& inside) const
+{
+  std::vector<std::size_t> joining;
+  for (const std::size_t q : inside)
+    ring(q, joining);
+  for (const std::size_t q : joining)
+    if (!inPiece(piece, q))
+      piece.added.push_back(q);
+  std::sort(piece.added.begin(), piece.added.end());
+  piece.added.erase(std::unique(piece.added.begin(), piece.added.end()),
+                    piece.added.end());
 }
 
 Status Fringe::triangulate(std::vector<std::array<VertexId, 3>>& found,
