@@ -1241,8 +1241,10 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
   out.begin("Writing '%s' ", opt.output.c_str());
   start = Clock::now();
   // The canonical order (tiled_mesh.h): the same bytes as a tiled run would write.
-  pcl_vts::canonicalMesh(result.mesh,
-                         opt.no_fill ? nullptr : &result.reconstruction.fill.inserted);
+  if (pcl_vts::Status s = pcl_vts::canonicalMesh(
+          result.mesh, opt.no_fill ? nullptr : &result.reconstruction.fill.inserted);
+      !s.ok())
+    return out.fail(EXIT_INTERNAL, s.message);
   pcl_vts::MeshWriteOptions write_options;
   write_options.ascii = opt.ascii;
   write_options.force_double = opt.force_double;

@@ -23,7 +23,7 @@ TileFrame frameOfMesh(const TriangleMesh& mesh,
   return TileFrame::fromBounds(x0, y0, x1, y1);
 }
 
-void canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
+Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
 {
   const TileFrame frame = frameOfMesh(mesh, inserted);
   const std::size_t nv = mesh.vertexCount();
@@ -95,10 +95,16 @@ void canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   out.triangles.reserve(3 * sorted.size());
   for (const auto& g : sorted)
     out.triangles.insert(out.triangles.end(), g.begin(), g.end());
-  out.rebuildHalfedges();
+  // The vertices are renumbered one to one, so this fails only when the input is
+  // not an oriented 2-manifold.
+  if (!out.rebuildHalfedges())
+    return Status::error(StatusCode::INTERNAL_ERROR,
+                         "canonical order: the mesh is not an oriented 2-manifold (an "
+                         "edge in more than two triangles or twice in one direction)");
   mesh = std::move(out);
   if (inserted != nullptr)
     inserted->swap(flags);
+  return Status::success();
 }
 
 } // namespace pcl_vts

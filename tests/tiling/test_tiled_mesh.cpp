@@ -169,7 +169,8 @@ class TiledMeshTest : public TempFolderTest {
     // As pcd_to_mesh writes it: filled meshes mark their inserted points.
     std::vector<std::uint8_t>& inserted = result.reconstruction.fill.inserted;
     const bool filled = vts.reconstruction.fill;
-    canonicalMesh(result.mesh, filled ? &inserted : nullptr);
+    if (Status c = canonicalMesh(result.mesh, filled ? &inserted : nullptr); !c.ok())
+      return c;
     if (canonical != nullptr)
       *canonical = result.mesh;
     if (post != nullptr)
@@ -794,6 +795,31 @@ TEST_F(TiledMeshTest, HalosStaySmallOnUniformData)
   EXPECT_LT(report.points_loaded, 2 * xyz.size() / 3);
   EXPECT_LE(report.max_rounds,
             6u); // hull edges are settled by the nearest blocks first
+}
+
+// Renumbering the vertices cannot break a manifold, so rebuilding the twins fails
+// only on a mesh that was not one: three triangles on one edge are reported, and
+// the mesh and its flags are left as they were.
+TEST(CanonicalMesh, ANonManifoldMeshIsAnInternalErrorAndLeftAsItWas)
+{
+  TriangleMesh mesh;
+  mesh.xy = {{0, 0}, {1, 0}, {0.5, 1}, {0.5, -1}, {0.5, 2}};
+  mesh.z.assign(5, 0.0);
+  mesh.triangles = {0, 1, 2, 1, 0, 3, 0, 1, 4}; // edge 0-1 in three triangles
+  const TriangleMesh before = mesh;
+  std::vector<std::uint8_t> inserted = {0, 1, 0, 1, 1};
+  const Status s = canonicalMesh(mesh, &inserted);
+  EXPECT_EQ(s.code, StatusCode::INTERNAL_ERROR);
+  EXPECT_NE(s.message.find("not an oriented 2-manifold"), std::string::npos)
+      << s.message;
+  EXPECT_EQ(mesh.triangles, before.triangles);
+  EXPECT_EQ(mesh.z, before.z);
+  EXPECT_EQ(inserted, (std::vector<std::uint8_t>{0, 1, 0, 1, 1}));
+
+  mesh.triangles = {0, 1, 2, 1, 0, 3}; // a manifold: reordered, twins paired
+  ASSERT_TRUE(canonicalMesh(mesh, &inserted).ok());
+  EXPECT_EQ(mesh.halfedges.size(), 6u);
+  EXPECT_EQ(std::count(mesh.halfedges.begin(), mesh.halfedges.end(), INVALID_ID), 4);
 }
 
 } // namespace

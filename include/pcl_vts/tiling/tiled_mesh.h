@@ -27,8 +27,10 @@ PCL_VTS_TILING_EXPORT TileFrame frameOfMesh(const TriangleMesh& mesh,
 /// Reorders a mesh into the canonical order of the tiled path: vertices by Morton
 /// code of the frame, then x, then y; each triangle rotated to start at its smallest
 /// vertex id, triangles sorted. inserted (optional, one per vertex) is permuted along.
-PCL_VTS_TILING_EXPORT void canonicalMesh(TriangleMesh& mesh,
-                                         std::vector<std::uint8_t>* inserted);
+/// INTERNAL_ERROR, the mesh left as it was, when it is not an oriented 2-manifold
+/// (the pipeline's meshes always are).
+[[nodiscard]] PCL_VTS_TILING_EXPORT Status
+canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted);
 
 /// Calls sink with every input point (xyz triples, input order, chunk by chunk).
 /// The tiled path calls it twice (bounds, then bucketing): it must give the same
