@@ -3,6 +3,7 @@
 // unused vertex. A checker that cannot fail proves nothing.
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/predicates.h>
 
 #include <gtest/gtest.h>
 
@@ -239,6 +240,24 @@ TEST(IsEdgeManifold, FlagsADegenerateEdge)
   EXPECT_NE(why.find("itself"), std::string::npos) << why;
 }
 
+/// Appends count random triangles over the mesh's vertices (three distinct ids each,
+/// any edge may repeat); turned CCW in XY when ccw (vertices in general position).
+void addRandomTriangles(TriangleMesh& mesh, int count, bool ccw, std::mt19937& rng)
+{
+  std::uniform_int_distribution<VertexId> pick(
+      0, static_cast<VertexId>(mesh.vertexCount() - 1));
+  for (int t = 0; t < count; ++t) {
+    VertexId a = pick(rng), b = pick(rng), c = pick(rng);
+    while (b == a)
+      b = pick(rng);
+    while (c == a || c == b)
+      c = pick(rng);
+    if (ccw && orient2d(mesh.xy[a], mesh.xy[b], mesh.xy[c]) == Sign::NEGATIVE)
+      std::swap(b, c);
+    mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
+  }
+}
+
 TEST(IsEdgeManifold, AgreesWithCountingEveryEdgeOnRandomTriangleSoups)
 {
   // Random triangles over few vertices: runs of 1 to 4 uses of an edge, in either
@@ -250,16 +269,7 @@ TEST(IsEdgeManifold, AgreesWithCountingEveryEdgeOnRandomTriangleSoups)
     const auto vertices = static_cast<VertexId>(4 + round % 9);
     mesh.xy.assign(vertices, Point2{0, 0});
     mesh.z.assign(vertices, 0.0);
-    std::uniform_int_distribution<VertexId> pick(0, vertices - 1);
-    const int count = 1 + round % 7;
-    for (int t = 0; t < count; ++t) {
-      VertexId a = pick(rng), b = pick(rng), c = pick(rng);
-      while (b == a)
-        b = pick(rng);
-      while (c == a || c == b)
-        c = pick(rng);
-      mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
-    }
+    addRandomTriangles(mesh, 1 + round % 7, false, rng);
     std::map<std::pair<VertexId, VertexId>, int> directed, undirected;
     bool manifold = true;
     for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
@@ -293,19 +303,7 @@ TEST(IsValidSurfaceMesh, AgreesWithTheThreeChecksAndTheirFirstMessage)
       mesh.xy.push_back({coordinate(rng), coordinate(rng)});
       mesh.z.push_back(0.0);
     }
-    std::uniform_int_distribution<VertexId> pick(0, vertices - 1);
-    const int count = 1 + round % 6;
-    for (int t = 0; t < count; ++t) {
-      VertexId a = pick(rng), b = pick(rng), c = pick(rng);
-      while (b == a)
-        b = pick(rng);
-      while (c == a || c == b)
-        c = pick(rng);
-      const Point2 &p = mesh.xy[a], &q = mesh.xy[b], &r = mesh.xy[c];
-      if ((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x) < 0.0)
-        std::swap(b, c);
-      mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
-    }
+    addRandomTriangles(mesh, 1 + round % 6, true, rng);
     (void)mesh.rebuildHalfedges();
     switch (round % 5) {
     case 1: // one twin link broken on one side
