@@ -43,8 +43,8 @@ class KnownSpace {
              const std::vector<Rect>& bounds, const std::vector<Point2>& hull);
 
   int level() const { return level_; }
-  std::size_t blockCount() const { return counts_[level_].size(); }
-  bool occupied(std::uint32_t block) const { return counts_[level_][block] != 0; }
+  std::size_t blockCount() const { return counts_[levelIndex()].size(); }
+  bool occupied(std::uint32_t block) const { return counts_[levelIndex()][block] != 0; }
   /// The exact box of the block's points.
   const Rect& bounds(std::uint32_t block) const { return bounds_[block]; }
 
@@ -58,6 +58,7 @@ class KnownSpace {
                       std::vector<std::uint32_t>& hits) const;
 
  private:
+  std::size_t levelIndex() const { return static_cast<std::size_t>(level_); }
   /// Descends the pyramid through nodes whose rectangle may meet the region
   /// (meets_node) down to unloaded occupied blocks whose points' box may meet it
   /// (meets_block).
