@@ -77,7 +77,8 @@ struct GroundTilesReport {
 
 /// Runs the crop and the ground filter of options.preprocess over the points of
 /// feed, writing the points kept into files in folder (which must exist); `files`
-/// gets their paths. Their union is what preprocessCloud keeps of all the points
+/// gets their paths (the caller's to remove; each pre-tile's own file is removed
+/// once filtered). Their union is what preprocessCloud keeps of all the points
 /// together. EMPTY_INPUT (the in-memory message) when no point is left.
 PCL_VTS_EXPORT Status groundTiles(const GroundFeed& feed,
                                   const GroundTilesOptions& options,

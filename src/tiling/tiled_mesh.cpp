@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -457,8 +458,8 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     temp.adopt(folder);
   // The pre-pass (every rank) replaces the inputs by the files it wrote.
   PointInputs prepared;
+  std::vector<std::string> files;
   if (options.prepare) {
-    std::vector<std::string> files;
     status = options.prepare(inputs, folder, comm, files);
     if (!(status = agree(comm, status)).ok())
       return failed(status);
@@ -505,6 +506,9 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
                    buffer_points, job.rank, job.ranks);
   if (!(status = bucket(job, store)).ok())
     return failed(status); // bucket() tells the store's failures from the inputs'
+  if (job.rank == 0)       // every rank is past its reading (bucket's agreement)
+    for (const std::string& file : files) // the pre-pass's: read no more
+      std::remove(file.c_str());
   report.seconds_bucket = watch.seconds();
   if (!(status = number(job, store)).ok())
     return failed(status);

@@ -797,6 +797,68 @@ TEST_F(TiledMeshTest, HalosStaySmallOnUniformData)
             6u); // hull edges are settled by the nearest blocks first
 }
 
+// The pre-pass's files (the tiled ground filter's) are the job's inputs: read by the
+// scan and the bucketing, then removed before the tiles are meshed; the mesh is the
+// one of the same points fed directly.
+TEST_F(TiledMeshTest, PreparedFilesAreRemovedOnceBucketed)
+{
+  const SyntheticTerrain terrain = makeSyntheticTerrain(5);
+  const std::size_t half = terrain.xyz.size() / 6 * 3;
+  TiledMeshOptions options;
+  options.temp_parent = root_.string();
+  options.tile_level = 1;
+  std::vector<std::string> written;
+  options.prepare = [&](const PointInputs&, const std::string& folder, JobComm&,
+                        std::vector<std::string>& files) {
+    for (int k = 0; k < 2; ++k) {
+      const std::string path = folder + "/prepared_" + std::to_string(k) + ".xyz";
+      std::ofstream out(path, std::ios::binary);
+      const double* first = terrain.xyz.data() + (k == 0 ? 0 : half);
+      const std::size_t count = k == 0 ? half : terrain.xyz.size() - half;
+      out.write(reinterpret_cast<const char*>(first),
+                static_cast<std::streamsize>(count * sizeof(double)));
+      files.push_back(path);
+    }
+    written = files;
+    return Status::success();
+  };
+  options.read_prepared = [](const std::string& file, const PointSink& sink) {
+    const std::string bytes = slurp(file);
+    std::vector<double> xyz(bytes.size() / sizeof(double));
+    std::memcpy(xyz.data(), bytes.data(), xyz.size() * sizeof(double));
+    if (xyz.empty())
+      return Status::error(StatusCode::IO_ERROR, "cannot read " + file);
+    return sink(xyz.data(), xyz.size() / 3);
+  };
+  std::map<std::string, int> present; // phase: prepared files present
+  options.progress = [&](const TiledProgress& p) {
+    int count = 0;
+    for (const std::string& file : written)
+      count += std::filesystem::exists(file);
+    present[p.phase] = count;
+  };
+  TiledMeshReport report;
+  const std::string tiled = (root_ / "tiled.ply").string();
+  ASSERT_TRUE(runTiledMesh([](const PointSink&) { return Status::success(); }, options,
+                           tiled, MeshWriteOptions{}, report)
+                  .ok());
+  ASSERT_EQ(written.size(), 2u);
+  ASSERT_EQ(present.count("bucketing"), 1u);
+  EXPECT_EQ(present["bucketing"], 2) << "the files were gone while being read";
+  for (const char* phase : {"meshing", "writing"}) {
+    ASSERT_EQ(present.count(phase), 1u) << phase;
+    EXPECT_EQ(present[phase], 0) << "prepared files left at " << phase;
+  }
+  TiledMeshOptions direct;
+  direct.temp_parent = root_.string();
+  direct.tile_level = 1;
+  const std::string reference = (root_ / "direct.ply").string();
+  ASSERT_TRUE(
+      runTiledMesh(feedOf(terrain.xyz), direct, reference, MeshWriteOptions{}, report)
+          .ok());
+  EXPECT_EQ(slurp(tiled), slurp(reference));
+}
+
 // Renumbering the vertices cannot break a manifold, so rebuilding the twins fails
 // only on a mesh that was not one: three triangles on one edge are reported, and
 // the mesh and its flags are left as they were.

@@ -81,7 +81,8 @@ struct TiledMeshOptions {
   /// inputs (all of them: rank 0 reads them, the ranks share the filtering); it writes
   /// the points to mesh into files in the folder and names them (rank 0's list is
   /// the job's). The job then meshes those files, read by every rank with
-  /// read_prepared, instead of the inputs. Its failure fails the run.
+  /// read_prepared, instead of the inputs, and removes them once it has bucketed
+  /// their points. Its failure fails the run.
   std::function<Status(const PointInputs& inputs, const std::string& temp_folder,
                        JobComm& comm, std::vector<std::string>& files)>
       prepare;
