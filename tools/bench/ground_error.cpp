@@ -6,12 +6,16 @@
 //   total   = misclassified points / all points
 // Usage: ground_error DIR [--pmf-cell C --pmf-window W --pmf-slope S --pmf-initial D0
 //        --pmf-max DMAX --pmf-base B]; prints a Markdown table row per sample.
+#include "cli_words.h"
+#include "command_line.h"
+
 #include <pcl_vts/io/point_cloud_loader.h>
 #include <pcl_vts/preprocess_cloud.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -44,38 +48,65 @@ std::map<Key, long> counts(const std::vector<double>& xyz)
 
 int main(int argc, char** argv)
 {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: ground_error DIR [--pmf-KNOB VALUE]...\n");
-    return 1;
-  }
   pcl_vts::PreprocessOptions options;
   options.ground_pmf = true;
-  for (int i = 2; i + 1 < argc; i += 2) {
-    const std::string name = argv[i];
-    const double v = std::atof(argv[i + 1]);
-    if (name == "--pmf-cell")
-      options.pmf_cell = v;
-    else if (name == "--pmf-window")
-      options.pmf_max_window = static_cast<int>(v);
-    else if (name == "--pmf-slope")
-      options.pmf_slope = v;
-    else if (name == "--pmf-initial")
-      options.pmf_initial_distance = v;
-    else if (name == "--pmf-max")
-      options.pmf_max_distance = v;
-    else if (name == "--pmf-base")
-      options.pmf_base = v;
-    else {
-      std::fprintf(stderr, "ground_error: unknown option %s\n", name.c_str());
-      return 1;
-    }
+  // The knob into its field; the combination is validatePreprocessOptions' to judge.
+  const auto knob = [](const char* name, double& field) {
+    return [name, &field](const std::string& value, std::string& error) {
+      if (pcl_vts::tools::parseFiniteNumber(value, field))
+        return true;
+      error = std::string("--") + name + ": '" + value + "' is not a number";
+      return false;
+    };
+  };
+  double window = options.pmf_max_window;
+  bool help = false;
+  pcl_vts::tools::CommandLine cli;
+  cli.group("ground_error DIR [options]: the filter's errors on DIR's ISPRS samples")
+      .value("pmf-cell", "C", "grid cell edge", knob("pmf-cell", options.pmf_cell))
+      .value("pmf-window", "W", "largest window, cells", knob("pmf-window", window))
+      .value("pmf-slope", "S", "terrain slope", knob("pmf-slope", options.pmf_slope))
+      .value("pmf-initial", "D0", "first height threshold",
+             knob("pmf-initial", options.pmf_initial_distance))
+      .value("pmf-max", "DMAX", "height threshold cap",
+             knob("pmf-max", options.pmf_max_distance))
+      .value("pmf-base", "B", "window growth base", knob("pmf-base", options.pmf_base))
+      .flag("help,h", "this help", [&help] { help = true; });
+  std::vector<std::string> positional;
+  std::string error;
+  if (!cli.parse(argc, argv, positional, error) || (!help && positional.size() != 1)) {
+    std::fprintf(stderr, "ground_error: %s\n%s",
+                 error.empty() ? "one folder expected" : error.c_str(),
+                 cli.help().c_str());
+    return 1;
+  }
+  if (help) {
+    std::printf("%s", cli.help().c_str());
+    return 0;
+  }
+  if (window != std::floor(window) || window < 1.0 || window > 4096.0) {
+    std::fprintf(stderr, "ground_error: --pmf-window: %g is not a whole 1..4096\n",
+                 window);
+    return 1;
+  }
+  options.pmf_max_window = static_cast<int>(window);
+  if (pcl_vts::Status s = pcl_vts::validatePreprocessOptions(options); !s.ok()) {
+    std::fprintf(stderr, "ground_error: %s\n", s.message.c_str());
+    return 1;
   }
   std::vector<std::string> samples;
-  for (const auto& e : std::filesystem::directory_iterator(argv[1])) {
-    const std::string name = e.path().filename().string();
+  std::error_code failed;
+  for (std::filesystem::directory_iterator it(positional[0], failed), end;
+       !failed && it != end; it.increment(failed)) {
+    const std::string name = it->path().filename().string();
     if (name.rfind("samp", 0) == 0 && name.size() > 8 &&
         name.substr(name.size() - 8) == "-utm.pcd")
-      samples.push_back(e.path().string());
+      samples.push_back(it->path().string());
+  }
+  if (failed) {
+    std::fprintf(stderr, "ground_error: cannot list '%s': %s\n", positional[0].c_str(),
+                 failed.message().c_str());
+    return 2;
   }
   std::sort(samples.begin(), samples.end());
   std::printf(
