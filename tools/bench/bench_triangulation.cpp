@@ -17,7 +17,10 @@
 // peak while the method ran (input included) and bytes_per_point_above_input counts the
 // method alone. Both methods get the same points: VTS merges identical XY positions
 // itself (its duplicate rule, timed), CGAL's insertion keeps the first vertex at an XY
-// position (timed too); "distinct" lets the two vertex counts be compared.
+// position (timed too); "distinct" lets the two vertex counts be compared. "hash"
+// (vts, computed after the clock): meshHash of the output, equal for every thread
+// count.
+#include "bench_inputs.h"
 #include "cli_words.h"
 
 #include <pcl_vts/core/stopwatch.h>
@@ -43,87 +46,10 @@
 
 namespace {
 
+using pcl_vts::bench::generate;
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Traits = CGAL::Projection_traits_xy_3<Kernel>;
 using Delaunay = CGAL::Delaunay_triangulation_2<Traits>;
-
-/// Terrain-like heights so the inputs are 2.5D surfaces.
-double terrain(double x, double y)
-{
-  return 50.0 * std::sin(x * 0.01) * std::cos(y * 0.013) + 0.02 * x;
-}
-
-std::vector<double> generate(const std::string& dist, std::size_t n, unsigned seed)
-{
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<double> xyz;
-  xyz.reserve(3 * n);
-  const auto side =
-      static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(n))));
-  const auto push = [&xyz](double x, double y) {
-    xyz.push_back(x);
-    xyz.push_back(y);
-    xyz.push_back(terrain(x, y));
-  };
-  if (dist == "jittered" || dist == "grid") {
-    const double jitter = dist == "grid" ? 0.0 : 0.4;
-    for (std::size_t k = 0; k < n; ++k) {
-      const double i = static_cast<double>(k % side), j = static_cast<double>(k / side);
-      push(i + jitter * (unit(rng) - 0.5), j + jitter * (unit(rng) - 0.5));
-    }
-  } else if (dist == "raster") {
-    std::vector<std::uint8_t> nodata(side * side, 0);
-    const auto mark = [&](double cx, double cy, double rx, double ry) {
-      const auto lo = [&](double v) {
-        return static_cast<std::size_t>(std::max(0.0, std::floor(v)));
-      };
-      const auto hi = [&](double v) {
-        return std::min(side, static_cast<std::size_t>(std::max(0.0, std::ceil(v))));
-      };
-      for (std::size_t j = lo(cy - ry); j < hi(cy + ry + 1); ++j)
-        for (std::size_t i = lo(cx - rx); i < hi(cx + rx + 1); ++i) {
-          const double u = (static_cast<double>(i) - cx) / rx,
-                       v = (static_cast<double>(j) - cy) / ry;
-          if (u * u + v * v <= 1.0)
-            nodata[j * side + i] = 1;
-        }
-    };
-    for (std::size_t h = 0; h < std::max<std::size_t>(1, n / 20000); ++h)
-      mark(unit(rng) * static_cast<double>(side), unit(rng) * static_cast<double>(side),
-           0.5 + 12.0 * unit(rng), 0.5 + 12.0 * unit(rng));
-    for (std::uint8_t& cell : nodata)
-      if (unit(rng) < 0.001)
-        cell = 1;
-    for (std::size_t r = 0; r < side; ++r) {
-      const std::size_t j = side - 1 - r;
-      for (std::size_t i = 0; i < side; ++i)
-        if (nodata[j * side + i] == 0)
-          push(static_cast<double>(i), static_cast<double>(j));
-    }
-  } else if (dist == "uniform") {
-    for (std::size_t k = 0; k < n; ++k)
-      push(unit(rng) * static_cast<double>(side),
-           unit(rng) * static_cast<double>(side));
-  } else if (dist == "clustered") {
-    // Dense gaussian clusters separated by large empty voids.
-    const std::size_t clusters = 64;
-    std::vector<double> centres;
-    for (std::size_t c = 0; c < clusters; ++c) {
-      centres.push_back(unit(rng) * static_cast<double>(side) * 4.0);
-      centres.push_back(unit(rng) * static_cast<double>(side) * 4.0);
-    }
-    std::normal_distribution<double> gauss(0.0, static_cast<double>(side) * 0.05);
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t c = k % clusters;
-      push(centres[2 * c] + gauss(rng), centres[2 * c + 1] + gauss(rng));
-    }
-  } else {
-    std::fprintf(stderr, "unknown distribution '%s'\n", dist.c_str());
-    std::exit(1);
-  }
-  return xyz;
-}
 
 struct Measure {
   std::string method, dist, input;
@@ -308,12 +234,12 @@ int main(int argc, char** argv)
   const double cpu_start = cpuSeconds();
   std::size_t triangles = 0, distinct = 0;
   std::string stages;
+  pcl_vts::VtsResult result;
   if (m.method != "cgal") {
     pcl_vts::VtsOptions options;
     options.lattice = m.method == "vts";
     options.check_output = false;
     options.threads = m.threads;
-    pcl_vts::VtsResult result;
     const pcl_vts::Status status =
         pcl_vts::runVtsPipeline(xyz.data(), n, options, result);
     if (!status.ok()) {
@@ -347,6 +273,13 @@ int main(int argc, char** argv)
   const double seconds = watch.seconds();
   const double cpu = cpuSeconds() - cpu_start;
   const double peak = statusMiB("VmHWM:");
+  if (m.method != "cgal") { // after the clock: the same output for every thread count
+    char hash[48];
+    std::snprintf(
+        hash, sizeof hash, ",\"hash\":\"%016llx\"",
+        static_cast<unsigned long long>(pcl_vts::bench::meshHash(result.mesh)));
+    stages += hash;
+  }
   char load[96] = "";
   if (m.load_seconds >= 0.0)
     std::snprintf(load, sizeof load, ",\"load_s\":%.4f", m.load_seconds);
