@@ -9,7 +9,7 @@ BENCH_MAX_N ?= 1000000
 PACKAGE_BUILD_DIR ?= build-package
 PREFIX ?= /usr/local
 
-.PHONY: all deps configure build test demo bench bench-scale compare install package format clean docs-pictures
+.PHONY: all deps configure build test demo bench bench-threads bench-scale compare install package format clean docs-pictures
 
 all: build
 
@@ -30,15 +30,23 @@ demo: build
 	@$(BUILD_DIR)/pcd_to_mesh $(DEMO_INPUT) $(DEMO_OUTPUT)
 	@echo "demo mesh written to $(DEMO_OUTPUT)"
 
-# docs/benchmarks.md and docs/img/bench_ns_per_point.png (tools/bench/run_bench.sh):
-# about 8 minutes at the default BENCH_MAX_N=1000000, 10-20 at 10000000 on 2
-# cores. Builds only what it runs; GP3/Poisson rows need compare_methods (skipped with a
-# note when it cannot be built).
+# docs/benchmarks.md and docs/img/bench_ns_per_point.png, from scratch
+# (tools/bench/run_bench.sh, which runs tools/bench/run_lattice_bench.sh for the DEM
+# rasters): about 8 minutes at the default BENCH_MAX_N=1000000, about 15 at 10000000 on 2
+# cores; BENCH_MAX_N=100000000 adds the 1e8-cell raster (about 10 minutes more, ~20 GB
+# for CGAL's run, left out when MemAvailable cannot hold it). Builds only what it runs;
+# GP3/Poisson rows need compare_methods (skipped with a note when it cannot be built).
 bench: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_triangulation verify_delaunay pcd_to_mesh
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target compare_methods || \
 	  echo "bench: compare_methods could not be built: no GP3/Poisson rows"
 	@bash tools/bench/run_bench.sh $(BUILD_DIR) $(BENCH_MAX_N)
+
+# tools/bench/bench_threads: thread scaling of the core pipeline, PCL-free and linked
+# statically, to copy to and run on any x86-64 Linux machine (`bench_threads --help`).
+bench-threads: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_threads
+	@echo "bench-threads: $(BUILD_DIR)/tools/bench/bench_threads"
 
 # docs/scaling.md §5 table: synthetic LiDAR tiles (tools/bench/make_lidar_tiles.cpp)
 # meshed in memory and tiled under SCALE_LIMIT; SCALE_N points (space-separated list).
