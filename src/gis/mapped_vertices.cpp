@@ -4,9 +4,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <unistd.h>
 #include <vector>
 
 namespace pcl_vts {
@@ -36,9 +33,9 @@ Status MappedVertices::map(const MeshStream& mesh, const std::string& path,
   Status s = mesh.vertices([&](double x, double y, double z) {
     buffer.insert(buffer.end(), {x, y, z});
     ++n;
-    if (buffer.size() >= 3 * 8192 && written) {
-      written = std::fwrite(buffer.data(), sizeof(double), buffer.size(), out) ==
-                buffer.size();
+    if (buffer.size() >= 3 * 8192) { // cleared after a failed write too: bounded
+      written = written && std::fwrite(buffer.data(), sizeof(double), buffer.size(),
+                                       out) == buffer.size();
       buffer.clear();
     }
   });
@@ -53,29 +50,22 @@ Status MappedVertices::map(const MeshStream& mesh, const std::string& path,
     return ioFailure(what, "write (is the temporary folder full?)", path);
   if (n == 0)
     return Status::success();
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0)
-    return ioFailure(what, "open", path);
-  void* map = ::mmap(nullptr, n * 3 * sizeof(double), PROT_READ, MAP_PRIVATE, fd, 0);
-  ::close(fd);
-  if (map == MAP_FAILED)
-    return ioFailure(what, "map", path);
-  xyz_ = static_cast<const double*>(map);
+  if (Status m = file_.open(path); !m.ok())
+    return Status::error(StatusCode::IO_ERROR, what + ": " + m.message);
+  if (file_.size() != n * 3 * sizeof(double)) {
+    file_.close();
+    return Status::error(StatusCode::IO_ERROR,
+                         what + ": '" + path + "' holds " +
+                             std::to_string(file_.size()) + " bytes, not the " +
+                             std::to_string(n * 3 * sizeof(double)) + " written");
+  }
   count_ = n;
   return Status::success();
 }
 
-void MappedVertices::dropPages()
-{
-  if (xyz_)
-    ::madvise(const_cast<double*>(xyz_), count_ * 3 * sizeof(double), MADV_DONTNEED);
-}
-
 void MappedVertices::release()
 {
-  if (xyz_)
-    ::munmap(const_cast<double*>(xyz_), count_ * 3 * sizeof(double));
-  xyz_ = nullptr;
+  file_.close();
   count_ = 0;
   if (!path_.empty())
     std::remove(path_.c_str());

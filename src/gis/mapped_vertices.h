@@ -3,6 +3,7 @@
 // vertices (pages already read are dropped as the triangles pass).
 #pragma once
 
+#include <pcl_vts/core/mapped_file.h>
 #include <pcl_vts/gis/mesh_stream.h>
 
 #include <cstdint>
@@ -22,15 +23,18 @@ class MappedVertices {
   Status map(const MeshStream& mesh, const std::string& path, const std::string& what);
   std::uint64_t count() const { return count_; }
   /// x, y, z of vertex v < count().
-  const double* xyz(VertexId v) const { return xyz_ + 3 * std::uint64_t{v}; }
+  const double* xyz(VertexId v) const
+  {
+    return reinterpret_cast<const double*>(file_.data()) + 3 * std::uint64_t{v};
+  }
   /// Drops the pages read so far (read back from the file when needed again).
-  void dropPages();
+  void dropPages() const { file_.dropPages(); }
   /// Unmaps and removes the file.
   void release();
 
  private:
   std::string path_;
-  const double* xyz_ = nullptr;
+  MappedFile file_;
   std::uint64_t count_ = 0;
 };
 

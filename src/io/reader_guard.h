@@ -5,8 +5,7 @@
 // PointOutput and readMappedFileInChunks are the streaming reads.
 #pragma once
 
-#include "mapped_file.h"
-
+#include <pcl_vts/core/mapped_file.h>
 #include <pcl_vts/core/status.h>
 
 #include <cstddef>

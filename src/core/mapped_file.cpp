@@ -1,5 +1,5 @@
 // mmap of a whole regular file; failures name the file and the system's reason.
-#include "mapped_file.h"
+#include <pcl_vts/core/mapped_file.h>
 
 #include <cerrno>
 #include <cstring>
@@ -10,14 +10,23 @@
 
 namespace pcl_vts {
 
-MappedFile::~MappedFile()
+void MappedFile::close()
 {
   if (data_ != nullptr)
     ::munmap(const_cast<std::uint8_t*>(data_), size_);
+  data_ = nullptr;
+  size_ = 0;
+}
+
+void MappedFile::dropPages() const
+{
+  if (data_ != nullptr)
+    ::madvise(const_cast<std::uint8_t*>(data_), size_, MADV_DONTNEED);
 }
 
 Status MappedFile::open(const std::string& path)
 {
+  close();
   const auto fail = [&](const std::string& what) {
     return Status::error(StatusCode::IO_ERROR, "'" + path + "': " + what);
   };
