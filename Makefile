@@ -37,7 +37,8 @@ demo: build
 # for CGAL's run, left out when MemAvailable cannot hold it). Builds only what it runs;
 # GP3/Poisson rows need compare_methods (skipped with a note when it cannot be built).
 bench: configure
-	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_triangulation verify_delaunay pcd_to_mesh
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_triangulation verify_delaunay pcd_to_mesh \
+	  bench_cache_blocks
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target compare_methods || \
 	  echo "bench: compare_methods could not be built: no GP3/Poisson rows"
 	@bash tools/bench/run_bench.sh $(BUILD_DIR) $(BENCH_MAX_N)
