@@ -130,7 +130,7 @@ static void describeLas(const LasInfo& info, const CloudLoadOptions& options,
               std::to_string(info.point_format) + ", " +
               std::to_string(info.record_length) + "-byte records";
   std::string classes;
-  for (int c = 0; c < 256; ++c)
+  for (std::size_t c = 0; c < info.class_counts.size(); ++c)
     if (info.class_counts[c] != 0)
       classes += (classes.empty() ? "" : ", ") + std::to_string(c) + ": " +
                  std::to_string(info.class_counts[c]);
@@ -166,13 +166,14 @@ Status describeCrs(const std::string& path, CloudDescription& d)
 
 } // namespace
 
-/// The summary of an ASCII grid.
+/// The summary of a PCD file.
 static void describePcd(const PcdCloudInfo& info, CloudDescription& d)
 {
   d.points_read = d.points_kept = info.points;
   d.details = info.data_format + ", " + info.xyzDescription();
 }
 
+/// The summary of an ASCII grid.
 static void describeAsc(const AscGridInfo& info, CloudDescription& d)
 {
   d.points_read = info.ncols * info.nrows;
@@ -223,6 +224,74 @@ static void describeXyz(const XyzTextInfo& info, CloudDescription& d)
               (info.header.empty() ? ", no header" : ", header line");
 }
 
+namespace {
+
+/// What one read asks for: the whole file into xyz, or chunk_points at a time to
+/// *sink when sink is set.
+struct CloudRead {
+  const std::string& path;
+  std::size_t chunk_points;
+  const PointChunkSink* sink;
+  std::vector<double>& xyz;
+};
+
+/// One format's reader, whole or in chunks as read asks, then on success its summary.
+template <typename Info, typename Whole, typename Chunks, typename Describe>
+Status readAs(const CloudRead& read, const Whole& whole, const Chunks& chunks,
+              const Describe& describe)
+{
+  Info info;
+  const Status s = read.sink != nullptr
+                       ? chunks(read.path, read.chunk_points, *read.sink, info)
+                       : whole(read.path, read.xyz, info);
+  if (s.ok())
+    describe(info);
+  return s;
+}
+
+/// The reader of format, and the description of what it read (the CRS aside).
+Status readCloud(CloudFileFormat format, const CloudLoadOptions& options,
+                 const CloudRead& read, CloudDescription& d)
+{
+  const auto into = [&d](auto describe) {
+    return [&d, describe](const auto& info) { describe(info, d); };
+  };
+  switch (format) {
+  case CloudFileFormat::PCD:
+    return readAs<PcdCloudInfo>(read, readPcdCloud, readPcdCloudChunks,
+                                into(describePcd));
+  case CloudFileFormat::LAS: {
+    LasReadOptions las;
+    las.classes = options.classes;
+    las.returns = options.returns;
+    las.threads = options.threads == 0 ? allCores() : options.threads;
+    return readAs<LasInfo>(
+        read,
+        [&las](const std::string& path, std::vector<double>& xyz, LasInfo& info) {
+          return readLasCloud(path, las, xyz, info);
+        },
+        [&las](const std::string& path, std::size_t chunk_points,
+               const PointChunkSink& sink, LasInfo& info) {
+          return readLasCloudChunks(path, las, chunk_points, sink, info);
+        },
+        [&](const LasInfo& info) { describeLas(info, options, d); });
+  }
+  case CloudFileFormat::ASC:
+    return readAs<AscGridInfo>(read, readAscGrid, readAscGridChunks, into(describeAsc));
+  case CloudFileFormat::XYZ:
+    return readAs<XyzTextInfo>(read, readXyzText, readXyzTextChunks, into(describeXyz));
+  case CloudFileFormat::PLY:
+    return readAs<PlyPointInfo>(read, readPlyPoints, readPlyPointChunks,
+                                into(describePly));
+  case CloudFileFormat::GEOTIFF:
+    return readAs<GeoTiffInfo>(read, readGeoTiff, readGeoTiffChunks,
+                               into(describeGeoTiff));
+  }
+  return Status::error(StatusCode::INTERNAL_ERROR, "unknown cloud file format");
+}
+
+} // namespace
+
 Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
                       std::vector<double>& xyz, CloudDescription& d)
 {
@@ -251,61 +320,8 @@ Status loadPointCloud(const std::string& path, const CloudLoadOptions& options,
                          std::string("class and return filters apply to LAS input "
                                      "only; '") +
                              path + "' is " + cloudFileFormatName(d.format));
-  Status s;
-  switch (d.format) {
-  case CloudFileFormat::PCD: {
-    PcdCloudInfo info;
-    s = readPcdCloud(path, xyz, info);
-    if (!s.ok())
-      return s;
-    describePcd(info, d);
-    break;
-  }
-  case CloudFileFormat::LAS: {
-    LasReadOptions las;
-    las.classes = options.classes;
-    las.returns = options.returns;
-    las.threads = options.threads == 0 ? allCores() : options.threads;
-    LasInfo info;
-    s = readLasCloud(path, las, xyz, info);
-    if (!s.ok())
-      return s;
-    describeLas(info, options, d);
-    break;
-  }
-  case CloudFileFormat::ASC: {
-    AscGridInfo info;
-    s = readAscGrid(path, xyz, info);
-    if (!s.ok())
-      return s;
-    describeAsc(info, d);
-    break;
-  }
-  case CloudFileFormat::XYZ: {
-    XyzTextInfo info;
-    s = readXyzText(path, xyz, info);
-    if (!s.ok())
-      return s;
-    describeXyz(info, d);
-    break;
-  }
-  case CloudFileFormat::PLY: {
-    PlyPointInfo info;
-    s = readPlyPoints(path, xyz, info);
-    if (!s.ok())
-      return s;
-    describePly(info, d);
-    break;
-  }
-  case CloudFileFormat::GEOTIFF: {
-    GeoTiffInfo info;
-    s = readGeoTiff(path, xyz, info);
-    if (!s.ok())
-      return s;
-    describeGeoTiff(info, d);
-    break;
-  }
-  }
+  if (Status s = readCloud(d.format, options, {path, 0, nullptr, xyz}, d); !s.ok())
+    return s;
   return describeCrs(path, d);
 }
 
@@ -327,51 +343,12 @@ Status streamPointCloud(const std::string& path, const CloudLoadOptions& options
   }
   description = CloudDescription();
   description.format = format;
-  CloudDescription& d = description;
-  Status s;
-  switch (format) {
-  case CloudFileFormat::LAS: {
-    LasReadOptions las;
-    las.classes = options.classes;
-    las.returns = options.returns;
-    las.threads = options.threads == 0 ? allCores() : options.threads;
-    LasInfo info;
-    if ((s = readLasCloudChunks(path, las, chunk_points, sink, info)).ok())
-      describeLas(info, options, d);
-    break;
-  }
-  case CloudFileFormat::XYZ: {
-    XyzTextInfo info;
-    if ((s = readXyzTextChunks(path, chunk_points, sink, info)).ok())
-      describeXyz(info, d);
-    break;
-  }
-  case CloudFileFormat::ASC: {
-    AscGridInfo info;
-    if ((s = readAscGridChunks(path, chunk_points, sink, info)).ok())
-      describeAsc(info, d);
-    break;
-  }
-  case CloudFileFormat::GEOTIFF: {
-    GeoTiffInfo info;
-    if ((s = readGeoTiffChunks(path, chunk_points, sink, info)).ok())
-      describeGeoTiff(info, d);
-    break;
-  }
-  case CloudFileFormat::PLY: {
-    PlyPointInfo info;
-    if ((s = readPlyPointChunks(path, chunk_points, sink, info)).ok())
-      describePly(info, d);
-    break;
-  }
-  case CloudFileFormat::PCD: {
-    PcdCloudInfo info;
-    if ((s = readPcdCloudChunks(path, chunk_points, sink, info)).ok())
-      describePcd(info, d);
-    break;
-  }
-  }
-  return s.ok() ? describeCrs(path, d) : s;
+  std::vector<double> unused;
+  if (Status s =
+          readCloud(format, options, {path, chunk_points, &sink, unused}, description);
+      !s.ok())
+    return s;
+  return describeCrs(path, description);
 }
 
 } // namespace pcl_vts
