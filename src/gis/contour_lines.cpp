@@ -14,8 +14,15 @@ namespace pcl_vts {
 
 namespace {
 
-/// Calls visit(k) for every level base + k*interval that crosses a triangle with
-/// heights z0, z1, z2 (zmin < level <= zmax), k ascending.
+/// Level k: base + k * interval, computed here only, so that every test against it
+/// (which triangles it crosses, which of their corners lie above it) sees one value.
+double levelAt(std::int64_t k, double interval, double base)
+{
+  return base + static_cast<double>(k) * interval;
+}
+
+/// Calls visit(k, level) for every level base + k*interval that crosses a triangle
+/// with heights z0, z1, z2 (zmin < level <= zmax), k ascending.
 template <typename Visit>
 Status forEachCrossingLevel(double z0, double z1, double z2, double interval,
                             double base, const Visit& visit)
@@ -30,9 +37,9 @@ Status forEachCrossingLevel(double z0, double z1, double z2, double interval,
   // Rounding in the division is settled by the exact comparisons with L_k.
   for (std::int64_t k = static_cast<std::int64_t>(kmin) - 1;
        k <= static_cast<std::int64_t>(kmax) + 1; ++k) {
-    const double level = base + static_cast<double>(k) * interval;
+    const double level = levelAt(k, interval, base);
     if (zmin < level && level <= zmax)
-      visit(k);
+      visit(k, level);
   }
   return Status::success();
 }
@@ -149,7 +156,7 @@ Status traceContours(const TriangleMesh& mesh, double interval, double base,
     if (Status s = forEachCrossingLevel(
             mesh.z[mesh.triangles[3 * t]], mesh.z[mesh.triangles[3 * t + 1]],
             mesh.z[mesh.triangles[3 * t + 2]], interval, base,
-            [&](std::int64_t k) {
+            [&](std::int64_t k, double) {
               crossings.push_back({k, t});
             });
         !s.ok())
@@ -168,8 +175,7 @@ Status traceContours(const TriangleMesh& mesh, double interval, double base,
     std::size_t end = begin;
     while (end < crossings.size() && crossings[end].level == crossings[begin].level)
       ++end;
-    const std::int64_t k = crossings[begin].level;
-    const double level = base + static_cast<double>(k) * interval;
+    const double level = levelAt(crossings[begin].level, interval, base);
     const Tracer tracer(mesh, level);
     const std::size_t stamp = ++local.levels;
     // Walks from triangle t until the boundary or back to the start.
@@ -246,6 +252,49 @@ Point2 crossingOf(const MappedVertices& vertices, VertexId lo, VertexId hi,
   return crossingPoint({a[0], a[1]}, a[2], {b[0], b[1]}, b[2], level);
 }
 
+/// Each segment's successor at its level (the segment that enters by its exit edge;
+/// NO_SEGMENT at the mesh boundary) and whether a segment leads into it. An edge
+/// entered twice, or left twice, at a level is not a manifold's: INTERNAL_ERROR.
+Status linkSegments(const std::vector<Segment>& segments, double interval, double base,
+                    std::vector<SegmentId>& next, std::vector<char>& entered)
+{
+  std::vector<SegmentId> order(segments.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = static_cast<SegmentId>(i);
+  // Sorted by (level, key): an edge used twice at a level lies next to itself.
+  const auto sortBy = [&](auto key) {
+    std::sort(order.begin(), order.end(), [&](SegmentId x, SegmentId y) {
+      const Segment &a = segments[x], &b = segments[y];
+      return a.level < b.level || (a.level == b.level && key(a) < key(b));
+    });
+    for (std::size_t i = 1; i < order.size(); ++i) {
+      const Segment &a = segments[order[i - 1]], &b = segments[order[i]];
+      if (a.level == b.level && key(a) == key(b))
+        return notManifold(levelAt(a.level, interval, base));
+    }
+    return Status::success();
+  };
+  if (Status s = sortBy([](const Segment& g) { return g.exit(); }); !s.ok())
+    return s;
+  if (Status s = sortBy([](const Segment& g) { return g.entry(); }); !s.ok())
+    return s; // order stays sorted by entry for the look-ups below
+  next.assign(segments.size(), NO_SEGMENT);
+  entered.assign(segments.size(), 0);
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const Segment& g = segments[i];
+    const auto at = std::partition_point(order.begin(), order.end(), [&](SegmentId x) {
+      const Segment& a = segments[x];
+      return a.level < g.level || (a.level == g.level && a.entry() < g.exit());
+    });
+    if (at != order.end() && segments[*at].level == g.level &&
+        segments[*at].entry() == g.exit()) {
+      next[i] = *at;
+      entered[*at] = 1;
+    }
+  }
+  return Status::success();
+}
+
 } // namespace
 
 Status traceContoursOutOfCore(const MeshStream& mesh, double interval, double base,
@@ -279,12 +328,11 @@ Status traceContoursOutOfCore(const MeshStream& mesh, double interval, double ba
       const VertexId v[3] = {a, b, c};
       const double z[3] = {vertices.xyz(a)[2], vertices.xyz(b)[2], vertices.xyz(c)[2]};
       // The entry (above to below) and exit (below to above) edges at level k.
-      const auto cut = [&](std::int64_t k) {
+      const auto cut = [&](std::int64_t k, double level) {
         if (count) {
           ++crossings;
           return;
         }
-        const double level = base + static_cast<double>(k) * interval;
         Segment g{};
         g.level = k;
         g.triangle = static_cast<TriangleId>(t);
@@ -325,48 +373,13 @@ Status traceContoursOutOfCore(const MeshStream& mesh, double interval, double ba
   });
 
   // 2. Each segment's successor: the segment of its level entering by its exit edge.
-  // An edge entered twice, or left twice, at a level is not a manifold's.
+  std::vector<SegmentId> next;
+  std::vector<char> entered; // a segment leads into it
+  if (Status s = linkSegments(segments, interval, base, next, entered); !s.ok())
+    return s;
   const auto levelOf = [&](const Segment& g) {
-    return base + static_cast<double>(g.level) * interval;
+    return levelAt(g.level, interval, base);
   };
-  std::vector<SegmentId> order(segments.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = static_cast<SegmentId>(i);
-  const auto byKey = [&](auto key) {
-    return [&segments, key](SegmentId x, SegmentId y) {
-      const Segment &a = segments[x], &b = segments[y];
-      return a.level < b.level || (a.level == b.level && key(a) < key(b));
-    };
-  };
-  const auto entryKey = [](const Segment& g) { return g.entry(); };
-  const auto exitKey = [](const Segment& g) { return g.exit(); };
-  std::sort(order.begin(), order.end(), byKey(exitKey));
-  for (std::size_t i = 1; i < order.size(); ++i) {
-    const Segment &a = segments[order[i - 1]], &b = segments[order[i]];
-    if (a.level == b.level && a.exit() == b.exit())
-      return notManifold(levelOf(a));
-  }
-  std::sort(order.begin(), order.end(), byKey(entryKey));
-  for (std::size_t i = 1; i < order.size(); ++i) {
-    const Segment &a = segments[order[i - 1]], &b = segments[order[i]];
-    if (a.level == b.level && a.entry() == b.entry())
-      return notManifold(levelOf(a));
-  }
-  std::vector<SegmentId> next(segments.size(), NO_SEGMENT);
-  std::vector<char> entered(segments.size(), 0); // a segment leads into it
-  for (std::size_t i = 0; i < segments.size(); ++i) {
-    const Segment& g = segments[i];
-    const auto at = std::partition_point(order.begin(), order.end(), [&](SegmentId x) {
-      const Segment& a = segments[x];
-      return a.level < g.level || (a.level == g.level && a.entry() < g.exit());
-    });
-    if (at != order.end() && segments[*at].level == g.level &&
-        segments[*at].entry() == g.exit()) {
-      next[i] = *at;
-      entered[*at] = 1;
-    }
-  }
-  std::vector<SegmentId>().swap(order);
 
   // 3. The walks of traceContours, in its order: per level, open lines from the
   // segments no other leads into, then closed loops, each by triangle.
