@@ -130,9 +130,22 @@ struct Plan {
   }
 };
 
+/// Pre-tile t's points with its halo, as bucketed (removed once filtered).
 std::string loadFile(const std::string& folder, std::size_t t)
 {
   return folder + "/pmf_" + std::to_string(t) + ".xyz";
+}
+
+/// Pre-tile t's ground points in its core: one of the files the pre-pass hands over.
+std::string groundFile(const std::string& folder, std::size_t t)
+{
+  return folder + "/ground_" + std::to_string(t) + ".xyz";
+}
+
+/// The crop's points when there is no ground filter: the one file handed over.
+std::string croppedFile(const std::string& folder)
+{
+  return folder + "/cropped.xyz";
 }
 
 /// A status, or the plan and the reading's report, as text (doubles in hex: exact).
@@ -187,15 +200,19 @@ Status readGroundFile(const std::string& path, std::size_t chunk_points,
   if (!f)
     return ioError("cannot read temporary file", path);
   std::vector<double> chunk(3 * std::max<std::size_t>(chunk_points, 1));
+  const std::size_t chunk_bytes = chunk.size() * sizeof(double);
+  constexpr std::size_t POINT_BYTES = 3 * sizeof(double);
   for (;;) {
-    const std::size_t got =
-        std::fread(chunk.data(), sizeof(double), chunk.size(), f.get());
-    if (got % 3 != 0 || (got < chunk.size() && std::ferror(f.get())))
+    // Counted in bytes: a file cut inside a double is not whole triples either.
+    const std::size_t got = std::fread(chunk.data(), 1, chunk_bytes, f.get());
+    if (got < chunk_bytes && std::ferror(f.get()))
       return ioError("cannot read temporary file", path);
+    if (got % POINT_BYTES != 0)
+      return ioError("temporary file cut short (not whole xyz triples)", path);
     if (got > 0)
-      if (Status s = sink(chunk.data(), got / 3); !s.ok())
+      if (Status s = sink(chunk.data(), got / POINT_BYTES); !s.ok())
         return s;
-    if (got < chunk.size())
+    if (got < chunk_bytes)
       return Status::success();
   }
 }
@@ -212,7 +229,7 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
   Stopwatch watch;
   std::uint64_t n = 0;
   std::array<double, 3> lo{}, hi{};
-  const std::string cropped_path = folder + "/cropped.xyz";
+  const std::string cropped_path = croppedFile(folder);
   std::vector<double> buffer;
   const std::size_t buffer_values = 3 * 65536;
   const auto progress = [&](const char* phase, std::uint64_t done,
@@ -231,7 +248,7 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
       }
       if (!insideCrop(pre, p))
         continue;
-      for (int c = 0; c < 3; ++c) {
+      for (std::size_t c = 0; c < 3; ++c) {
         lo[c] = n == 0 ? p[c] : std::min(lo[c], p[c]);
         hi[c] = n == 0 ? p[c] : std::max(hi[c], p[c]);
       }
@@ -283,9 +300,8 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
   report.tiles_per_side = tiles.k;
   report.tile_side = tiles.side;
   report.halo = halo;
-  const std::size_t count = static_cast<std::size_t>(tiles.k) * tiles.k;
-  const auto loadPath = [&](std::size_t t) { return loadFile(folder, t); };
-  for (int c = 0; c < 3; ++c)
+  const std::size_t count = plan.count();
+  for (std::size_t c = 0; c < 3; ++c)
     plan.shift[c] = 0.5 * (lo[c] + hi[c]);
   // The points wait in one buffer per pre-tile; all of them go to the files once
   // they hold an eighth of the limit (the buffers released: their total stays
@@ -300,7 +316,7 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
   std::size_t buffered = 0;
   const auto flush = [&]() {
     for (const std::size_t t : dirty) {
-      if (Status w = appendDoubles(loadPath(t), buffers[t]); !w.ok())
+      if (Status w = appendDoubles(loadFile(folder, t), buffers[t]); !w.ok())
         return w;
       std::vector<double>().swap(buffers[t]);
     }
@@ -320,7 +336,7 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
       const int r0 = tiles.row(p[1] - halo), r1 = tiles.row(p[1] + halo);
       for (int r = r0; r <= r1; ++r)
         for (int c = c0; c <= c1; ++c) {
-          const std::size_t t = static_cast<std::size_t>(r) * tiles.k + c;
+          const std::size_t t = static_cast<std::size_t>(r * tiles.k + c);
           std::vector<double>& b = buffers[t];
           if (b.empty())
             dirty.push_back(t);
@@ -345,6 +361,52 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
   std::vector<std::vector<double>>().swap(buffers);
   report.seconds_bucket = watch.seconds();
   return Status::success();
+}
+
+/// What one pre-tile gave.
+struct PreTileResult {
+  Status status;
+  std::uint64_t loaded = 0, kept = 0; ///< loaded = 0: no core point
+};
+
+/// Phase 3 for pre-tile t: its file read (and removed), the in-memory filter run on
+/// the points with their halo, the ground of its core appended to its ground file.
+/// xyz is scratch.
+Status filterPreTile(const std::string& folder, const PreTiles& tiles,
+                     const PreprocessOptions& ground, std::size_t t,
+                     std::vector<double>& xyz, PreTileResult& result)
+{
+  const int row = static_cast<int>(t / static_cast<std::size_t>(tiles.k));
+  const int column = static_cast<int>(t % static_cast<std::size_t>(tiles.k));
+  if (Status r = readDoubles(loadFile(folder, t), xyz); !r.ok())
+    return r;
+  std::remove(loadFile(folder, t).c_str());
+  const auto core = [&](const double* p) {
+    return tiles.column(p[0]) == column && tiles.row(p[1]) == row;
+  };
+  bool any_core = false;
+  for (std::size_t i = 0; i < xyz.size() && !any_core; i += 3)
+    any_core = core(&xyz[i]);
+  if (!any_core)
+    return Status::success();
+  result.loaded = xyz.size() / 3;
+  std::vector<PreprocessStep> steps;
+  const Status f = preprocessCloud(xyz, ground, steps);
+  if (f.code == StatusCode::EMPTY_INPUT)
+    return Status::success(); // no ground in this pre-tile
+  if (!f.ok())
+    return f;
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < xyz.size(); i += 3)
+    if (core(&xyz[i])) {
+      std::copy(xyz.begin() + static_cast<std::ptrdiff_t>(i),
+                xyz.begin() + static_cast<std::ptrdiff_t>(i + 3),
+                xyz.begin() + static_cast<std::ptrdiff_t>(out));
+      out += 3;
+    }
+  xyz.resize(out);
+  result.kept = out / 3;
+  return appendDoubles(groundFile(folder, t), xyz);
 }
 
 } // namespace
@@ -381,13 +443,12 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   if (!status.ok())
     return status;
   if (!pre.ground_pmf) {
-    files.push_back(folder + "/cropped.xyz");
+    files.push_back(croppedFile(folder));
     return Status::success();
   }
   const PreTiles& tiles = plan.tiles;
   const std::size_t count = plan.count();
   const std::vector<std::uint64_t>& loaded = plan.loaded;
-  const auto loadPath = [&](std::size_t t) { return loadFile(folder, t); };
   const auto progress = [&](const char* phase, std::uint64_t done,
                             std::uint64_t total) {
     if (options.progress)
@@ -405,49 +466,12 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   ground.fixed_shift = true;
   for (int c = 0; c < 3; ++c)
     ground.shift[c] = plan.shift[c];
-  struct Result {
-    Status status;
-    std::uint64_t loaded = 0, kept = 0; ///< loaded = 0: no core point
-  };
-  std::vector<Result> results(count);
+  std::vector<PreTileResult> results(count);
   std::atomic<std::size_t> next{0};
   std::atomic<bool> failed{false};
   std::mutex mutex;
   std::condition_variable changed;
   const std::size_t threads_used = std::min<std::size_t>(workers, count);
-  const auto filterOne = [&](std::size_t t, std::vector<double>& xyz) {
-    Result& result = results[t];
-    const int row = static_cast<int>(t / static_cast<std::size_t>(tiles.k));
-    const int column = static_cast<int>(t % static_cast<std::size_t>(tiles.k));
-    if (Status r = readDoubles(loadPath(t), xyz); !r.ok())
-      return r;
-    std::remove(loadPath(t).c_str());
-    const auto core = [&](const double* p) {
-      return tiles.column(p[0]) == column && tiles.row(p[1]) == row;
-    };
-    bool any_core = false;
-    for (std::size_t i = 0; i < xyz.size() && !any_core; i += 3)
-      any_core = core(&xyz[i]);
-    if (!any_core)
-      return Status::success();
-    result.loaded = xyz.size() / 3;
-    std::vector<PreprocessStep> steps;
-    const Status f = preprocessCloud(xyz, ground, steps);
-    if (f.code == StatusCode::EMPTY_INPUT)
-      return Status::success(); // no ground in this pre-tile
-    if (!f.ok())
-      return f;
-    std::size_t out = 0;
-    for (std::size_t i = 0; i < xyz.size(); i += 3)
-      if (core(&xyz[i])) {
-        for (int c = 0; c < 3; ++c)
-          xyz[out + static_cast<std::size_t>(c)] = xyz[i + static_cast<std::size_t>(c)];
-        out += 3;
-      }
-    xyz.resize(out);
-    result.kept = out / 3;
-    return appendDoubles(folder + "/ground_" + std::to_string(t) + ".xyz", xyz);
-  };
   // The next pre-tile: from the counter shared by every rank and thread.
   if (shared)
     share.start_tasks();
@@ -464,7 +488,7 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
         taken = std::max(taken, t + 1);
       }
       if (loaded[t] != 0) {
-        results[t].status = filterOne(t, xyz);
+        results[t].status = filterPreTile(folder, tiles, ground, t, xyz, results[t]);
         if (!results[t].status.ok())
           failed = true;
       }
@@ -532,7 +556,7 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
     if (kept == 0)
       continue;
     report.kept += kept;
-    files.push_back(folder + "/ground_" + std::to_string(t) + ".xyz");
+    files.push_back(groundFile(folder, t));
   }
   report.seconds_filter = watch.seconds();
   if (report.kept == 0)

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
@@ -509,6 +510,37 @@ TEST_F(GroundTiles, NothingLeftIsTheInMemoryError)
   options.preprocess.crop = false;
   options.preprocess.voxel = 1.0;
   EXPECT_EQ(tiled(xyz, options, kept, report).code, StatusCode::INVALID_PARAMETER);
+}
+
+// A ground file is whole xyz triples: one cut short (a trailing partial double, or
+// a partial triple) is an IO_ERROR naming it, not the points before the cut.
+TEST_F(GroundTiles, AGroundFileCutShortIsAnIoError)
+{
+  std::vector<double> xyz(3 * 5000);
+  std::iota(xyz.begin(), xyz.end(), 0.0);
+  const std::string path = (folder_ / "ground_0.xyz").string();
+  const auto writeBytes = [&](std::size_t bytes) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fwrite(xyz.data(), 1, bytes, f), bytes);
+    std::fclose(f);
+  };
+  std::size_t points = 0;
+  const GroundSink count = [&](const double*, std::size_t n) {
+    points += n;
+    return Status::success();
+  };
+  writeBytes(xyz.size() * sizeof(double));
+  ASSERT_TRUE(readGroundFile(path, 777, count).ok());
+  EXPECT_EQ(points, 5000u);
+  for (const std::size_t cut : {std::size_t{4}, std::size_t{8}, std::size_t{20}}) {
+    writeBytes(xyz.size() * sizeof(double) - cut);
+    const Status s = readGroundFile(path, 777, count);
+    EXPECT_EQ(s.code, StatusCode::IO_ERROR) << cut;
+    EXPECT_NE(s.message.find(path), std::string::npos) << s.message;
+  }
+  EXPECT_EQ(readGroundFile((folder_ / "missing.xyz").string(), 777, count).code,
+            StatusCode::IO_ERROR);
 }
 
 } // namespace
