@@ -252,66 +252,13 @@ Point2 crossingOf(const MappedVertices& vertices, VertexId lo, VertexId hi,
   return crossingPoint({a[0], a[1]}, a[2], {b[0], b[1]}, b[2], level);
 }
 
-/// Each segment's successor at its level (the segment that enters by its exit edge;
-/// NO_SEGMENT at the mesh boundary) and whether a segment leads into it. An edge
-/// entered twice, or left twice, at a level is not a manifold's: INTERNAL_ERROR.
-Status linkSegments(const std::vector<Segment>& segments, double interval, double base,
-                    std::vector<SegmentId>& next, std::vector<char>& entered)
+/// Every (level, triangle) crossing of the streamed mesh as a segment, sorted by
+/// level, then triangle: the triangles are read twice, counted first so that the
+/// segments take no more memory than they need.
+Status collectSegments(const MeshStream& mesh, const MappedVertices& vertices,
+                       double interval, double base, std::vector<Segment>& segments)
 {
-  std::vector<SegmentId> order(segments.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = static_cast<SegmentId>(i);
-  // Sorted by (level, key): an edge used twice at a level lies next to itself.
-  const auto sortBy = [&](auto key) {
-    std::sort(order.begin(), order.end(), [&](SegmentId x, SegmentId y) {
-      const Segment &a = segments[x], &b = segments[y];
-      return a.level < b.level || (a.level == b.level && key(a) < key(b));
-    });
-    for (std::size_t i = 1; i < order.size(); ++i) {
-      const Segment &a = segments[order[i - 1]], &b = segments[order[i]];
-      if (a.level == b.level && key(a) == key(b))
-        return notManifold(levelAt(a.level, interval, base));
-    }
-    return Status::success();
-  };
-  if (Status s = sortBy([](const Segment& g) { return g.exit(); }); !s.ok())
-    return s;
-  if (Status s = sortBy([](const Segment& g) { return g.entry(); }); !s.ok())
-    return s; // order stays sorted by entry for the look-ups below
-  next.assign(segments.size(), NO_SEGMENT);
-  entered.assign(segments.size(), 0);
-  for (std::size_t i = 0; i < segments.size(); ++i) {
-    const Segment& g = segments[i];
-    const auto at = std::partition_point(order.begin(), order.end(), [&](SegmentId x) {
-      const Segment& a = segments[x];
-      return a.level < g.level || (a.level == g.level && a.entry() < g.exit());
-    });
-    if (at != order.end() && segments[*at].level == g.level &&
-        segments[*at].entry() == g.exit()) {
-      next[i] = *at;
-      entered[*at] = 1;
-    }
-  }
-  return Status::success();
-}
-
-} // namespace
-
-Status traceContoursOutOfCore(const MeshStream& mesh, double interval, double base,
-                              const std::string& temp_folder, const ContourSink& sink,
-                              ContourStats* stats)
-{
-  if (Status s = checkParameters(interval, base); !s.ok())
-    return s;
-  MappedVertices vertices;
-  if (Status s = vertices.map(mesh, temp_folder + "/contour_vertices.bin", "contours");
-      !s.ok())
-    return s;
   const std::uint64_t n = vertices.count();
-
-  // 1. Every (level, triangle) crossing as a segment, the triangles in stream order:
-  // counted in a first pass, so the segments take no more than they need.
-  std::vector<Segment> segments;
   std::uint64_t crossings = 0;
   for (const bool count : {true, false}) {
     Status failed = Status::success();
@@ -371,6 +318,69 @@ Status traceContoursOutOfCore(const MeshStream& mesh, double interval, double ba
   std::sort(segments.begin(), segments.end(), [](const Segment& x, const Segment& y) {
     return x.level < y.level || (x.level == y.level && x.triangle < y.triangle);
   });
+  return Status::success();
+}
+
+/// Each segment's successor at its level (the segment that enters by its exit edge;
+/// NO_SEGMENT at the mesh boundary) and whether a segment leads into it. An edge
+/// entered twice, or left twice, at a level is not a manifold's: INTERNAL_ERROR.
+Status linkSegments(const std::vector<Segment>& segments, double interval, double base,
+                    std::vector<SegmentId>& next, std::vector<char>& entered)
+{
+  std::vector<SegmentId> order(segments.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = static_cast<SegmentId>(i);
+  // Sorted by (level, key): an edge used twice at a level lies next to itself.
+  const auto sortBy = [&](auto key) {
+    std::sort(order.begin(), order.end(), [&](SegmentId x, SegmentId y) {
+      const Segment &a = segments[x], &b = segments[y];
+      return a.level < b.level || (a.level == b.level && key(a) < key(b));
+    });
+    for (std::size_t i = 1; i < order.size(); ++i) {
+      const Segment &a = segments[order[i - 1]], &b = segments[order[i]];
+      if (a.level == b.level && key(a) == key(b))
+        return notManifold(levelAt(a.level, interval, base));
+    }
+    return Status::success();
+  };
+  if (Status s = sortBy([](const Segment& g) { return g.exit(); }); !s.ok())
+    return s;
+  if (Status s = sortBy([](const Segment& g) { return g.entry(); }); !s.ok())
+    return s; // order stays sorted by entry for the look-ups below
+  next.assign(segments.size(), NO_SEGMENT);
+  entered.assign(segments.size(), 0);
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const Segment& g = segments[i];
+    const auto at = std::partition_point(order.begin(), order.end(), [&](SegmentId x) {
+      const Segment& a = segments[x];
+      return a.level < g.level || (a.level == g.level && a.entry() < g.exit());
+    });
+    if (at != order.end() && segments[*at].level == g.level &&
+        segments[*at].entry() == g.exit()) {
+      next[i] = *at;
+      entered[*at] = 1;
+    }
+  }
+  return Status::success();
+}
+
+} // namespace
+
+Status traceContoursOutOfCore(const MeshStream& mesh, double interval, double base,
+                              const std::string& temp_folder, const ContourSink& sink,
+                              ContourStats* stats)
+{
+  if (Status s = checkParameters(interval, base); !s.ok())
+    return s;
+  MappedVertices vertices;
+  if (Status s = vertices.map(mesh, temp_folder + "/contour_vertices.bin", "contours");
+      !s.ok())
+    return s;
+
+  // 1. Every (level, triangle) crossing as a segment, sorted by level and triangle.
+  std::vector<Segment> segments;
+  if (Status s = collectSegments(mesh, vertices, interval, base, segments); !s.ok())
+    return s;
 
   // 2. Each segment's successor: the segment of its level entering by its exit edge.
   std::vector<SegmentId> next;
