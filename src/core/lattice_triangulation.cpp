@@ -172,17 +172,15 @@ struct Lattice {
   Point2 point(std::size_t p) const { return {xs[p % nx], ys[p / nx]}; }
 };
 
-/// Reads the input: distinct coordinates, duplicates merged, vertex ids. False when
-/// the points do not form a lattice the fast path should take.
-bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
-                 Lattice& lat, VtsResult& result)
+/// Pass 1 of readLattice: the distinct x and y values of the finite points, which
+/// are counted (finite) and the others (dropped). False, early, when the points are
+/// scattered (more lattice positions than LATTICE_FILL_FACTOR per point) or a
+/// coordinate is beyond the ordinary path's range.
+bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
+                         ValueTable& yt, std::size_t& finite, std::size_t& dropped)
 {
-  Diagnostics& diag = result.diagnostics;
-  ValueTable xt, yt;
-  // Pass 1: the distinct values, giving up early on scattered points.
   double last_x = std::nan(""), last_y = std::nan("");
   std::uint32_t id_x = 0, id_y = 0;
-  std::size_t finite = 0, dropped = 0;
   const std::size_t limit = LATTICE_FILL_FACTOR * n;
   // Raster order: the value is usually the last one or the one after it.
   const auto lookup = [](ValueTable& table, double v, std::uint32_t& id) {
@@ -217,6 +215,19 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
             limit)
       return false; // scattered: stops after about sqrt(8 n) points
   }
+  return true;
+}
+
+/// Reads the input: distinct coordinates, duplicates merged, vertex ids. False when
+/// the points do not form a lattice the fast path should take.
+bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
+                 Lattice& lat, VtsResult& result)
+{
+  Diagnostics& diag = result.diagnostics;
+  ValueTable xt, yt;
+  std::size_t finite = 0, dropped = 0;
+  if (!distinctCoordinates(xyz, n, xt, yt, finite, dropped))
+    return false;
   const std::size_t positions =
       static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size());
   if (finite == 0 || xt.size() < 2 || yt.size() < 2 ||
@@ -251,7 +262,7 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   };
   std::size_t merged = 0;
   std::uint32_t r_x = 0, r_y = 0;
-  last_x = last_y = std::nan("");
+  double last_x = std::nan(""), last_y = std::nan("");
   for (std::size_t k = 0; k < n; ++k) {
     const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
