@@ -327,6 +327,16 @@ void BlockStore::removeTileFiles()
     ::unlink(tilePath(static_cast<std::uint32_t>(t)).c_str());
 }
 
+void BlockStore::releaseTileFile(std::uint32_t tile)
+{
+  const std::lock_guard<std::mutex> lock(fd_mutex_);
+  if (fds_[tile] >= 0) {
+    ::close(fds_[tile]);
+    fds_[tile] = -1;
+  }
+  ::unlink(tilePath(tile).c_str());
+}
+
 std::uint64_t BlockStore::bytesOnDisk() const
 {
   return std::accumulate(part_points_.begin(), part_points_.end(), std::uint64_t{0}) *

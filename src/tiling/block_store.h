@@ -40,13 +40,18 @@ class BlockStore {
 
   /// Appends the points of `block` (xyz triples, input order) to xyz.
   Status readBlock(std::uint32_t block, std::vector<double>& xyz) const;
-  /// Closes this rank's descriptors of the tile files. Every rank, once no tile will
-  /// be meshed any more; then removeTileFiles().
+  /// Closes this rank's descriptors of the tile files (reopened by the next read).
+  /// Every rank, before the last reader releases files (releaseTileFile) or once
+  /// nothing reads them; then removeTileFiles().
   void closeTileFiles();
   /// Unlinks the tile files this rank ordered, after every rank closed its
-  /// descriptors (a barrier between): the post-passes and the writer read the tile
-  /// results only, so the points' disk is free for them (24 B a point).
+  /// descriptors (a barrier between), once the writer has rebuilt every vertex
+  /// from them (tile_vertices.h).
   void removeTileFiles();
+  /// The last reader of a tile's points (the writer, tile by tile): closes its
+  /// descriptor and unlinks the file, so the disk goes back as the output grows. A
+  /// later read of the tile is an error (the file is gone), never other points.
+  void releaseTileFile(std::uint32_t tile);
 
   int tileLevel() const { return tile_level_; }
   int blockLevel() const { return block_level_; }

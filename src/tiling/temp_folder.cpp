@@ -41,10 +41,19 @@ bool startsWith(const char* name, const char* prefix)
   return true;
 }
 
-/// Unlinks every entry of the folder whose name does not start with `keep` ("" keeps
-/// nothing): open, getdents64 and unlinkat are async-signal-safe, so the signal
-/// handler may call this.
-void unlinkEntriesSignalSafe(const char* folder, const char* keep)
+/// True when name starts with one of `keep` (a list ended by nullptr).
+bool keptName(const char* name, const char* const* keep)
+{
+  for (; *keep != nullptr; ++keep)
+    if (startsWith(name, *keep))
+      return true;
+  return false;
+}
+
+/// Unlinks every entry of the folder whose name starts with none of `keep` (a list
+/// ended by nullptr): open, getdents64 and unlinkat are async-signal-safe, so the
+/// signal handler may call this.
+void unlinkEntriesSignalSafe(const char* folder, const char* const* keep)
 {
   const int fd = ::open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0)
@@ -58,7 +67,7 @@ void unlinkEntriesSignalSafe(const char* folder, const char* keep)
       const auto* entry = reinterpret_cast<const LinuxDirent64*>(buffer + at);
       const char* name = entry->name;
       if (!(name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0))) &&
-          !(*keep != 0 && startsWith(name, keep)))
+          !keptName(name, keep))
         ::unlinkat(fd, name, 0);
       at += entry->reclen;
     }
@@ -69,7 +78,8 @@ void unlinkEntriesSignalSafe(const char* folder, const char* keep)
 /// Unlinks every entry of the folder, then the folder (async-signal-safe).
 void removeFolderSignalSafe(const char* folder)
 {
-  unlinkEntriesSignalSafe(folder, "");
+  const char* const none[] = {nullptr};
+  unlinkEntriesSignalSafe(folder, none);
   ::rmdir(folder);
 }
 
@@ -163,10 +173,12 @@ std::uint64_t TempFolder::bytesUsed() const
   return bytes;
 }
 
-void TempFolder::removeFilesExcept(const std::string& keep) const
+void TempFolder::removeFilesExcept(std::initializer_list<const char*> keep) const
 {
+  std::vector<const char*> list(keep);
+  list.push_back(nullptr);
   if (!path_.empty())
-    unlinkEntriesSignalSafe(path_.c_str(), keep.c_str());
+    unlinkEntriesSignalSafe(path_.c_str(), list.data());
 }
 
 void TempFolder::remove()

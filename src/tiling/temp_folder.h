@@ -5,6 +5,7 @@
 #include <pcl_vts/core/status.h>
 
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 
 namespace pcl_vts {
@@ -21,9 +22,8 @@ class TempFolder {
   const std::string& path() const { return path_; }
   /// Disk the folder's files take now (allocated blocks), 0 when there is none.
   std::uint64_t bytesUsed() const;
-  /// Unlinks every file of the folder whose name does not start with `keep` (an
-  /// empty `keep` keeps nothing).
-  void removeFilesExcept(const std::string& keep) const;
+  /// Unlinks every file of the folder whose name starts with none of `keep`.
+  void removeFilesExcept(std::initializer_list<const char*> keep) const;
   /// Another process's folder (an MPI rank's view of rank 0's): removed by this
   /// process only if it receives SIGINT/SIGTERM/SIGHUP, so that a job stopped while
   /// rank 0 is busy or killed still leaves nothing behind; never by the destructor.

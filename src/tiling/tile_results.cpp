@@ -1,5 +1,6 @@
 // Tile result files and what is read back from them (tile_results.h).
 #include "tile_results.h"
+#include "tile_vertices.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -30,35 +31,39 @@ std::string ioFailure(const char* what, const std::string& path, int err)
 
 } // namespace
 
-Status readTileResult(const std::string& path, TileMeshData& data)
-{
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr)
-    return Status::error(StatusCode::IO_ERROR, ioFailure("open", path, errno));
-  std::uint64_t header[3] = {0, 0, 0};
-  bool ok = std::fread(header, sizeof(header), 1, file) == 1;
-  if (ok) {
-    data.xyz.resize(3 * header[0]);
-    data.triangles.resize(3 * header[1]);
-    ok = std::fread(data.xyz.data(), sizeof(double), data.xyz.size(), file) ==
-             data.xyz.size() &&
-         std::fread(data.triangles.data(), sizeof(std::uint32_t), data.triangles.size(),
-                    file) == data.triangles.size();
-  }
-  std::fclose(file);
-  if (!ok)
-    return Status::error(StatusCode::IO_ERROR, "cannot read back '" + path +
-                                                   "': shorter than its header says");
-  return Status::success();
-}
-
 std::string resultPath(const std::string& folder, std::uint32_t tile)
 {
   return folder + "/result_" + std::to_string(tile) + ".bin";
 }
 
-/// One tile's output: a header (vertex count, triangle count, all float-exact), the
-/// vertices (3 doubles) and the owned triangles (3 uint32), canonical order.
+namespace {
+
+/// A result file's header: vertex count, triangle count, all float-exact, checksum.
+constexpr std::size_t HEADER_WORDS = 4;
+constexpr long HEADER_BYTES = HEADER_WORDS * sizeof(std::uint64_t);
+
+using FilePtr = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
+
+Status shortFile(const std::string& path)
+{
+  return Status::error(StatusCode::IO_ERROR,
+                       "cannot read back '" + path + "': shorter than its header says");
+}
+
+/// Opens tile's result file and reads its header.
+Status openResult(const std::string& path, FilePtr& file,
+                  std::uint64_t (&header)[HEADER_WORDS])
+{
+  file.reset(std::fopen(path.c_str(), "rb"));
+  if (!file)
+    return Status::error(StatusCode::IO_ERROR, ioFailure("open", path, errno));
+  if (std::fread(header, sizeof(header), 1, file.get()) != 1)
+    return shortFile(path);
+  return Status::success();
+}
+
+} // namespace
+
 Status writeTileResult(const std::string& path, const TileResult& tile)
 {
   std::FILE* file = std::fopen(path.c_str(), "wb");
@@ -67,12 +72,10 @@ Status writeTileResult(const std::string& path, const TileResult& tile)
   bool exact = true;
   for (double v : tile.xyz)
     exact = exact && exactInFloat(v);
-  const std::uint64_t header[3] = {tile.xyz.size() / 3, tile.triangles.size() / 3,
-                                   exact ? 1u : 0u};
+  const std::uint64_t header[HEADER_WORDS] = {
+      tile.xyz.size() / 3, tile.triangles.size() / 3, exact ? 1u : 0u,
+      vertexChecksum(tile.xyz)};
   bool ok = std::fwrite(header, sizeof(header), 1, file) == 1;
-  ok =
-      ok && (tile.xyz.empty() || std::fwrite(tile.xyz.data(), sizeof(double),
-                                             tile.xyz.size(), file) == tile.xyz.size());
   ok = ok && (tile.triangles.empty() ||
               std::fwrite(tile.triangles.data(), sizeof(std::uint32_t),
                           tile.triangles.size(), file) == tile.triangles.size());
@@ -83,8 +86,41 @@ Status writeTileResult(const std::string& path, const TileResult& tile)
   return Status::success();
 }
 
-TileResultsMesh::TileResultsMesh(std::string folder, std::vector<std::uint32_t> tiles)
-    : folder_(std::move(folder))
+Status TileResultFiles::readVertices(std::uint32_t tile, std::uint64_t count,
+                                     std::uint64_t checksum,
+                                     std::vector<double>& xyz) const
+{
+  if (Status s = rebuildTileVertices(*store, *frame, tile, rule, xyz); !s.ok())
+    return s;
+  if (xyz.size() != 3 * count || vertexChecksum(xyz) != checksum)
+    return Status::error(StatusCode::INTERNAL_ERROR,
+                         "tile " + std::to_string(tile) + ": its " +
+                             std::to_string(xyz.size() / 3) +
+                             " vertices rebuilt from its points differ from the " +
+                             std::to_string(count) + " it triangulated");
+  return Status::success();
+}
+
+Status TileResultFiles::read(std::uint32_t tile, TileMeshData& data,
+                             bool vertices) const
+{
+  const std::string path = resultPath(folder, tile);
+  FilePtr file(nullptr, &std::fclose);
+  std::uint64_t header[HEADER_WORDS];
+  if (Status s = openResult(path, file, header); !s.ok())
+    return s;
+  data.triangles.resize(3 * header[1]);
+  if (std::fread(data.triangles.data(), sizeof(std::uint32_t), data.triangles.size(),
+                 file.get()) != data.triangles.size())
+    return shortFile(path);
+  data.xyz.clear();
+  return vertices ? readVertices(tile, header[0], header[3], data.xyz)
+                  : Status::success();
+}
+
+TileResultsMesh::TileResultsMesh(const TileResultFiles& files,
+                                 std::vector<std::uint32_t> tiles)
+    : files_(files)
     , tiles_(std::move(tiles))
 {}
 
@@ -93,8 +129,9 @@ Status TileResultsMesh::scan()
   nv_ = nt_ = 0;
   exact_ = true;
   for (std::uint32_t t : tiles_) {
-    std::uint64_t header[3];
-    if (Status s = readAt(t, 0, header, sizeof(header)); !s.ok())
+    FilePtr file(nullptr, &std::fclose);
+    std::uint64_t header[HEADER_WORDS];
+    if (Status s = openResult(resultPath(files_.folder, t), file, header); !s.ok())
       return s;
     nv_ += header[0];
     nt_ += header[1];
@@ -103,106 +140,69 @@ Status TileResultsMesh::scan()
   return Status::success();
 }
 
+Status TileResultsMesh::checkNotReleased(std::size_t k, std::uint8_t bit) const
+{
+  if (release_ && released_.size() != tiles_.size())
+    released_.assign(tiles_.size(), 0);
+  if (release_ && (released_[k] & bit) != 0)
+    return Status::error(StatusCode::INTERNAL_ERROR,
+                         "tile " + std::to_string(tiles_[k]) +
+                             ": a result section read again after its release");
+  return Status::success();
+}
+
 Status TileResultsMesh::forEachVertex(const VertexVisit& visit) const
 {
-  return forEachSection(true, [&](const char* data, std::size_t count) {
-    double xyz[3];
-    for (std::size_t k = 0; k < count; ++k) {
-      std::memcpy(xyz, data + 24 * k, 24);
-      visit(xyz[0], xyz[1], xyz[2], false);
+  std::vector<double> xyz;
+  for (std::size_t k = 0; k < tiles_.size(); ++k) {
+    const std::uint32_t t = tiles_[k];
+    if (Status s = checkNotReleased(k, 1); !s.ok())
+      return s;
+    FilePtr file(nullptr, &std::fclose);
+    std::uint64_t header[HEADER_WORDS];
+    if (Status s = openResult(resultPath(files_.folder, t), file, header); !s.ok())
+      return s;
+    file.reset();
+    if (Status s = files_.readVertices(t, header[0], header[3], xyz); !s.ok())
+      return s;
+    for (std::size_t v = 0; v < xyz.size(); v += 3)
+      visit(xyz[v], xyz[v + 1], xyz[v + 2], false);
+    if (release_) { // the tile's points are read for the last time
+      files_.store->releaseTileFile(t);
+      if ((released_[k] |= 1) == 3)
+        ::unlink(resultPath(files_.folder, t).c_str());
     }
-  });
+  }
+  return Status::success();
 }
 
 Status TileResultsMesh::forEachTriangle(const TriangleVisit& visit) const
 {
-  return forEachSection(false, [&](const char* data, std::size_t count) {
-    std::uint32_t t[3];
-    for (std::size_t k = 0; k < count; ++k) {
-      std::memcpy(t, data + 12 * k, 12);
-      visit(t[0], t[1], t[2]);
-    }
-  });
-}
-
-Status TileResultsMesh::readAt(std::uint32_t tile, long offset, void* data,
-                               std::size_t bytes) const
-{
-  const std::string path = resultPath(folder_, tile);
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr)
-    return Status::error(StatusCode::IO_ERROR, ioFailure("open", path, errno));
-  const bool ok = std::fseek(file, offset, SEEK_SET) == 0 &&
-                  std::fread(data, 1, bytes, file) == bytes;
-  std::fclose(file);
-  if (!ok)
-    return Status::error(StatusCode::IO_ERROR, "cannot read back '" + path +
-                                                   "': shorter than its header says");
-  return Status::success();
-}
-
-namespace {
-
-/// Gives a read section's disk back: the file is removed once both sections are read
-/// (state 3), else the section's blocks are punched out. A file system that cannot
-/// punch keeps them until the job's folder goes: less room, the same bytes.
-void releaseSection(const std::string& path, std::uint64_t offset, std::uint64_t bytes,
-                    std::uint8_t state)
-{
-  if (state == 3) {
-    ::unlink(path.c_str());
-    return;
-  }
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-  if (fd < 0)
-    return;
-  ::fallocate(fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE,
-              static_cast<off_t>(offset), static_cast<off_t>(bytes));
-  ::close(fd);
-}
-
-} // namespace
-
-template <typename Visit>
-Status TileResultsMesh::forEachSection(bool vertices, const Visit& visit) const
-{
-  const std::size_t item = vertices ? 24 : 12;
-  const std::uint8_t bit = vertices ? 1 : 2;
-  if (release_ && released_.size() != tiles_.size())
-    released_.assign(tiles_.size(), 0);
-  std::vector<char> buffer;
+  std::vector<std::uint32_t> buffer;
   for (std::size_t k = 0; k < tiles_.size(); ++k) {
     const std::uint32_t t = tiles_[k];
-    if (release_ && (released_[k] & bit) != 0)
-      return Status::error(StatusCode::INTERNAL_ERROR,
-                           "tile " + std::to_string(t) +
-                               ": a result section read again after its release");
-    // One open and one sequential read per tile.
-    const std::string path = resultPath(folder_, t);
-    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(
-        std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!file)
-      return Status::error(StatusCode::IO_ERROR, ioFailure("open", path, errno));
-    std::uint64_t header[3];
-    bool ok = std::fread(header, sizeof(header), 1, file.get()) == 1;
-    const std::uint64_t count = ok ? (vertices ? header[0] : header[1]) : 0;
-    if (ok && !vertices)
-      ok = std::fseek(file.get(), static_cast<long>(24 * header[0]), SEEK_CUR) == 0;
-    for (std::uint64_t done = 0; ok && done < count;) {
+    if (Status s = checkNotReleased(k, 2); !s.ok())
+      return s;
+    const std::string path = resultPath(files_.folder, t);
+    FilePtr file(nullptr, &std::fclose);
+    std::uint64_t header[HEADER_WORDS];
+    if (Status s = openResult(path, file, header); !s.ok())
+      return s;
+    // One sequential read per tile, in chunks.
+    for (std::uint64_t done = 0; done < header[1];) {
       const std::size_t n =
-          static_cast<std::size_t>(std::min<std::uint64_t>(count - done, 1 << 16));
-      buffer.resize(n * item);
-      ok = std::fread(buffer.data(), 1, buffer.size(), file.get()) == buffer.size();
-      if (ok)
-        visit(buffer.data(), n);
+          static_cast<std::size_t>(std::min<std::uint64_t>(header[1] - done, 1 << 16));
+      buffer.resize(3 * n);
+      if (std::fread(buffer.data(), sizeof(std::uint32_t), buffer.size(), file.get()) !=
+          buffer.size())
+        return shortFile(path);
+      for (std::size_t j = 0; j < buffer.size(); j += 3)
+        visit(buffer[j], buffer[j + 1], buffer[j + 2]);
       done += n;
     }
-    if (!ok)
-      return Status::error(StatusCode::IO_ERROR, "cannot read back '" + path +
-                                                     "': shorter than its header says");
-    if (release_)
-      releaseSection(path, vertices ? 24 : 24 + 24 * header[0], count * item,
-                     released_[k] |= bit);
+    file.reset();
+    if (release_ && (released_[k] |= 2) == 3)
+      ::unlink(path.c_str());
   }
   return Status::success();
 }
@@ -263,13 +263,13 @@ struct FinalIds {
 
 /// Writes tile k's mesh (its owned triangles, every vertex they use and its own
 /// vertices, ids renumbered in global order) and returns its index line.
-Status writeTileMesh(const std::string& folder, const std::string& out_folder,
+Status writeTileMesh(const TileResultFiles& files, const std::string& out_folder,
                      const TileFrame& frame, int tile_level, const VertexOwners& owners,
                      const TileMeshEdits* edits, std::size_t k, std::string& index_line)
 {
   const std::uint32_t tile = owners.tiles[k];
   TileMeshData own;
-  if (Status s = readTileResult(resultPath(folder, tile), own); !s.ok())
+  if (Status s = files.read(tile, own, true); !s.ok())
     return s;
   const FinalIds final_ids{edits};
   const std::size_t tiles = owners.tiles.size();
@@ -323,8 +323,7 @@ Status writeTileMesh(const std::string& folder, const std::string& out_folder,
     const TileMeshData* data = &own;
     if (owner != k) {
       if (owner != neighbour) {
-        if (Status s = readTileResult(resultPath(folder, owners.tiles[owner]), other);
-            !s.ok())
+        if (Status s = files.read(owners.tiles[owner], other, true); !s.ok())
           return s;
         neighbour = owner;
       }

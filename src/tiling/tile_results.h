@@ -1,9 +1,12 @@
-// Tile results on the shared temporary folder: each tile's vertices and owned
-// triangles in one file, read back in tile order as the whole mesh (a MeshSource
-// for the writer), or one tile at a time for the tile meshes (tile_output).
+// Tile results on the shared temporary folder: each tile's owned triangles in one
+// file, its vertices rebuilt from its points (tile_vertices.h) when read back; read
+// in tile order as the whole mesh (a MeshSource for the writer), or one tile at a
+// time for the post-passes and the tile meshes (tile_output).
 #pragma once
+#include "block_store.h"
 #include "tile_triangulation.h"
 
+#include <pcl_vts/core/merge_duplicates.h>
 #include <pcl_vts/core/status.h>
 #include <pcl_vts/io/mesh_writer.h>
 #include <pcl_vts/tiling/tile_frame.h>
@@ -18,28 +21,45 @@ namespace pcl_vts {
 /// "<folder>/result_<tile>.bin".
 std::string resultPath(const std::string& folder, std::uint32_t tile);
 
-/// A tile's result file read whole.
+/// A tile's result read whole.
 struct TileMeshData {
-  std::vector<double> xyz;              ///< the tile's vertices
+  std::vector<double> xyz;              ///< the tile's vertices (when asked for)
   std::vector<std::uint32_t> triangles; ///< the triangles it owns, global ids
 };
 
-Status readTileResult(const std::string& path, TileMeshData& data);
-
-/// Writes one tile's result: a header (vertex count, triangle count, all float-exact),
-/// the vertices (3 doubles) and the owned triangles (3 uint32), canonical order.
+/// Writes one tile's result: a header (vertex count, triangle count, all float-exact,
+/// the vertices' checksum), then the owned triangles (3 uint32), canonical order. The
+/// vertices stay in the tile's point file, where the readers rebuild them.
 Status writeTileResult(const std::string& path, const TileResult& tile);
+
+/// Where the tile results are read back: the result files (triangles) and the
+/// point files (vertices), with the job's frame and duplicate rule.
+struct TileResultFiles {
+  std::string folder;
+  BlockStore* store = nullptr; ///< not const: the writer releases its files
+  const TileFrame* frame = nullptr;
+  DuplicateRule rule = DuplicateRule::LOWEST_Z;
+
+  /// Tile's triangles, and its vertices when `vertices` (rebuilt and checked against
+  /// the count and checksum its triangulation wrote).
+  Status read(std::uint32_t tile, TileMeshData& data, bool vertices) const;
+  /// Tile's vertices alone, given its header's count and checksum.
+  Status readVertices(std::uint32_t tile, std::uint64_t count, std::uint64_t checksum,
+                      std::vector<double>& xyz) const;
+};
 
 /// The whole mesh, read back tile by tile from the result files (rank 0).
 class TileResultsMesh : public MeshSource {
  public:
-  TileResultsMesh(std::string folder, std::vector<std::uint32_t> tiles);
+  TileResultsMesh(const TileResultFiles& files, std::vector<std::uint32_t> tiles);
   /// Reads every header: counts and float-exactness.
   Status scan();
-  /// The last reader: each tile's section goes back to the file system once it has
-  /// been read (a hole punched; the file removed after both), so the output grows
-  /// as the results shrink. A section read again after that is INTERNAL_ERROR,
-  /// never zeros: only for a writer that reads each section once (PLY).
+  /// The last reader: each tile's points go back to the file system once its
+  /// vertices have been read (the point file removed), its result file once its
+  /// triangles have, so the output grows as the temporary files shrink. A section
+  /// read again after that is INTERNAL_ERROR, never zeros: only for a writer that
+  /// reads each section once (PLY), with the store's descriptors closed on every
+  /// rank (BlockStore::closeTileFiles).
   void releaseAsRead() { release_ = true; }
   std::uint64_t vertexCount() const override { return nv_; }
   std::uint64_t triangleCount() const override { return nt_; }
@@ -49,11 +69,10 @@ class TileResultsMesh : public MeshSource {
   Status forEachTriangle(const TriangleVisit& visit) const override;
 
  private:
-  Status readAt(std::uint32_t tile, long offset, void* data, std::size_t bytes) const;
-  template <typename Visit>
-  Status forEachSection(bool vertices, const Visit& visit) const;
+  /// The state bit of a section (1 vertices, 2 triangles): an error once released.
+  Status checkNotReleased(std::size_t k, std::uint8_t bit) const;
 
-  std::string folder_;
+  const TileResultFiles& files_;
   std::vector<std::uint32_t> tiles_;
   std::uint64_t nv_ = 0, nt_ = 0;
   bool exact_ = true;
@@ -88,7 +107,7 @@ struct TileMeshEdits {
 /// Writes tile k's mesh (its owned triangles, every vertex they use and its own
 /// vertices, ids renumbered in global order) into out_folder and returns its line of
 /// index.csv. edits: the post-passes' changes, or nullptr.
-Status writeTileMesh(const std::string& folder, const std::string& out_folder,
+Status writeTileMesh(const TileResultFiles& files, const std::string& out_folder,
                      const TileFrame& frame, int tile_level, const VertexOwners& owners,
                      const TileMeshEdits* edits, std::size_t k,
                      std::string& index_line);

@@ -37,18 +37,18 @@ void sortUnique(std::vector<std::uint32_t>& ids)
 
 /// Every triangle with a corner in `region` (sorted, on every rank), in the global
 /// order (on rank 0); with `removed`, less those.
-Status trianglesTouching(const std::string& folder, const VertexOwners& owners,
+Status trianglesTouching(const TileResultFiles& results, const VertexOwners& owners,
                          const SweepTeam& team,
                          const std::vector<std::uint32_t>& region,
                          const std::vector<TriangleKey>* removed,
                          std::vector<TriangleKey>& found)
 {
   const auto findings = [&](std::size_t k) {
-    return folder + "/post_touching_" + std::to_string(k) + ".bin";
+    return results.folder + "/post_touching_" + std::to_string(k) + ".bin";
   };
   Status s = team.forEachTile(owners.tiles.size(), [&](std::size_t k) {
     TileMeshData data;
-    if (Status r = readTileResult(resultPath(folder, owners.tiles[k]), data); !r.ok())
+    if (Status r = results.read(owners.tiles[k], data, false); !r.ok())
       return r;
     std::vector<TriangleKey> touching;
     for (std::size_t t = 0; t < data.triangles.size(); t += 3) {
@@ -167,12 +167,13 @@ Status selectMedian(const VertexRecords& own, std::uint64_t count,
 
 } // namespace
 
-Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
+Status fillTiledMesh(const TileResultFiles& results, const VertexOwners& owners,
                      const TileFrame& frame, const FillOptions& options,
                      const TiledTrim& trim, JobComm& comm, unsigned workers,
                      const std::function<void(std::uint64_t, std::uint64_t)>& report,
                      TiledFill& fill)
 {
+  const std::string& folder = results.folder;
   fill = TiledFill{};
   if (Status s = validateFillOptions(options); !s.ok())
     return s;
@@ -194,7 +195,7 @@ Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
                                      static_cast<std::size_t>(comm.size()));
   const SweepTeam team{comm, workers, progress};
   for (std::size_t ring = 0; ring < rings; ++ring) {
-    if (Status s = trianglesTouching(folder, owners, team, region, nullptr, triangles);
+    if (Status s = trianglesTouching(results, owners, team, region, nullptr, triangles);
         !s.ok())
       return s;
     for (const TriangleKey& key : triangles)
@@ -203,7 +204,7 @@ Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
     broadcastIds(comm, region);
   }
   if (Status s =
-          trianglesTouching(folder, owners, team, region, &trim.removed, triangles);
+          trianglesTouching(results, owners, team, region, &trim.removed, triangles);
       !s.ok())
     return s;
   if (comm.rank() != 0)

@@ -32,11 +32,11 @@ struct TiledFill {
   FillResult result; ///< without the per-vertex flags
 };
 
-/// Fills the holes of the trimmed tile results in folder (after trimTiledMesh, whose
-/// scratch files it reads).
+/// Fills the holes of the trimmed tile results (after trimTiledMesh, whose scratch
+/// files it reads from their folder).
 /// Collective over comm (each rank's `workers` share the sweeps); the answer is rank
 /// 0's. `report` (may be empty) hears of each tile visited, over all the sweeps.
-Status fillTiledMesh(const std::string& folder, const VertexOwners& owners,
+Status fillTiledMesh(const TileResultFiles& results, const VertexOwners& owners,
                      const TileFrame& frame, const FillOptions& options,
                      const TiledTrim& trim, JobComm& comm, unsigned workers,
                      const std::function<void(std::uint64_t, std::uint64_t)>& report,

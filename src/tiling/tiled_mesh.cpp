@@ -52,7 +52,8 @@ struct Job {
   TileFrame frame;
   Rect box;
   TileLevels levels;
-  std::string folder; ///< the temporary folder every rank writes into
+  std::string folder;      ///< the temporary folder every rank writes into
+  TileResultFiles results; ///< the tile results there, vertices from the points
   std::vector<std::uint64_t> first_vertex;
   std::vector<std::uint32_t> occupied_tiles;
   std::vector<std::uint32_t> meshed_here; ///< indices into occupied_tiles
@@ -314,7 +315,7 @@ Status writeTileOutputs(Job& job)
   for (std::size_t i = 0; i < mine.size() && status.ok(); ++i) {
     std::string line;
     status =
-        writeTileMesh(job.folder, job.options.tile_output, job.frame, job.levels.tile,
+        writeTileMesh(job.results, job.options.tile_output, job.frame, job.levels.tile,
                       owners, edited ? &edits : nullptr, mine[i], line);
     my_lines += std::to_string(mine[i]) + " " + line;
   }
@@ -348,7 +349,7 @@ Status trim(Job& job)
 {
   job.progress("trimming", 0, 0);
   const Status status = trimTiledMesh(
-      job.folder, job.owners(), job.options.vts.reconstruction.trim_options, job.comm,
+      job.results, job.owners(), job.options.vts.reconstruction.trim_options, job.comm,
       job.workers,
       [&](std::uint64_t done, std::uint64_t total) {
         job.progress("trimming", done, total);
@@ -364,7 +365,7 @@ Status fill(Job& job)
 {
   job.progress("filling", 0, 0);
   const Status status = fillTiledMesh(
-      job.folder, job.owners(), job.frame, job.options.vts.reconstruction.fill_options,
+      job.results, job.owners(), job.frame, job.options.vts.reconstruction.fill_options,
       job.trim, job.comm, job.workers,
       [&](std::uint64_t done, std::uint64_t total) {
         job.progress("filling", done, total);
@@ -381,10 +382,10 @@ Status writeOutput(Job& job, const std::string& output, MeshFileFormat format,
   job.progress("writing", 0, 0);
   Status status;
   if (job.rank == 0) {
-    TileResultsMesh mesh(job.folder, job.occupied_tiles);
-    // The writer is the results' last reader unless a product reads them after it;
-    // PLY reads each section once (OBJ and VTK read the vertices twice when points
-    // were inserted).
+    TileResultsMesh mesh(job.results, job.occupied_tiles);
+    // The writer is the last reader of the results and the points unless a product
+    // reads them after it; PLY reads each section once (OBJ and VTK read the vertices
+    // twice when points were inserted).
     if (!job.options.after_write && format == MeshFileFormat::PLY)
       mesh.releaseAsRead();
     status = mesh.scan();
@@ -512,6 +513,10 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   report.seconds_bucket = watch.seconds();
   if (!(status = number(job, store)).ok())
     return failed(status);
+  job.results.folder = job.folder;
+  job.results.store = &store;
+  job.results.frame = &job.frame;
+  job.results.rule = options.vts.duplicate_rule;
 
   watch.restart();
   if (!(status = meshTiles(job, store)).ok())
@@ -521,11 +526,6 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
       report.temp_peak_bytes = std::max(report.temp_peak_bytes, temp.bytesUsed());
   };
   measureTemp(); // points and tile results
-  // Every tile is meshed: nothing reads the points again (the post-passes and the
-  // writer read the tile results), so their disk goes back before the output grows.
-  store.closeTileFiles();
-  comm.barrier();
-  store.removeTileFiles();
   const bool edited = post.trim || post.fill;
   if (!options.tile_output.empty() && !edited && !(status = writeTileOutputs(job)).ok())
     return failed(status, TiledFailure::TILE_OUTPUT);
@@ -546,10 +546,15 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     measureTemp();
   }
   if (edited && job.rank == 0) // every rank is past the last sweep (its agreement)
-    temp.removeFilesExcept("result_"); // the post-passes' files: the writer needs none
+    temp.removeFilesExcept({"result_", "tile_"}); // the post-passes' files: the
+                                                  // writer reads results and points
   if (!options.tile_output.empty() && edited && !(status = writeTileOutputs(job)).ok())
     return failed(status, TiledFailure::TILE_OUTPUT);
 
+  // The writer, rank 0 alone, is the points' last reader: every rank's descriptors
+  // closed first, so the files it releases give their disk back at once.
+  store.closeTileFiles();
+  comm.barrier();
   watch.restart();
   status = writeOutput(job, output, format, write_options);
   report.seconds_write = watch.seconds();
@@ -558,7 +563,8 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
     report.temp_peak_bytes =
         std::max(report.temp_peak_bytes, report.temp_bytes_after_write);
   }
-  comm.barrier(); // every rank is done with the folder before rank 0 removes it
+  comm.barrier(); // every rank is done with the points and the folder
+  store.removeTileFiles();
   return status.ok() ? status : failed(status, TiledFailure::OUTPUT);
 }
 

@@ -41,13 +41,13 @@ struct TileAround {
   std::vector<std::uint32_t> ring;
 };
 
-Status loadAround(const std::string& folder, const VertexOwners& owners, int ranks,
+Status loadAround(const TileResultFiles& results, const VertexOwners& owners, int ranks,
                   std::size_t k, TileAround& tile)
 {
+  const std::string& folder = results.folder;
   tile.lo = owners.first[k];
   tile.hi = owners.first[k + 1];
-  if (Status s = readTileResult(resultPath(folder, owners.tiles[k]), tile.data);
-      !s.ok())
+  if (Status s = results.read(owners.tiles[k], tile.data, false); !s.ok())
     return s;
   tile.around = tile.data.triangles;
   for (int r = 0; r < ranks; ++r) // the triangles each rank sent it
@@ -134,6 +134,7 @@ class Lookup {
 
 /// A sweep's files and team.
 struct Pass {
+  const TileResultFiles& results;
   const std::string& folder;
   const VertexOwners& owners;
   const SweepTeam& team;
@@ -154,8 +155,7 @@ Status sendTriangles(const Pass& pass, const VertexRecords& positions)
   const std::string rank = "." + std::to_string(pass.team.comm.rank());
   return pass.team.forEachTile(pass.tiles(), [&](std::size_t k) {
     TileMeshData data;
-    if (Status s = readTileResult(resultPath(pass.folder, pass.owners.tiles[k]), data);
-        !s.ok())
+    if (Status s = pass.results.read(pass.owners.tiles[k], data, true); !s.ok())
       return s;
     if (Status s = positions.write(pass.owners.first[k], data.xyz); !s.ok())
       return s;
@@ -195,7 +195,7 @@ Status measureSpacing(const Pass& pass, const VertexRecords& positions,
     Status s = pass.team.forEachTile(pass.tiles(), [&](std::size_t k) {
       TileAround tile;
       if (Status r =
-              loadAround(pass.folder, pass.owners, pass.team.comm.size(), k, tile);
+              loadAround(pass.results, pass.owners, pass.team.comm.size(), k, tile);
           !r.ok())
         return r;
       Lookup lookup(second ? own : positions, second ? 1 : 3);
@@ -239,9 +239,7 @@ Status classify(const Pass& pass, const TrimOptions& options,
     TileAround tile;
     tile.lo = pass.owners.first[k];
     tile.hi = pass.owners.first[k + 1];
-    if (Status r =
-            readTileResult(resultPath(pass.folder, pass.owners.tiles[k]), tile.data);
-        !r.ok())
+    if (Status r = pass.results.read(pass.owners.tiles[k], tile.data, false); !r.ok())
       return r;
     Lookup xy(positions, 3), spacing(local, 1);
     if (Status r = xy.load(tile, tile.data.triangles); !r.ok())
@@ -284,8 +282,7 @@ Status gatherFans(const Pass& pass, const std::vector<std::uint32_t>& corners,
 {
   Status s = pass.team.forEachTile(pass.tiles(), [&](std::size_t k) {
     TileMeshData data;
-    if (Status r = readTileResult(resultPath(pass.folder, pass.owners.tiles[k]), data);
-        !r.ok())
+    if (Status r = pass.results.read(pass.owners.tiles[k], data, false); !r.ok())
       return r;
     std::vector<TriangleKey> found;
     for (std::size_t t = 0; t < data.triangles.size(); t += 3) {
@@ -309,10 +306,11 @@ Status gatherFans(const Pass& pass, const std::vector<std::uint32_t>& corners,
 
 } // namespace
 
-Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
+Status trimTiledMesh(const TileResultFiles& results, const VertexOwners& owners,
                      const TrimOptions& options, JobComm& comm, unsigned workers,
                      const SweepProgress::Report& report, TiledTrim& trim)
 {
+  const std::string& folder = results.folder;
   trim = TiledTrim{};
   if (Status s = validateTrimOptions(options); !s.ok())
     return s;
@@ -334,7 +332,7 @@ Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
   SweepProgress progress(report, 5 * owners.tiles.size() /
                                      static_cast<std::size_t>(comm.size()));
   const SweepTeam team{comm, workers, progress};
-  const Pass pass{folder, owners, team};
+  const Pass pass{results, folder, owners, team};
   if (Status s = sendTriangles(pass, positions); !s.ok())
     return s;
   if (Status s = measureSpacing(pass, positions, own, local); !s.ok())

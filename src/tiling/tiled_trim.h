@@ -37,12 +37,12 @@ struct TiledTrim {
 std::string positionsPath(const std::string& folder);
 std::string ownSpacingPath(const std::string& folder);
 
-/// Trims the mesh of the tile results in folder (scratch files go there too).
+/// Trims the mesh of the tile results (scratch files go to their folder too).
 /// `workers` tiles are handled at once.
 /// `report` (may be empty) hears of each tile visited, over all the sweeps.
 /// Collective over comm (each rank's `workers` share the sweeps); the answer is rank
 /// 0's.
-Status trimTiledMesh(const std::string& folder, const VertexOwners& owners,
+Status trimTiledMesh(const TileResultFiles& results, const VertexOwners& owners,
                      const TrimOptions& options, JobComm& comm, unsigned workers,
                      const std::function<void(std::uint64_t, std::uint64_t)>& report,
                      TiledTrim& trim);

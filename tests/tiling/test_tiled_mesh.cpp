@@ -617,7 +617,10 @@ TEST_F(TiledMeshTest, DefaultPipelineFillsHolesAcrossTilesAsInMemory)
 // temporary folder before the post-passes and the writer add their files; the
 // post-passes' files are gone before the writer starts; the report's peak covers the
 // points and the tile results together.
-TEST_F(TiledMeshTest, PointFilesAreRemovedOnceEveryTileIsMeshed)
+// The points are stored once: the tile results hold the triangles alone (a 32-byte
+// header, then 12 bytes a triangle), the writer rebuilds the vertices from the point
+// files, which stay until then; the post-passes' files are gone before the write.
+TEST_F(TiledMeshTest, TileResultsHoldTrianglesAndThePointsStayUntilTheWrite)
 {
   const SyntheticTerrain terrain = makeSyntheticTerrain(5);
   TiledMeshOptions options;
@@ -627,43 +630,85 @@ TEST_F(TiledMeshTest, PointFilesAreRemovedOnceEveryTileIsMeshed)
   options.block_level = 5;
   std::map<std::string, std::pair<int, int>> seen; // phase: point files, result files
   int others_at_writing = -1;                      // files neither points nor results
+  int malformed_results = -1; // result files not of header + triangles
   options.progress = [&](const TiledProgress& p) {
-    int points = 0, results = 0;
+    int points = 0, results = 0, others = 0, malformed = 0;
     for (const auto& folder : std::filesystem::directory_iterator(root_))
       if (folder.path().filename().string().rfind(".pcl_vts-", 0) == 0)
         for (const auto& file : std::filesystem::directory_iterator(folder.path())) {
           const std::string name = file.path().filename().string();
           points += name.rfind("tile_", 0) == 0;
-          results += name.rfind("result_", 0) == 0;
+          const bool result = name.rfind("result_", 0) == 0;
+          results += result;
+          others += name.rfind("tile_", 0) != 0 && !result;
+          if (result) {
+            std::uint64_t header[2] = {0, 0};
+            std::ifstream in(file.path(), std::ios::binary);
+            in.read(reinterpret_cast<char*>(header), sizeof(header));
+            malformed += std::filesystem::file_size(file.path()) != 32 + 12 * header[1];
+          }
         }
     seen[p.phase] = {points, results};
     if (std::string(p.phase) == "writing") {
-      others_at_writing = 0;
-      for (const auto& folder : std::filesystem::directory_iterator(root_))
-        if (folder.path().filename().string().rfind(".pcl_vts-", 0) == 0)
-          for (const auto& file : std::filesystem::directory_iterator(folder.path()))
-            others_at_writing +=
-                file.path().filename().string().rfind("result_", 0) != 0;
+      others_at_writing = others;
+      malformed_results = malformed;
     }
   };
   TiledMeshReport report;
   ASSERT_TRUE(runTiledMesh(feedOf(terrain.xyz), options, (root_ / "t.ply").string(),
                            MeshWriteOptions{}, report)
                   .ok());
-  ASSERT_EQ(seen.count("meshing"), 1u);
-  EXPECT_GT(seen["meshing"].first, 0) << "the point files were never seen";
-  for (const char* phase : {"trimming", "filling", "writing"}) {
+  for (const char* phase : {"meshing", "trimming", "filling", "writing"}) {
     ASSERT_EQ(seen.count(phase), 1u) << phase;
-    EXPECT_EQ(seen[phase].first, 0) << "point files left at " << phase;
-    EXPECT_GT(seen[phase].second, 0) << "no tile results at " << phase;
+    EXPECT_GT(seen[phase].first, 0) << "no point files at " << phase;
   }
+  for (const char* phase : {"trimming", "filling", "writing"})
+    EXPECT_GT(seen[phase].second, 0) << "no tile results at " << phase;
   EXPECT_EQ(others_at_writing, 0) << "the post-passes' files outlived them";
-  // Points (24 B) and results (at least 24 B of vertex) for every vertex.
-  EXPECT_GE(report.temp_peak_bytes, report.temp_bytes + 24 * report.vertices);
+  EXPECT_EQ(malformed_results, 0) << "a result file holds more than its triangles";
+  EXPECT_EQ(report.temp_bytes_after_write, 0u);
 }
 
-// A PLY writer is the tile results' last reader: each section goes back once read,
-// and nothing of them is left after the write. OBJ reads the vertices twice when
+// The writer rebuilds each tile's vertices from its points: every duplicate rule
+// folds runs of equal XY as the in-memory run does (ties of z, the mean's summing
+// order, -0.0 beside +0.0), with the duplicates spread over the input.
+TEST_F(TiledMeshTest, EveryDuplicateRuleGivesTheInMemoryBytes)
+{
+  std::vector<double> xyz;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3), height(-2.0, 2.0);
+  for (int y = -12; y <= 12; ++y)
+    for (int x = -12; x <= 12; ++x) {
+      const double px = x == 0 ? (y % 2 == 0 ? 0.0 : -0.0) : x + jitter(rng);
+      xyz.insert(xyz.end(), {px, y + jitter(rng), height(rng)});
+    }
+  const std::size_t n = xyz.size() / 3;
+  for (std::size_t k = 0; k < n; k += 3) { // 1 to 3 more points at the same XY
+    for (std::size_t d = 0; d <= k % 3; ++d) {
+      const double z = d == 1 ? xyz[3 * k + 2] : height(rng);        // some equal z
+      const double x = xyz[3 * k] == 0.0 ? -xyz[3 * k] : xyz[3 * k]; // the other zero
+      xyz.insert(xyz.end(), {x, xyz[3 * k + 1], d == 2 ? -0.0 : z});
+    }
+  }
+  for (DuplicateRule rule : {DuplicateRule::LOWEST_Z, DuplicateRule::HIGHEST_Z,
+                             DuplicateRule::MEAN_Z, DuplicateRule::FIRST}) {
+    SCOPED_TRACE(duplicateRuleName(rule));
+    VtsOptions vts;
+    vts.duplicate_rule = rule;
+    const std::string reference = (root_ / "m.ply").string();
+    ASSERT_TRUE(writeInMemory(xyz, reference, nullptr, vts).ok());
+    for (int block_level : {3, 5}) {
+      TiledMeshReport report;
+      const std::string path = (root_ / "t.ply").string();
+      ASSERT_TRUE(writeTiled(xyz, path, 2, block_level, report, vts).ok());
+      EXPECT_TRUE(slurp(path) == slurp(reference))
+          << "block level " << block_level << ": differs from the in-memory file";
+    }
+  }
+}
+
+// A PLY writer is the last reader of the tile results and points: each goes back once
+// read, and nothing of them is left after the write. OBJ reads the vertices twice when
 // points were inserted: its results stay, and it still writes the in-memory bytes.
 TEST_F(TiledMeshTest, TileResultsGoBackAsThePlyIsWritten)
 {
