@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -39,32 +40,39 @@ std::string oneLine(const std::string& text)
   return out;
 }
 
-/// Appends numbers to an AtomicFile in text or little-endian binary.
+/// Appends numbers to an AtomicFile in text or little-endian binary. The bytes are
+/// built in a chunk of its own (a number is a to_chars or a memcpy into it, no call
+/// per value) that goes to the file whole: 1 MiB at a time, the size AtomicFile
+/// writes through without copying it into its own buffer.
 class Emitter {
  public:
   explicit Emitter(AtomicFile& file)
       : file_(file)
+      , chunk_(new char[CHUNK + SLACK])
   {}
 
   Emitter& text(std::string_view s)
   {
-    file_.write(s);
+    while (!s.empty()) {
+      const std::size_t n = std::min(s.size(), SLACK);
+      std::memcpy(room(), s.data(), n);
+      used_ += n;
+      s.remove_prefix(n);
+    }
     return *this;
   }
 
   Emitter& number(double v)
   {
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-    file_.write(buf, static_cast<std::size_t>(r.ptr - buf));
+    char* p = room();
+    used_ += static_cast<std::size_t>(std::to_chars(p, p + SLACK, v).ptr - p);
     return *this;
   }
 
   Emitter& number(std::uint64_t v)
   {
-    char buf[24];
-    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-    file_.write(buf, static_cast<std::size_t>(r.ptr - buf));
+    char* p = room();
+    used_ += static_cast<std::size_t>(std::to_chars(p, p + SLACK, v).ptr - p);
     return *this;
   }
 
@@ -77,11 +85,35 @@ class Emitter {
     for (std::size_t i = 0; i < sizeof(T) / 2; ++i)
       std::swap(b[i], b[sizeof(T) - 1 - i]);
 #endif
-    file_.write(b, sizeof(T));
+    std::memcpy(room(), b, sizeof(T));
+    used_ += sizeof(T);
+  }
+
+  /// Hands the bytes still held to the file; call before commit().
+  void finish()
+  {
+    file_.write(chunk_.get(), used_);
+    used_ = 0;
   }
 
  private:
+  static constexpr std::size_t CHUNK = std::size_t{1} << 20;
+  static constexpr std::size_t SLACK = 64; ///< the most one call appends
+
+  /// Where the next at most SLACK bytes go; a full chunk goes to the file first.
+  char* room()
+  {
+    if (used_ >= CHUNK) {
+      file_.write(chunk_.get(), CHUNK);
+      used_ -= CHUNK;
+      std::memmove(chunk_.get(), chunk_.get() + CHUNK, used_);
+    }
+    return chunk_.get() + used_;
+  }
+
   AtomicFile& file_;
+  std::unique_ptr<char[]> chunk_;
+  std::size_t used_ = 0;
 };
 
 /// Records the first bad triangle id seen while streaming; the write then fails.
@@ -100,7 +132,8 @@ struct TriangleIdCheck {
   }
 };
 
-Status writePly(Emitter& out, const MeshSource& mesh, bool ascii, bool dbl,
+template <typename Source>
+Status writePly(Emitter& out, const Source& mesh, bool ascii, bool dbl,
                 const std::string& comment, TriangleIdCheck& check)
 {
   const bool flags = mesh.hasInsertedFlags();
@@ -120,7 +153,7 @@ Status writePly(Emitter& out, const MeshSource& mesh, bool ascii, bool dbl,
       .text(flags ? " z\nproperty uchar inserted\nelement face " : " z\nelement face ")
       .number(mesh.triangleCount())
       .text("\nproperty list uchar int vertex_indices\nend_header\n");
-  Status status = mesh.forEachVertex([&](double x, double y, double z, bool inserted) {
+  Status status = mesh.visitVertices([&](double x, double y, double z, bool inserted) {
     const double c[3] = {x, y, z};
     if (ascii) {
       out.number(c[0]).text(" ").number(c[1]).text(" ").number(c[2]);
@@ -141,7 +174,7 @@ Status writePly(Emitter& out, const MeshSource& mesh, bool ascii, bool dbl,
   if (!status.ok())
     return status;
   std::uint64_t t = 0;
-  return mesh.forEachTriangle([&](VertexId a, VertexId b, VertexId c) {
+  return mesh.visitTriangles([&](VertexId a, VertexId b, VertexId c) {
     check.ok(a, b, c, t++);
     if (ascii) {
       out.text("3 ").number(std::uint64_t{a}).text(" ").number(std::uint64_t{b});
@@ -155,28 +188,29 @@ Status writePly(Emitter& out, const MeshSource& mesh, bool ascii, bool dbl,
   });
 }
 
-Status writeObj(Emitter& out, const MeshSource& mesh, const std::string& comment,
+template <typename Source>
+Status writeObj(Emitter& out, const Source& mesh, const std::string& comment,
                 TriangleIdCheck& check)
 {
   out.text("# ").text(comment).text("\n# ");
   if (mesh.hasInsertedFlags()) {
     std::uint64_t count = 0;
     const Status status =
-        mesh.forEachVertex([&](double, double, double, bool f) { count += f; });
+        mesh.visitVertices([&](double, double, double, bool f) { count += f; });
     if (!status.ok())
       return status;
     out.number(count).text(" inserted vertices (hole filling)\n# ");
   }
   out.number(mesh.vertexCount()).text(" vertices, ");
   out.number(mesh.triangleCount()).text(" triangles\n");
-  const Status status = mesh.forEachVertex([&](double x, double y, double z, bool) {
+  const Status status = mesh.visitVertices([&](double x, double y, double z, bool) {
     out.text("v ").number(x).text(" ").number(y).text(" ");
     out.number(z).text("\n");
   });
   if (!status.ok())
     return status;
   std::uint64_t t = 0;
-  return mesh.forEachTriangle([&](VertexId a, VertexId b, VertexId c) {
+  return mesh.visitTriangles([&](VertexId a, VertexId b, VertexId c) {
     check.ok(a, b, c, t++);
     out.text("f ").number(std::uint64_t{a} + 1).text(" ");
     out.number(std::uint64_t{b} + 1).text(" ").number(std::uint64_t{c} + 1);
@@ -184,15 +218,16 @@ Status writeObj(Emitter& out, const MeshSource& mesh, const std::string& comment
   });
 }
 
-Status writeVtk(Emitter& out, const MeshSource& mesh, bool dbl,
-                const std::string& comment, TriangleIdCheck& check)
+template <typename Source>
+Status writeVtk(Emitter& out, const Source& mesh, bool dbl, const std::string& comment,
+                TriangleIdCheck& check)
 {
   const std::uint64_t nt = mesh.triangleCount();
   out.text("# vtk DataFile Version 3.0\n").text(comment.substr(0, 255));
   out.text("\nASCII\nDATASET POLYDATA\nPOINTS ");
   out.number(mesh.vertexCount());
   out.text(dbl ? " double\n" : " float\n");
-  Status status = mesh.forEachVertex([&](double x, double y, double z, bool) {
+  Status status = mesh.visitVertices([&](double x, double y, double z, bool) {
     out.number(x).text(" ").number(y).text(" ");
     out.number(z).text("\n");
   });
@@ -200,7 +235,7 @@ Status writeVtk(Emitter& out, const MeshSource& mesh, bool dbl,
     return status;
   out.text("POLYGONS ").number(nt).text(" ").number(4 * nt).text("\n");
   std::uint64_t t = 0;
-  status = mesh.forEachTriangle([&](VertexId a, VertexId b, VertexId c) {
+  status = mesh.visitTriangles([&](VertexId a, VertexId b, VertexId c) {
     check.ok(a, b, c, t++);
     out.text("3 ").number(std::uint64_t{a}).text(" ").number(std::uint64_t{b});
     out.text(" ").number(std::uint64_t{c}).text("\n");
@@ -209,30 +244,54 @@ Status writeVtk(Emitter& out, const MeshSource& mesh, bool dbl,
     return status;
   out.text("POINT_DATA ").number(mesh.vertexCount());
   out.text("\nSCALARS inserted unsigned_char 1\nLOOKUP_TABLE default\n");
-  return mesh.forEachVertex(
+  return mesh.visitVertices(
       [&](double, double, double, bool f) { out.text(f ? "1\n" : "0\n"); });
 }
 
-/// A TriangleMesh (and its optional inserted flags) seen as a MeshSource.
-class ArrayMeshSource : public MeshSource {
+/// The writers' view of a MeshSource: one call through its std::function per element.
+class StreamView {
  public:
-  ArrayMeshSource(const TriangleMesh& mesh, const std::vector<std::uint8_t>* flags,
-                  bool exact_in_float)
+  explicit StreamView(const MeshSource& mesh)
+      : mesh_(mesh)
+  {}
+  std::uint64_t vertexCount() const { return mesh_.vertexCount(); }
+  std::uint64_t triangleCount() const { return mesh_.triangleCount(); }
+  bool hasInsertedFlags() const { return mesh_.hasInsertedFlags(); }
+  template <typename Visit>
+  Status visitVertices(Visit&& visit) const
+  {
+    return mesh_.forEachVertex(visit);
+  }
+  template <typename Visit>
+  Status visitTriangles(Visit&& visit) const
+  {
+    return mesh_.forEachTriangle(visit);
+  }
+
+ private:
+  const MeshSource& mesh_;
+};
+
+/// The writers' view of a TriangleMesh (and its optional inserted flags): the same
+/// visits as StreamView, inlined into plain loops over the arrays.
+class ArrayView {
+ public:
+  ArrayView(const TriangleMesh& mesh, const std::vector<std::uint8_t>* flags)
       : mesh_(mesh)
       , flags_(flags)
-      , exact_(exact_in_float)
   {}
-  std::uint64_t vertexCount() const override { return mesh_.vertexCount(); }
-  std::uint64_t triangleCount() const override { return mesh_.triangleCount(); }
-  bool exactInFloat() const override { return exact_; }
-  bool hasInsertedFlags() const override { return flags_ != nullptr; }
-  Status forEachVertex(const VertexVisit& visit) const override
+  std::uint64_t vertexCount() const { return mesh_.vertexCount(); }
+  std::uint64_t triangleCount() const { return mesh_.triangleCount(); }
+  bool hasInsertedFlags() const { return flags_ != nullptr; }
+  template <typename Visit>
+  Status visitVertices(Visit&& visit) const
   {
     for (std::size_t v = 0; v < mesh_.vertexCount(); ++v)
       visit(mesh_.xy[v].x, mesh_.xy[v].y, mesh_.z[v], flags_ && (*flags_)[v] != 0);
     return Status::success();
   }
-  Status forEachTriangle(const TriangleVisit& visit) const override
+  template <typename Visit>
+  Status visitTriangles(Visit&& visit) const
   {
     const VertexId* t = mesh_.triangles.data();
     for (std::size_t k = 0; k < mesh_.triangleCount(); ++k, t += 3)
@@ -243,7 +302,6 @@ class ArrayMeshSource : public MeshSource {
  private:
   const TriangleMesh& mesh_;
   const std::vector<std::uint8_t>* flags_;
-  bool exact_;
 };
 
 Status checkMesh(const std::string& path, const TriangleMesh& mesh)
@@ -267,6 +325,52 @@ Status checkMesh(const std::string& path, const TriangleMesh& mesh)
       return bad("triangle " + std::to_string(i / 3) + " uses vertex " +
                  std::to_string(mesh.triangles[i]) + " of " +
                  std::to_string(mesh.vertexCount()));
+  return Status::success();
+}
+
+/// Writes a mesh seen through StreamView or ArrayView (the same bytes for the same
+/// mesh): the format's header and elements, then the atomic commit.
+template <typename View>
+Status writeView(const std::string& path, const View& mesh, MeshFileFormat format,
+                 bool dbl, const MeshWriteOptions& options, MeshWriteInfo* info)
+{
+  Status status = Status::success();
+  const bool ascii = options.ascii || format != MeshFileFormat::PLY;
+  const std::string comment = oneLine(options.comment);
+  TriangleIdCheck check;
+  check.vertex_count = mesh.vertexCount();
+  try {
+    AtomicFile file(path);
+    status = file.open();
+    if (!status.ok())
+      return status;
+    Emitter out(file);
+    switch (format) {
+    case MeshFileFormat::PLY:
+      status = writePly(out, mesh, ascii, dbl, comment, check);
+      break;
+    case MeshFileFormat::OBJ:
+      status = writeObj(out, mesh, comment, check);
+      break;
+    case MeshFileFormat::VTK:
+      status = writeVtk(out, mesh, dbl, comment, check);
+      break;
+    }
+    if (!status.ok())
+      return status; // the AtomicFile removes its temp file
+    out.finish();
+    if (!check.error.empty())
+      return Status::error(StatusCode::INVALID_PARAMETER,
+                           "cannot write " + quoted(path) + ": " + check.error);
+    status = file.commit();
+    if (!status.ok())
+      return status;
+    if (info != nullptr)
+      *info = {format, ascii, format == MeshFileFormat::OBJ ? true : dbl, file.bytes()};
+  } catch (const std::bad_alloc&) {
+    return Status::error(StatusCode::IO_ERROR,
+                         "cannot write " + quoted(path) + ": out of memory");
+  }
   return Status::success();
 }
 
@@ -343,17 +447,15 @@ Status writeMesh(const std::string& path, const TriangleMesh& mesh,
                          "cannot write " + quoted(path) + ": " +
                              std::to_string(flags->size()) + " inserted flags for " +
                              std::to_string(mesh.vertexCount()) + " vertices");
-  const ArrayMeshSource source(mesh, flags, verticesExactInFloat(mesh));
-  MeshWriteOptions rest = options;
-  rest.inserted = nullptr;
-  return writeMesh(path, source, rest, info);
+  return writeView(path, ArrayView(mesh, flags), format,
+                   options.force_double || !verticesExactInFloat(mesh), options, info);
 }
 
 Status writeMesh(const std::string& path, const MeshSource& mesh,
                  const MeshWriteOptions& options, MeshWriteInfo* info)
 {
   MeshFileFormat format = MeshFileFormat::PLY;
-  Status status = meshFileFormatFromPath(path, format);
+  const Status status = meshFileFormatFromPath(path, format);
   if (!status.ok())
     return status;
   if (mesh.vertexCount() >
@@ -362,43 +464,8 @@ Status writeMesh(const std::string& path, const MeshSource& mesh,
         StatusCode::INVALID_PARAMETER,
         "cannot write " + quoted(path) + ": " + std::to_string(mesh.vertexCount()) +
             " vertices do not fit the 32-bit signed indices of the file");
-  const bool ascii = options.ascii || format != MeshFileFormat::PLY;
-  const bool dbl = options.force_double || !mesh.exactInFloat();
-  const std::string comment = oneLine(options.comment);
-  TriangleIdCheck check;
-  check.vertex_count = mesh.vertexCount();
-  try {
-    AtomicFile file(path);
-    status = file.open();
-    if (!status.ok())
-      return status;
-    Emitter out(file);
-    switch (format) {
-    case MeshFileFormat::PLY:
-      status = writePly(out, mesh, ascii, dbl, comment, check);
-      break;
-    case MeshFileFormat::OBJ:
-      status = writeObj(out, mesh, comment, check);
-      break;
-    case MeshFileFormat::VTK:
-      status = writeVtk(out, mesh, dbl, comment, check);
-      break;
-    }
-    if (!status.ok())
-      return status; // the AtomicFile removes its temp file
-    if (!check.error.empty())
-      return Status::error(StatusCode::INVALID_PARAMETER,
-                           "cannot write " + quoted(path) + ": " + check.error);
-    status = file.commit();
-    if (!status.ok())
-      return status;
-    if (info != nullptr)
-      *info = {format, ascii, format == MeshFileFormat::OBJ ? true : dbl, file.bytes()};
-  } catch (const std::bad_alloc&) {
-    return Status::error(StatusCode::IO_ERROR,
-                         "cannot write " + quoted(path) + ": out of memory");
-  }
-  return Status::success();
+  return writeView(path, StreamView(mesh), format,
+                   options.force_double || !mesh.exactInFloat(), options, info);
 }
 
 } // namespace pcl_vts

@@ -171,6 +171,10 @@ class TiledMeshTest : public TempFolderTest {
     const bool filled = vts.reconstruction.fill;
     if (Status c = canonicalMesh(result.mesh, filled ? &inserted : nullptr); !c.ok())
       return c;
+    // The twins it carries along are the ones a rebuild from its triangles finds.
+    TriangleMesh rebuilt = result.mesh;
+    EXPECT_TRUE(rebuilt.rebuildHalfedges());
+    EXPECT_EQ(result.mesh.halfedges, rebuilt.halfedges);
     if (canonical != nullptr)
       *canonical = result.mesh;
     if (post != nullptr)
