@@ -409,6 +409,59 @@ Status filterPreTile(const std::string& folder, const PreTiles& tiles,
   return appendDoubles(groundFile(folder, t), xyz);
 }
 
+/// Runs task(t, scratch) for each t that next_task() hands out below count, on
+/// `threads` threads (the calling thread alone when 1), until the counter runs out or
+/// a task returns false. report(pre-tiles taken so far) is called from the calling
+/// thread only: between tasks, or every half second while a pool works.
+void takeTasks(std::size_t count, std::size_t threads,
+               const std::function<std::size_t()>& next_task,
+               const std::function<bool(std::size_t, std::vector<double>&)>& task,
+               const std::function<void(std::uint64_t)>& report)
+{
+  std::atomic<bool> failed{false};
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::size_t running = 0; // workers still taking tasks (under mutex)
+  std::size_t taken = 0;   // the highest task taken here (progress)
+  const auto work = [&] {
+    std::vector<double> scratch;
+    for (std::size_t t; !failed && (t = next_task()) < count;) {
+      {
+        const std::lock_guard<std::mutex> lock(mutex);
+        taken = std::max(taken, t + 1);
+      }
+      if (!task(t, scratch))
+        failed = true;
+      if (threads <= 1)
+        report(taken);
+    }
+    const std::lock_guard<std::mutex> lock(mutex);
+    --running;
+    changed.notify_all();
+  };
+  if (threads <= 1) {
+    running = 1;
+    work();
+    return;
+  }
+  running = threads;
+  std::vector<std::thread> pool;
+  for (std::size_t w = 0; w < threads; ++w)
+    pool.emplace_back(work);
+  {
+    std::unique_lock<std::mutex> lock(mutex);
+    while (running > 0) {
+      const std::size_t done = taken;
+      lock.unlock();
+      report(done);
+      lock.lock();
+      changed.wait_for(lock, std::chrono::milliseconds(500));
+    }
+  }
+  for (std::thread& thread : pool)
+    thread.join();
+}
+
 } // namespace
 
 Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
@@ -468,58 +521,20 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
     ground.shift[c] = plan.shift[c];
   std::vector<PreTileResult> results(count);
   std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::mutex mutex;
-  std::condition_variable changed;
-  const std::size_t threads_used = std::min<std::size_t>(workers, count);
   // The next pre-tile: from the counter shared by every rank and thread.
   if (shared)
     share.start_tasks();
-  const auto nextTask = [&]() -> std::size_t {
-    return shared ? static_cast<std::size_t>(share.next_task()) : next.fetch_add(1);
-  };
-  std::size_t running = 0; // workers still taking pre-tiles (under mutex)
-  std::size_t taken = 0;   // the highest pre-tile taken here (progress)
-  const auto work = [&] {
-    std::vector<double> xyz;
-    for (std::size_t t; !failed && (t = nextTask()) < count;) {
-      {
-        const std::lock_guard<std::mutex> lock(mutex);
-        taken = std::max(taken, t + 1);
-      }
-      if (loaded[t] != 0) {
-        results[t].status = filterPreTile(folder, tiles, ground, t, xyz, results[t]);
-        if (!results[t].status.ok())
-          failed = true;
-      }
-      if (threads_used == 1)
-        progress("ground filter", taken, count);
-    }
-    const std::lock_guard<std::mutex> lock(mutex);
-    --running;
-    changed.notify_all();
-  };
-  if (threads_used <= 1) {
-    running = 1;
-    work(); // on the calling thread, which reports between pre-tiles
-  } else {
-    running = threads_used;
-    std::vector<std::thread> pool;
-    for (std::size_t w = 0; w < threads_used; ++w)
-      pool.emplace_back(work);
-    { // the calling thread reports while the pool works
-      std::unique_lock<std::mutex> lock(mutex);
-      while (running > 0) {
-        const std::size_t done = taken;
-        lock.unlock();
-        progress("ground filter", done, count);
-        lock.lock();
-        changed.wait_for(lock, std::chrono::milliseconds(500));
-      }
-    }
-    for (std::thread& thread : pool)
-      thread.join();
-  }
+  takeTasks(
+      count, std::min<std::size_t>(workers, count),
+      [&]() -> std::size_t {
+        return shared ? static_cast<std::size_t>(share.next_task()) : next.fetch_add(1);
+      },
+      [&](std::size_t t, std::vector<double>& xyz) {
+        if (loaded[t] != 0)
+          results[t].status = filterPreTile(folder, tiles, ground, t, xyz, results[t]);
+        return results[t].status.ok();
+      },
+      [&](std::uint64_t done) { progress("ground filter", done, count); });
 
   // Every rank's pre-tiles: the first failure (the lowest rank's), the counts.
   Status failure;
