@@ -465,43 +465,44 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
                        std::vector<HalfedgeId>& halfedges,
                        std::vector<HalfedgeId>& open, std::size_t capacity)
 {
-  const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
-  const std::size_t size = 6 * lat.row_start.back();
-  std::array<VertexId, 6> tri{};
-  std::array<HalfedgeId, 6> twin{};
-  if (threads <= 1) {
-    triangles.reserve(capacity);
-    halfedges.reserve(capacity);
-    for (std::uint32_t j = 0; j < cy; ++j)
-      for (std::uint32_t i = 0; i < cx; ++i)
+  // Rows [begin, end): each cell's six halfedges to put(e, vertices, twins) (e the
+  // first one's id), the open ones listed.
+  const auto emitRows = [&lat](std::size_t begin, std::size_t end,
+                               std::vector<HalfedgeId>& my_open, const auto& put) {
+    std::array<VertexId, 6> tri{};
+    std::array<HalfedgeId, 6> twin{};
+    for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j)
+      for (std::uint32_t i = 0; i + 1 < lat.nx; ++i)
         if (lat.complete(i, j)) {
           cellTriangles(lat, i, j, tri, twin);
+          const std::size_t e = 3 * lat.firstTriangle(i, j);
           for (unsigned k = 0; k < 6; ++k)
             if (twin[k] == INVALID_ID)
-              open.push_back(static_cast<HalfedgeId>(triangles.size() + k));
-          triangles.insert(triangles.end(), tri.begin(), tri.end());
-          halfedges.insert(halfedges.end(), twin.begin(), twin.end());
+              my_open.push_back(static_cast<HalfedgeId>(e + k));
+          put(e, tri, twin);
         }
+  };
+  const std::size_t rows = lat.ny - 1;
+  if (threads <= 1) { // appended in order (e is the size): no zeroing pass
+    triangles.reserve(capacity);
+    halfedges.reserve(capacity);
+    emitRows(0, rows, open, [&](std::size_t, const auto& tri, const auto& twin) {
+      triangles.insert(triangles.end(), tri.begin(), tri.end());
+      halfedges.insert(halfedges.end(), twin.begin(), twin.end());
+    });
     return;
   }
-  triangles.resize(size);
-  halfedges.resize(size);
+  triangles.resize(6 * lat.row_start.back());
+  halfedges.resize(triangles.size());
   std::vector<std::vector<HalfedgeId>> open_per_chunk(threads);
-  parallelChunks(threads, cy, [&](std::size_t begin, std::size_t end, unsigned t) {
-    std::array<VertexId, 6> my_tri{};
-    std::array<HalfedgeId, 6> my_twin{};
-    for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j)
-      for (std::uint32_t i = 0; i < cx; ++i)
-        if (lat.complete(i, j)) {
-          cellTriangles(lat, i, j, my_tri, my_twin);
-          const std::size_t e = 3 * lat.firstTriangle(i, j);
-          for (unsigned k = 0; k < 6; ++k) {
-            triangles[e + k] = my_tri[k];
-            halfedges[e + k] = my_twin[k];
-            if (my_twin[k] == INVALID_ID)
-              open_per_chunk[t].push_back(static_cast<HalfedgeId>(e + k));
-          }
-        }
+  parallelChunks(threads, rows, [&](std::size_t begin, std::size_t end, unsigned t) {
+    emitRows(begin, end, open_per_chunk[t],
+             [&](std::size_t e, const auto& tri, const auto& twin) {
+               std::copy(tri.begin(), tri.end(),
+                         triangles.begin() + static_cast<std::ptrdiff_t>(e));
+               std::copy(twin.begin(), twin.end(),
+                         halfedges.begin() + static_cast<std::ptrdiff_t>(e));
+             });
   });
   for (const std::vector<HalfedgeId>& part : open_per_chunk)
     open.insert(open.end(), part.begin(), part.end());
