@@ -219,26 +219,36 @@ Status readGroundFile(const std::string& path, std::size_t chunk_points,
 
 namespace {
 
-/// Phases 1 and 2 (the process that reads the inputs): the plan, the pre-tile files.
-Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
-                     const std::string& folder, Plan& plan, GroundTilesReport& report)
+/// Worker threads of the pre-pass (options.threads; 0 = every hardware thread).
+unsigned workerCount(const GroundTilesOptions& options)
+{
+  return options.threads != 0 ? options.threads
+                              : std::max(1u, std::thread::hardware_concurrency());
+}
+
+void reportProgress(const GroundTilesOptions& options, const char* phase,
+                    std::uint64_t done, std::uint64_t total)
+{
+  if (options.progress)
+    options.progress(phase, done, total);
+}
+
+/// Phase 1, the scan: report's points, non_finite and cropped counted, the box of
+/// the points the crop keeps (the in-memory shift); with the crop alone (no ground
+/// filter) those points go to the cropped file, the only pass. EMPTY_INPUT as in
+/// memory when none is left.
+Status scanPoints(const GroundFeed& feed, const GroundTilesOptions& options,
+                  const std::string& folder, std::array<double, 3>& lo,
+                  std::array<double, 3>& hi, GroundTilesReport& report)
 {
   const PreprocessOptions& pre = options.preprocess;
-
-  // 1. Scan: the finite points the crop keeps, their box (the in-memory shift).
   Stopwatch watch;
   std::uint64_t n = 0;
-  std::array<double, 3> lo{}, hi{};
   const std::string cropped_path = croppedFile(folder);
   std::vector<double> buffer;
   const std::size_t buffer_values = 3 * 65536;
-  const auto progress = [&](const char* phase, std::uint64_t done,
-                            std::uint64_t total) {
-    if (options.progress)
-      options.progress(phase, done, total);
-  };
   Status s = feed([&](const double* xyz, std::size_t count) {
-    progress("ground scan", report.points, 0);
+    reportProgress(options, "ground scan", report.points, 0);
     for (std::size_t i = 0; i < count; ++i) {
       const double* p = xyz + 3 * i;
       ++report.points;
@@ -277,18 +287,29 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
     report.tiles = report.tiles_per_side = 1;
     return appendDoubles(cropped_path, buffer);
   }
+  return Status::success();
+}
+
+/// Phases 1 and 2 (the process that reads the inputs): the plan, the pre-tile files.
+Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
+                     const std::string& folder, Plan& plan, GroundTilesReport& report)
+{
+  const PreprocessOptions& pre = options.preprocess;
+  std::array<double, 3> lo{}, hi{};
+  if (Status s = scanPoints(feed, options, folder, lo, hi, report);
+      !s.ok() || !pre.ground_pmf)
+    return s;
+  const std::uint64_t n = report.cropped;
 
   // 2. Bucket: each point into the file of every pre-tile whose core or halo holds
   //    it, in input order.
-  watch.restart();
+  Stopwatch watch;
   const double width = hi[0] - lo[0], height = hi[1] - lo[1];
   const double extent = std::max(width, height);
   // The reach of the filter, one cell and a millionth of the extent for the float
   // rounding of the shifted coordinates and of PCL's box bounds.
   const double halo = pmfReach(pre) + 1e-6 * extent;
-  const unsigned workers = options.threads != 0
-                               ? options.threads
-                               : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned workers = workerCount(options);
   PreTiles& tiles = plan.tiles;
   tiles.x0 = lo[0];
   tiles.y0 = lo[1];
@@ -325,8 +346,8 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
     return Status::success();
   };
   std::uint64_t seen = 0;
-  s = feed([&](const double* xyz, std::size_t points) {
-    progress("ground bucket", seen, n);
+  Status s = feed([&](const double* xyz, std::size_t points) {
+    reportProgress(options, "ground bucket", seen, n);
     for (std::size_t i = 0; i < points; ++i) {
       const double* p = xyz + 3 * i;
       if (!finite(p) || !insideCrop(pre, p))
@@ -502,14 +523,7 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
   const PreTiles& tiles = plan.tiles;
   const std::size_t count = plan.count();
   const std::vector<std::uint64_t>& loaded = plan.loaded;
-  const auto progress = [&](const char* phase, std::uint64_t done,
-                            std::uint64_t total) {
-    if (options.progress)
-      options.progress(phase, done, total);
-  };
-  const unsigned workers = options.threads != 0
-                               ? options.threads
-                               : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned workers = workerCount(options);
   Stopwatch watch;
 
   // 3. Filter each pre-tile with its halo; keep the ground of its core. The
@@ -534,7 +548,9 @@ Status groundTiles(const GroundFeed& feed, const GroundTilesOptions& options,
           results[t].status = filterPreTile(folder, tiles, ground, t, xyz, results[t]);
         return results[t].status.ok();
       },
-      [&](std::uint64_t done) { progress("ground filter", done, count); });
+      [&](std::uint64_t done) {
+        reportProgress(options, "ground filter", done, count);
+      });
 
   // Every rank's pre-tiles: the first failure (the lowest rank's), the counts.
   Status failure;
