@@ -54,12 +54,12 @@ status=0
 for reader in "${READERS[@]}"; do
   bin="$WORK/fuzz_$reader"
   srcs=("$SRC/tests/fuzz/fuzz_$reader.cpp" "$SRC/src/io/$reader.cpp"
-        "$SRC/src/io/mapped_file.cpp" "$SRC/src/core/status.cpp")
+        "$SRC/src/core/mapped_file.cpp" "$SRC/src/core/status.cpp")
   if [ "$reader" = las_reader ]; then # the LAS reader decodes LAZ too
     srcs+=("$SRC"/src/io/laz/*.cpp)
   fi
   newest=$(ls -t "${srcs[@]}" "$SRC/include/pcl_vts/io/$reader.h" "$SRC/src/io/text_scan.h" \
-           "$SRC/src/io/reader_guard.h" "$SRC/src/io/mapped_file.h" "$SRC"/src/io/laz/*.h | head -1)
+           "$SRC/src/io/reader_guard.h" "$SRC/include/pcl_vts/core/mapped_file.h" "$SRC"/src/io/laz/*.h | head -1)
   extra=()
   if [ "$reader" = pcd_cloud_reader ]; then
     # shellcheck disable=SC2206
