@@ -86,12 +86,12 @@ Status emptyAfter(const char* step)
 /// The square pre-tiles over the cloud's box: column and row of an XY position.
 struct PreTiles {
   double x0 = 0.0, y0 = 0.0, side = 1.0;
-  int k = 1;
+  int per_side = 1; ///< pre-tiles per side (per_side x per_side)
 
   int index(double v, double origin) const
   {
     const double t = std::floor((v - origin) / side);
-    return t < 0.0 ? 0 : t >= k ? k - 1 : static_cast<int>(t);
+    return t < 0.0 ? 0 : t >= per_side ? per_side - 1 : static_cast<int>(t);
   }
   int column(double x) const { return index(x, x0); }
   int row(double y) const { return index(y, y0); }
@@ -126,7 +126,8 @@ struct Plan {
 
   std::size_t count() const
   {
-    return static_cast<std::size_t>(tiles.k) * static_cast<std::size_t>(tiles.k);
+    return static_cast<std::size_t>(tiles.per_side) *
+           static_cast<std::size_t>(tiles.per_side);
   }
 };
 
@@ -157,7 +158,7 @@ std::string encodePlan(const Status& status, const Plan& plan,
            status.message;
   char text[512];
   std::snprintf(text, sizeof(text), "ok %d %a %a %a %a %a %a %a %llu %llu %llu %llu",
-                plan.tiles.k, plan.tiles.x0, plan.tiles.y0, plan.tiles.side,
+                plan.tiles.per_side, plan.tiles.x0, plan.tiles.y0, plan.tiles.side,
                 plan.shift[0], plan.shift[1], plan.shift[2], report.halo,
                 static_cast<unsigned long long>(report.points),
                 static_cast<unsigned long long>(report.non_finite),
@@ -177,16 +178,16 @@ Status decodePlan(const std::string& bytes, Plan& plan, GroundTilesReport& repor
   unsigned long long points = 0, non_finite = 0, cropped = 0, kept = 0;
   if (std::sscanf(bytes.c_str(),
                   "ok %d %la %la %la %la %la %la %la %llu %llu %llu %llu",
-                  &plan.tiles.k, &plan.tiles.x0, &plan.tiles.y0, &plan.tiles.side,
-                  &plan.shift[0], &plan.shift[1], &plan.shift[2], &report.halo, &points,
-                  &non_finite, &cropped, &kept) != 12)
+                  &plan.tiles.per_side, &plan.tiles.x0, &plan.tiles.y0,
+                  &plan.tiles.side, &plan.shift[0], &plan.shift[1], &plan.shift[2],
+                  &report.halo, &points, &non_finite, &cropped, &kept) != 12)
     return Status::error(StatusCode::INTERNAL_ERROR,
                          "ground pre-pass: a rank received no plan");
   report.points = points;
   report.non_finite = non_finite;
   report.cropped = cropped;
   report.kept = kept;
-  report.tiles_per_side = plan.tiles.k;
+  report.tiles_per_side = plan.tiles.per_side;
   report.tile_side = plan.tiles.side;
   return Status::success();
 }
@@ -313,12 +314,12 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
   PreTiles& tiles = plan.tiles;
   tiles.x0 = lo[0];
   tiles.y0 = lo[1];
-  tiles.k =
+  tiles.per_side =
       options.tiles_per_side > 0
           ? std::min(options.tiles_per_side, MAX_PRE_TILES_PER_SIDE)
           : choosePreTiles(n, width, height, halo, options.memory_limit / workers);
-  tiles.side = extent > 0.0 ? extent / tiles.k : 1.0;
-  report.tiles_per_side = tiles.k;
+  tiles.side = extent > 0.0 ? extent / tiles.per_side : 1.0;
+  report.tiles_per_side = tiles.per_side;
   report.tile_side = tiles.side;
   report.halo = halo;
   const std::size_t count = plan.count();
@@ -357,7 +358,7 @@ Status readAndBucket(const GroundFeed& feed, const GroundTilesOptions& options,
       const int r0 = tiles.row(p[1] - halo), r1 = tiles.row(p[1] + halo);
       for (int r = r0; r <= r1; ++r)
         for (int c = c0; c <= c1; ++c) {
-          const std::size_t t = static_cast<std::size_t>(r * tiles.k + c);
+          const std::size_t t = static_cast<std::size_t>(r * tiles.per_side + c);
           std::vector<double>& b = buffers[t];
           if (b.empty())
             dirty.push_back(t);
@@ -397,8 +398,8 @@ Status filterPreTile(const std::string& folder, const PreTiles& tiles,
                      const PreprocessOptions& ground, std::size_t t,
                      std::vector<double>& xyz, PreTileResult& result)
 {
-  const int row = static_cast<int>(t / static_cast<std::size_t>(tiles.k));
-  const int column = static_cast<int>(t % static_cast<std::size_t>(tiles.k));
+  const int row = static_cast<int>(t / static_cast<std::size_t>(tiles.per_side));
+  const int column = static_cast<int>(t % static_cast<std::size_t>(tiles.per_side));
   if (Status r = readDoubles(loadFile(folder, t), xyz); !r.ok())
     return r;
   std::remove(loadFile(folder, t).c_str());
