@@ -85,14 +85,21 @@ class ValueTable {
   }
 
  private:
+  /// Fibonacci hashing: the top bits of the product depend on every bit of the
+  /// value. (Bits 20 and up of it, as before, depend only on the value's low bits,
+  /// all zero for small integers and short decimals: such coordinates all fell in one
+  /// probe chain, walked at every skipped NODATA cell.)
   std::size_t slotOf(std::uint64_t bits) const
   {
-    return static_cast<std::size_t>((bits * 0x9E3779B97F4A7C15ull) >> 20) & mask_;
+    return static_cast<std::size_t>((bits * 0x9E3779B97F4A7C15ull) >> shift_);
   }
   void rehash(std::size_t count)
   {
     slots_.assign(count, INVALID_ID);
     mask_ = count - 1;
+    shift_ = 64;
+    for (std::size_t c = count; c > 1; c >>= 1)
+      --shift_;
     for (std::uint32_t id = 0; id < size(); ++id) {
       std::uint64_t bits = 0;
       std::memcpy(&bits, &values_[id], sizeof bits);
@@ -106,6 +113,7 @@ class ValueTable {
   std::vector<std::uint32_t> slots_;
   std::vector<double> values_;
   std::size_t mask_ = 0;
+  int shift_ = 64; ///< 64 - log2(slot count)
 };
 
 /// Sorted distinct values and, per first-appearance id, the sorted rank.
@@ -292,17 +300,18 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   // each input's vertex.
   const std::size_t nv = finite - merged;
   std::vector<std::uint32_t>& source = result.source_index;
-  source.resize(nv);
   TriangleMesh& mesh = result.mesh;
-  mesh.xy.resize(nv);
-  mesh.z.resize(nv);
+  // Appended (no pass zeroing them first).
+  source.reserve(nv);
+  mesh.xy.reserve(nv);
+  mesh.z.reserve(nv);
   VertexId next = 0;
   for (std::uint32_t& s : slot)
     if (s != INVALID_ID) {
       const double* p = xyz + 3 * static_cast<std::size_t>(s);
-      source[next] = s;
-      mesh.xy[next] = {p[0], p[1]};
-      mesh.z[next] = p[2];
+      source.push_back(s);
+      mesh.xy.push_back({p[0], p[1]});
+      mesh.z.push_back(p[2]);
       s = next++;
     }
   for (std::uint32_t& c : code)
