@@ -240,6 +240,7 @@ Status meshTiles(Job& job, const BlockStore& store)
   Status failure;
   std::vector<std::uint64_t> sums = {0, 0}; // points loaded, rounds
   std::vector<double> maxima = {0, 0};      // largest tile, most rounds
+  std::uint64_t furthest = 0;               // tasks taken up to here, for progress
   const auto work = [&]() {
     LoadedBlocks flags(space.blockCount(), 0);
     TileResult tile;
@@ -268,7 +269,9 @@ Status meshTiles(Job& job, const BlockStore& store)
       sums[1] += tile.rounds;
       maxima[0] = std::max(maxima[0], static_cast<double>(tile.points_loaded));
       maxima[1] = std::max(maxima[1], static_cast<double>(tile.rounds));
-      job.progress("meshing", k + 1, job.occupied_tiles.size());
+      // Tasks finish out of order: the furthest one taken, so the count never drops.
+      furthest = std::max(furthest, k + 1);
+      job.progress("meshing", furthest, job.occupied_tiles.size());
     }
   };
   std::vector<std::thread> pool;
