@@ -88,7 +88,7 @@ Status growStrips(const CellGrid& grid, const CellPyramid& pyramid,
                   const CellSubdivision& subdivision,
                   const detail::HullEdges& hull_edges,
                   const detail::StripLayout& layout, unsigned threads,
-                  std::vector<StripMesh>& strips, SearchStats& stats)
+                  bool cache_blocks, std::vector<StripMesh>& strips, SearchStats& stats)
 {
   strips.assign(layout.count, StripMesh());
   std::vector<Status> results(layout.count);
@@ -100,7 +100,7 @@ Status growStrips(const CellGrid& grid, const CellPyramid& pyramid,
     MediatrixSearch search(grid, pyramid, subdivision);
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++)
       results[s] = detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
-                                     open_head, strips[s]);
+                                     open_head, strips[s], cache_blocks);
     worker_stats[w] = search.stats();
   };
   runTeam(workers, work);
@@ -157,7 +157,7 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
                        const std::vector<VertexId>& hull,
                        std::vector<VertexId>& triangles,
                        std::vector<HalfedgeId>& halfedges, SearchStats& stats,
-                       unsigned threads, std::uint32_t strip_columns)
+                       unsigned threads, std::uint32_t strip_columns, bool cache_blocks)
 {
   const std::size_t n = grid.points.size();
   const std::size_t h = hull.size();
@@ -169,7 +169,7 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   const detail::StripLayout layout = detail::stripLayoutFor(grid, strip_columns);
   std::vector<StripMesh> strips;
   if (Status s = growStrips(grid, pyramid, subdivision, hull_edges, layout, threads,
-                            strips, stats);
+                            cache_blocks, strips, stats);
       !s.ok())
     return s;
   return mergeStrips(strips, 2 * n - h - 2, triangles, halfedges);

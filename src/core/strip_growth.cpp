@@ -1,3 +1,4 @@
+#include "local_delaunay.h"
 #include "strip_growth.h"
 
 #include <pcl_vts/core/predicates.h>
@@ -94,7 +95,7 @@ class Growth {
  public:
   Growth(const CellGrid& grid, const CellPyramid& pyramid, const StripLayout& layout,
          std::uint32_t strip, const HullEdges& hull, MediatrixSearch& search,
-         std::vector<HalfedgeId>& open_head, StripMesh& mesh)
+         std::vector<HalfedgeId>& open_head, StripMesh& mesh, bool cache_blocks)
       : grid_(grid)
       , pyramid_(pyramid)
       , hull_(hull)
@@ -107,6 +108,7 @@ class Growth {
                                 : static_cast<double>(first_column_))
       , high_(end_column_ == grid.nx ? std::numeric_limits<double>::infinity()
                                      : static_cast<double>(end_column_))
+      , cache_blocks_(cache_blocks)
   {}
 
   Status run()
@@ -115,6 +117,12 @@ class Growth {
     // triangles around a reached vertex are all grown (its edges are expandable), so
     // in the end each owned triangle, whose leftmost vertex is in the strip, exists.
     reserve();
+    if (cache_blocks_) {
+      if (Status s = addProvenTriangles(); !s.ok())
+        return s;
+      if (Status s = grow(); !s.ok())
+        return s;
+    }
     for (std::uint32_t j = 0; j < grid_.ny; ++j) {
       const CellId row = grid_.cellId(0, j);
       for (VertexId v = grid_.cell_start[row + first_column_];
@@ -277,6 +285,72 @@ class Growth {
     return Status::success();
   }
 
+  /// Cache blocks (docs/scaling.md): each block of the strip's cells is triangulated
+  /// with a ring of cells around it (LocalDelaunay), and every triangle proven final
+  /// there that has a vertex in the strip is added once, by the block holding its
+  /// smallest strip vertex, its edges linked or opened as if it had been grown. The
+  /// growth then only searches from the open edges (near voids, the hull, corners).
+  Status addProvenTriangles()
+  {
+    constexpr std::uint32_t BLOCK = 32, RING = 1;
+    LocalDelaunay dt;
+    for (std::uint32_t cj0 = 0; cj0 < grid_.ny; cj0 += BLOCK)
+      for (std::uint32_t ci0 = first_column_; ci0 < end_column_; ci0 += BLOCK) {
+        const CellWindow core{ci0, std::min(end_column_, ci0 + BLOCK), cj0,
+                              std::min(grid_.ny, cj0 + BLOCK)};
+        std::size_t own = 0;
+        for (std::uint32_t j = core.j0; j < core.j1; ++j)
+          own += grid_.cell_start[grid_.cellId(core.i1 - 1, j) + 1] -
+                 grid_.cell_start[grid_.cellId(core.i0, j)];
+        if (own == 0)
+          continue;
+        const CellWindow window{
+            core.i0 > RING ? core.i0 - RING : 0, std::min(grid_.nx, core.i1 + RING),
+            core.j0 > RING ? core.j0 - RING : 0, std::min(grid_.ny, core.j1 + RING)};
+        if (!dt.triangulate(grid_, window, core))
+          continue;
+        if (mesh_.owned.size() + dt.v.size() / 3 >= MAX_STRIP_TRIANGLES)
+          return Status::error(StatusCode::CAPACITY_EXCEEDED,
+                               "more than " + std::to_string(MAX_STRIP_TRIANGLES) +
+                                   " triangles: beyond the 32-bit halfedge ids");
+        // Kept triangles first, then their edges: twins inside the block straight
+        // from the local mesh, the others through the open lists (another block's
+        // triangle, or the search's work).
+        kept_at_.assign(dt.v.size() / 3, CLOSED);
+        kept_.clear();
+        dt.forEachFinal(grid_, window, [&](std::size_t t) {
+          std::size_t owner = 0;
+          for (std::size_t k = 3 * t; k < 3 * t + 3; ++k) {
+            const auto local = static_cast<std::size_t>(dt.v[k]);
+            if (inStrip(dt.ids[local]) && (owner == 0 || dt.ids[local] < dt.ids[owner]))
+              owner = local;
+          }
+          if (owner == 0 || dt.in_core[owner] == 0)
+            return;
+          kept_at_[t] = addTriangle(dt.ids[static_cast<std::size_t>(dt.v[3 * t])],
+                                    dt.ids[static_cast<std::size_t>(dt.v[3 * t + 1])],
+                                    dt.ids[static_cast<std::size_t>(dt.v[3 * t + 2])]);
+          kept_.push_back(t);
+        });
+        for (const std::size_t t : kept_) {
+          const HalfedgeId f = kept_at_[t];
+          for (std::uint32_t k = 0; k < 3; ++k) {
+            const std::int32_t o = dt.adj[3 * t + k];
+            const HalfedgeId g = f + k;
+            if (o >= 0 && kept_at_[static_cast<std::size_t>(o / 3)] != CLOSED) {
+              mesh_.halfedges[g] = kept_at_[static_cast<std::size_t>(o / 3)] +
+                                   static_cast<HalfedgeId>(o % 3);
+              continue;
+            }
+            const bool from_in = inStrip(origin(g)), to_in = inStrip(target(g));
+            if (linkOrOpen(g, from_in, to_in) && (from_in || to_in))
+              pool_.push(g, grid_.row(grid_.points[origin(g)].y));
+          }
+        }
+      }
+    return Status::success();
+  }
+
   /// Points near v sorted by floating-point distance; the exact nearest neighbour is
   /// among them. Blocks of the occupancy pyramid are visited nearest first, so empty
   /// space costs a few large blocks, until the next block is farther than the best
@@ -392,6 +466,10 @@ class Growth {
   RowQueue pool_{grid_.ny};
   std::vector<std::pair<double, VertexId>> candidates_;
   std::vector<NearBlock> blocks_;
+  const bool cache_blocks_;
+  /// Per local triangle of the block: its first halfedge once added, or CLOSED.
+  std::vector<HalfedgeId> kept_at_;
+  std::vector<std::size_t> kept_; ///< local triangles added, in order
 };
 
 } // namespace
@@ -428,9 +506,11 @@ StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, std::vector<HalfedgeId>& open_head,
-                 StripMesh& mesh)
+                 StripMesh& mesh, bool cache_blocks)
 {
-  return Growth(grid, pyramid, layout, strip, hull, search, open_head, mesh).run();
+  return Growth(grid, pyramid, layout, strip, hull, search, open_head, mesh,
+                cache_blocks)
+      .run();
 }
 
 } // namespace detail

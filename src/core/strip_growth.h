@@ -86,11 +86,12 @@ struct StripMesh {
 /// Grows strip `strip` of `layout`. `open_head` (one slot per grid point, filled with
 /// UNREACHED, see HalfedgeSlot) is shared by all strips: a strip only touches the slots
 /// of its own vertices, where it keeps the head of each vertex's list of open
-/// halfedges.
+/// halfedges. `cache_blocks`: the triangles proven by block-local triangulations are
+/// added first (docs/scaling.md, "Cache blocks"); the same triangles, another order.
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, std::vector<HalfedgeId>& open_head,
-                 StripMesh& mesh);
+                 StripMesh& mesh, bool cache_blocks = false);
 
 } // namespace detail
 } // namespace pcl_vts

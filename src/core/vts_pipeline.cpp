@@ -279,7 +279,7 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   SearchStats stats;
   Status grown = triangulateGrid(grid, stage.pyramid, stage.subdivision, result.hull,
                                  mesh.triangles, mesh.halfedges, stats, threads,
-                                 options.strip_columns);
+                                 options.strip_columns, options.cache_blocks);
   diag.seconds_triangulate = watch.seconds();
   diag.local_searches = stats.local;
   diag.widened_searches = stats.widened;

@@ -1,8 +1,9 @@
 // One measurement per process, so that peak RSS belongs to one method and one input:
 //   bench_triangulation METHOD DIST N [SEED [THREADS]]
 //   bench_triangulation METHOD file PATH [--classes LIST] [--name NAME] [THREADS]
-//   METHOD: vts | vts-grid | cgal
+//   METHOD: vts | vts-grid | vts-blocks | cgal
 //   DIST: jittered | uniform | clustered | grid | raster
+//   vts-blocks is vts with VtsOptions::cache_blocks on (docs/scaling.md).
 //   vts-grid is vts with the lattice fast path off (VtsOptions::lattice), the grid
 //   path on every input; raster is a square DEM-like lattice (N cells, spacing 1,
 //   rows from the top) with NODATA ellipses (one per 20000 cells, radii 0.5 to 12.5
@@ -138,9 +139,10 @@ int usage(const char* self)
 {
   std::fprintf(
       stderr,
-      "usage: %s vts|vts-grid|cgal jittered|uniform|clustered|grid|raster N "
+      "usage: %s vts|vts-grid|vts-blocks|cgal jittered|uniform|clustered|grid|raster N "
       "[SEED [THREADS]]\n"
-      "       %s vts|vts-grid|cgal file PATH [--classes LIST] [--name NAME] [THREADS]\n"
+      "       %s vts|vts-grid|vts-blocks|cgal file PATH [--classes LIST] [--name NAME] "
+      "[THREADS]\n"
       "       %s write-pcd jittered|uniform|clustered|grid N FILE [SEED]\n",
       self, self, self);
   return 1;
@@ -200,7 +202,8 @@ int main(int argc, char** argv)
   Measure m;
   m.method = argv[1];
   m.dist = argv[2];
-  if (m.method != "vts" && m.method != "vts-grid" && m.method != "cgal") {
+  if (m.method != "vts" && m.method != "vts-grid" && m.method != "vts-blocks" &&
+      m.method != "cgal") {
     std::fprintf(stderr, "unknown method '%s'\n", m.method.c_str());
     return usage(argv[0]);
   }
@@ -238,6 +241,7 @@ int main(int argc, char** argv)
   if (m.method != "cgal") {
     pcl_vts::VtsOptions options;
     options.lattice = m.method == "vts";
+    options.cache_blocks = m.method == "vts-blocks";
     options.check_output = false;
     options.threads = m.threads;
     const pcl_vts::Status status =

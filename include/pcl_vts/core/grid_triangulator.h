@@ -38,12 +38,16 @@ PCL_VTS_CORE_EXPORT Status checkTriangleCapacity(std::size_t points,
 /// \param[in] threads threads growing strips (0 or 1: one); the output is identical
 ///            for every value
 /// \param[in] strip_columns strip width in columns, a power of two; 0 = automatic
+/// \param[in] cache_blocks add the triangles proven by block-local triangulations
+///            first (docs/scaling.md, "Cache blocks"): the same triangles, another
+///            order
 /// \return CAPACITY_EXCEEDED (checkTriangleCapacity), INTERNAL_ERROR if the region
 ///         growing failed to tile the hull (a bug)
-PCL_VTS_CORE_EXPORT Status triangulateGrid(
-    const CellGrid& grid, const CellPyramid& pyramid,
-    const CellSubdivision& subdivision, const std::vector<VertexId>& hull,
-    std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges,
-    SearchStats& stats, unsigned threads = 1, std::uint32_t strip_columns = 0);
+PCL_VTS_CORE_EXPORT Status
+triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
+                const CellSubdivision& subdivision, const std::vector<VertexId>& hull,
+                std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges,
+                SearchStats& stats, unsigned threads = 1,
+                std::uint32_t strip_columns = 0, bool cache_blocks = false);
 
 } // namespace pcl_vts

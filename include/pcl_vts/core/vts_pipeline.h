@@ -37,6 +37,10 @@ struct VtsOptions {
   /// power of two. A tuning and testing knob: the triangulation is the same for every
   /// value, only the triangle order changes.
   std::uint32_t strip_columns = 0;
+  /// Cache blocks (docs/scaling.md): each block of 32 x 32 cells is triangulated with
+  /// a ring of cells by Bowyer-Watson, the triangles proven final are kept and the
+  /// search only grows the rest. The same triangulation, another triangle order.
+  bool cache_blocks = false;
   /// Post-passes after the triangulation (docs/reconstruction.md). Off by default
   /// here, so the core returns the exact Delaunay triangulation of the hull;
   /// pcd_to_mesh turns both on unless --no-trim / --no-fill.

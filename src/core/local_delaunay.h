@@ -1,0 +1,80 @@
+// Cache blocks (docs/scaling.md, "Cache blocks"): the Delaunay triangulation of the
+// points of a block of grid cells and a ring of cells around it, by Bowyer-Watson
+// insertion inside a finite super triangle, with the exact predicates and the
+// tie-break of predicates.h. A triangle of real points whose circumdisk lies inside
+// the loaded window (shrunk by the grid slack; open on the grid border) is proven
+// final: no unloaded point can be inside or on its circle, so it is a triangle of the
+// global (perturbed) Delaunay triangulation. Internal to the core.
+#pragma once
+
+#include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/point2.h>
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace pcl_vts {
+namespace detail {
+
+/// The loaded window: cells [i0, i1) x [j0, j1).
+struct CellWindow {
+  std::uint32_t i0, i1, j0, j1;
+};
+
+/// Bowyer-Watson triangulation of one window, arrays reused from window to window.
+/// Triangle t: vertices v[3t..3t+2] (local indices, CCW), halfedge 3t+i goes
+/// v[3t+i] -> v[3t+(i+1)%3]; adj[3t+i] is its twin or -1. Local vertices 0..2 are the
+/// super triangle; vertex k >= 3 is grid point ids[k].
+class LocalDelaunay {
+ public:
+  /// Triangulates the window's points (cells at multiples of 4 from its corner first,
+  /// then of 2, then the rest, each round in snake order: the mesh covers the window
+  /// early, so cavities stay small). False when the window is too large for floating
+  /// point (a super triangle coordinate would not be finite): nothing is proven then.
+  /// in_core[k]: local vertex k lies in a cell of `core`.
+  bool triangulate(const CellGrid& grid, const CellWindow& window,
+                   const CellWindow& core);
+
+  /// Calls keep(t) for every triangle of real points whose circumdisk is proven to
+  /// lie inside the window's known space.
+  template <typename Keep>
+  void forEachFinal(const CellGrid& grid, const CellWindow& window, Keep&& keep) const;
+
+  std::vector<Point2> p;
+  std::vector<std::int32_t> v, adj;
+  std::vector<std::uint32_t> ids;
+  std::vector<std::uint8_t> in_core;
+
+ private:
+  void insert(std::int32_t k);
+  bool finalTriangle(std::size_t t, double x_lo, double x_hi, double y_lo,
+                     double y_hi) const;
+
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t stamp_counter_ = 0;
+  std::vector<std::int32_t> head_, bad_;
+  std::vector<std::array<std::int32_t, 3>> boundary_;
+  std::int32_t last_ = 0;
+};
+
+template <typename Keep>
+void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
+                                 Keep&& keep) const
+{
+  const double c = grid.cell_size;
+  const double inf = std::numeric_limits<double>::infinity();
+  // A point of an unloaded cell lies within the slack of its cell's rectangle.
+  const double x_lo = w.i0 == 0 ? -inf : grid.origin_x + w.i0 * c + 2 * grid.slack;
+  const double x_hi = w.i1 == grid.nx ? inf : grid.origin_x + w.i1 * c - 2 * grid.slack;
+  const double y_lo = w.j0 == 0 ? -inf : grid.origin_y + w.j0 * c + 2 * grid.slack;
+  const double y_hi = w.j1 == grid.ny ? inf : grid.origin_y + w.j1 * c - 2 * grid.slack;
+  for (std::size_t t = 0; t < v.size() / 3; ++t)
+    if (v[3 * t] >= 3 && v[3 * t + 1] >= 3 && v[3 * t + 2] >= 3 &&
+        finalTriangle(t, x_lo, x_hi, y_lo, y_hi))
+      keep(t);
+}
+
+} // namespace detail
+} // namespace pcl_vts
