@@ -17,7 +17,8 @@
 // Prints one JSON line: CPU seconds per stage (CLOCK_THREAD_CPUTIME_ID), ns per
 // distinct point, the share of the Delaunay triangles proven. --check compares every
 // kept triangle with the core's triangulation (must be one of its triangles, kept once)
-// and exits 3 on a mismatch.
+// and exits 3 on a mismatch. The integrated version is VtsOptions::cache_blocks
+// (src/core/local_delaunay.cpp; bench_triangulation vts-blocks).
 #include "bench_inputs.h"
 
 #include <pcl_vts/core/cell_grid.h>
@@ -52,56 +53,6 @@ double threadCpuSeconds()
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-// The core's filters (predicates.h) with the underflow slack raised from 2^-1060 to
-// 2^-1000: a larger error bound is as sound (only more calls go to the exact path), and
-// it keeps the bound a normal number. With 2^-1060 the bound of incircle is subnormal
-// on every call, and perf shows that multiply as the hottest instruction of the
-// insertion (a microcode assist on this AMD VM). The exact paths and the tie-break are
-// the core's, so the signs are the same.
-constexpr double NORMAL_SLACK = 0x1p-1000;
-
-inline Sign orient2dFast(const Point2& a, const Point2& b, const Point2& c)
-{
-  const double detleft = (a.x - c.x) * (b.y - c.y);
-  const double detright = (a.y - c.y) * (b.x - c.x);
-  const double det = detleft - detright;
-  const double errbound =
-      pcl_vts::detail::CCW_ERR_BOUND_A * (std::fabs(detleft) + std::fabs(detright)) +
-      NORMAL_SLACK;
-  if (det > errbound)
-    return Sign::POSITIVE;
-  if (-det > errbound)
-    return Sign::NEGATIVE;
-  return pcl_vts::detail::orient2dExact(a, b, c);
-}
-
-inline Sign incirclePerturbedFast(const Point2& a, const Point2& b, const Point2& c,
-                                  const Point2& d)
-{
-  const double adx = a.x - d.x, ady = a.y - d.y;
-  const double bdx = b.x - d.x, bdy = b.y - d.y;
-  const double cdx = c.x - d.x, cdy = c.y - d.y;
-  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-  const double cdxady = cdx * ady, adxcdy = adx * cdy;
-  const double adxbdy = adx * bdy, bdxady = bdx * ady;
-  const double alift = adx * adx + ady * ady;
-  const double blift = bdx * bdx + bdy * bdy;
-  const double clift = cdx * cdx + cdy * cdy;
-  const double det =
-      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
-                           (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
-                           (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
-  const double errbound = pcl_vts::detail::ICC_ERR_BOUND_A * permanent +
-                          NORMAL_SLACK * (1.0 + alift + blift + clift);
-  if (det > errbound)
-    return Sign::POSITIVE;
-  if (-det > errbound)
-    return Sign::NEGATIVE;
-  const Sign s = pcl_vts::detail::incircleExact(a, b, c, d);
-  return s != Sign::ZERO ? s : pcl_vts::incirclePerturbedTie(a, b, c, d);
 }
 
 /// A disk containing the exact circumdisk of (a, b, c), or false when floating point
@@ -167,7 +118,7 @@ class LocalDelaunay {
           continue;
         const Point2& a = p[static_cast<std::size_t>(v[3 * t + e])];
         const Point2& b = p[static_cast<std::size_t>(v[3 * t + (e + 1) % 3])];
-        if (orient2dFast(a, b, q) == Sign::NEGATIVE)
+        if (pcl_vts::orient2d(a, b, q) == Sign::NEGATIVE)
           break;
       }
       if (e == 3)
@@ -196,10 +147,10 @@ class LocalDelaunay {
             continue;
           if (s != good_mark) {
             ++incircle_tests;
-            if (incirclePerturbedFast(p[static_cast<std::size_t>(v[3 * n])],
-                                      p[static_cast<std::size_t>(v[3 * n + 1])],
-                                      p[static_cast<std::size_t>(v[3 * n + 2])],
-                                      q) == Sign::POSITIVE) {
+            if (pcl_vts::incirclePerturbed(p[static_cast<std::size_t>(v[3 * n])],
+                                           p[static_cast<std::size_t>(v[3 * n + 1])],
+                                           p[static_cast<std::size_t>(v[3 * n + 2])],
+                                           q) == Sign::POSITIVE) {
               s = bad_mark;
               bad_.push_back(n);
               continue;
