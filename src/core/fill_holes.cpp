@@ -4,14 +4,17 @@
 
 #include <pcl_vts/core/boundary_loops.h>
 #include <pcl_vts/core/fill_holes.h>
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/point_spacing.h>
 #include <pcl_vts/core/polygon_triangulation.h>
 #include <pcl_vts/core/predicates.h>
 #include <pcl_vts/core/thin_plate_spline.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
+#include <unordered_set>
 #include <utility>
 
 namespace pcl_vts {
@@ -133,26 +136,23 @@ void addLatticePoints(std::vector<Point2>& polygon, std::size_t size, double h,
 }
 
 /// Rim vertices and rings of neighbours around them (breadth first, loop order).
+/// Its own set of seen vertices: holes are measured on several threads at once.
 std::vector<VertexId> rimRings(const Adjacency& adj, const std::vector<VertexId>& rim,
-                               std::size_t rings, std::vector<std::uint32_t>& stamp,
-                               std::uint32_t mark)
+                               std::size_t rings)
 {
   std::vector<VertexId> samples;
+  std::unordered_set<VertexId> seen;
   for (const VertexId v : rim)
-    if (stamp[v] != mark) {
-      stamp[v] = mark;
+    if (seen.insert(v).second)
       samples.push_back(v);
-    }
   std::size_t level_begin = 0;
   for (std::size_t r = 0; r < rings; ++r) {
     const std::size_t level_end = samples.size();
     for (std::size_t k = level_begin; k < level_end; ++k)
       for (std::size_t q = adj.start[samples[k]]; q < adj.start[samples[k] + 1]; ++q) {
         const VertexId u = adj.ring[q];
-        if (stamp[u] != mark) {
-          stamp[u] = mark;
+        if (seen.insert(u).second)
           samples.push_back(u);
-        }
       }
     level_begin = level_end;
   }
@@ -187,8 +187,20 @@ std::vector<Point2> pieceProbes(const TriangleMesh& mesh, const BoundaryLoops& l
   return probes;
 }
 
-/// Fills the holes of one mesh one by one: each hole's lattice points and patch
-/// (fill), then every patch appended at once (finish).
+/// What one hole becomes: left open, skipped, or filled by a patch over the rim
+/// polygon and the lattice points (with their z).
+struct HolePatch {
+  enum class Outcome { LEFT_OPEN, SKIPPED, FILLED };
+  Outcome outcome = Outcome::SKIPPED;
+  std::vector<VertexId> rim;
+  std::vector<Point2> points;
+  PolygonTriangulation patch;
+  std::vector<double> z; ///< per point after the rim's (0 for those the patch skips)
+};
+
+/// Fills the holes of one mesh: each hole's lattice points, patch and heights on
+/// their own (measure, from the unchanged mesh: several holes at once), then every
+/// patch appended in loop order (append, finish).
 class HoleFiller {
  public:
   HoleFiller(TriangleMesh& mesh, const FillOptions& options,
@@ -203,47 +215,66 @@ class HoleFiller {
       , adj_(std::move(adjacency))
       , input_vertices_(mesh.vertexCount())
       , input_corners_(mesh.triangles.size())
-      , stamp_(input_vertices_, 0)
   {}
 
-  /// One hole loop (clockwise): measured, then filled, left open or skipped.
-  Status fill(const BoundaryLoop& loop)
+  /// One hole loop (clockwise), measured: left open, skipped or its patch. Reads
+  /// the mesh only, so holes can be measured on several threads.
+  HolePatch measure(const BoundaryLoop& loop) const
   {
-    ++result_.holes_found;
+    HolePatch hole;
     const double area = -0.5 * loop.twice_area;
     if (area > result_.max_hole_area) {
-      ++result_.holes_left_open;
-      return Status::success();
+      hole.outcome = HolePatch::Outcome::LEFT_OPEN;
+      return hole;
     }
-    if (loop.has_repeated_vertex) {
-      ++result_.holes_skipped;
-      return Status::success();
-    }
+    if (loop.has_repeated_vertex)
+      return hole;
     // The hole runs clockwise (mesh on its left): reversed, it is a CCW polygon whose
     // edges are the twins of the rim halfedges.
     const std::size_t size = loop.vertices.size();
-    const std::vector<VertexId> rim(loop.vertices.rbegin(), loop.vertices.rend());
-    std::vector<Point2> points;
-    points.reserve(size);
-    for (const VertexId v : rim)
-      points.push_back(mesh_.xy[v]);
-    if (enclosesPiece(points, size)) {
-      ++result_.holes_skipped;
-      return Status::success();
-    }
-    const double h = latticeSpacing(rim);
+    hole.rim.assign(loop.vertices.rbegin(), loop.vertices.rend());
+    hole.points.reserve(size);
+    for (const VertexId v : hole.rim)
+      hole.points.push_back(mesh_.xy[v]);
+    if (enclosesPiece(hole.points, size))
+      return hole;
+    const double h = latticeSpacing(hole.rim);
     if (h > 0.0)
-      addLatticePoints(points, size, h, options_.rim_clearance * h,
+      addLatticePoints(hole.points, size, h, options_.rim_clearance * h,
                        options_.snap_to_float);
-    PolygonTriangulation patch;
-    if (!triangulatePolygon(points, size, patch).ok()) {
+    if (!triangulatePolygon(hole.points, size, hole.patch).ok())
+      return hole;
+    const HoleHeights heights = fitHeights(hole.rim);
+    hole.z.assign(hole.points.size() - size, 0.0);
+    for (std::size_t k = size; k < hole.points.size(); ++k) {
+      if (!hole.patch.steiner_used[k - size])
+        continue;
+      double z = options_.z_method == HoleZMethod::THIN_PLATE_SPLINE
+                     ? heights.spline.evaluate(hole.points[k])
+                     : heights.rim_mean;
+      if (options_.snap_to_float)
+        z = static_cast<double>(static_cast<float>(z));
+      hole.z[k - size] = z;
+    }
+    hole.outcome = HolePatch::Outcome::FILLED;
+    return hole;
+  }
+
+  /// The measured hole of loop, counted and, if filled, appended (in loop order).
+  Status append(const BoundaryLoop& loop, const HolePatch& hole)
+  {
+    ++result_.holes_found;
+    if (hole.outcome == HolePatch::Outcome::LEFT_OPEN) {
+      ++result_.holes_left_open;
+      return Status::success();
+    }
+    if (hole.outcome == HolePatch::Outcome::SKIPPED) {
       ++result_.holes_skipped;
       return Status::success();
     }
-    const HoleHeights heights = fitHeights(rim);
-    if (Status s = appendPatch(loop, rim, points, patch, heights); !s.ok())
+    if (Status s = appendPatch(loop, hole); !s.ok())
       return s;
-    result_.triangles_added += patch.triangles.size() / 3;
+    result_.triangles_added += hole.patch.triangles.size() / 3;
     ++result_.holes_filled;
     return Status::success();
   }
@@ -293,14 +324,14 @@ class HoleFiller {
 
   /// The spline through the rim and rim_rings rings around it (at most
   /// MAX_SPLINE_SAMPLES of them, in position order), and the rim's mean z.
-  HoleHeights fitHeights(const std::vector<VertexId>& rim)
+  HoleHeights fitHeights(const std::vector<VertexId>& rim) const
   {
     HoleHeights heights;
     const bool spline = options_.z_method == HoleZMethod::THIN_PLATE_SPLINE;
     std::vector<Point2> sample_xy;
     std::vector<double> sample_z;
     std::vector<VertexId> samples =
-        rimRings(adj_, rim, spline ? options_.rim_rings : 0, stamp_, ++mark_);
+        rimRings(adj_, rim, spline ? options_.rim_rings : 0);
     sortByPosition(mesh_, samples);
     const std::size_t stride = (samples.size() + FillOptions::MAX_SPLINE_SAMPLES - 1) /
                                FillOptions::MAX_SPLINE_SAMPLES;
@@ -317,10 +348,11 @@ class HoleFiller {
 
   /// The lattice points the patch uses become mesh vertices (with z); the patch's
   /// triangles are queued, twinned inside the patch and with the rim halfedges.
-  Status appendPatch(const BoundaryLoop& loop, const std::vector<VertexId>& rim,
-                     const std::vector<Point2>& points,
-                     const PolygonTriangulation& patch, const HoleHeights& heights)
+  Status appendPatch(const BoundaryLoop& loop, const HolePatch& hole)
   {
+    const std::vector<VertexId>& rim = hole.rim;
+    const std::vector<Point2>& points = hole.points;
+    const PolygonTriangulation& patch = hole.patch;
     const std::size_t size = rim.size();
     std::vector<VertexId> global(points.size());
     std::copy(rim.begin(), rim.end(), global.begin());
@@ -329,12 +361,7 @@ class HoleFiller {
         continue;
       global[k] = static_cast<VertexId>(mesh_.xy.size());
       mesh_.xy.push_back(points[k]);
-      double z = options_.z_method == HoleZMethod::THIN_PLATE_SPLINE
-                     ? heights.spline.evaluate(points[k])
-                     : heights.rim_mean;
-      if (options_.snap_to_float)
-        z = static_cast<double>(static_cast<float>(z));
-      mesh_.z.push_back(z);
+      mesh_.z.push_back(hole.z[k - size]);
       ++result_.points_inserted;
     }
     // Twins: inside the patch from its own arrays; a patch edge rim[w-1] -> rim[w]
@@ -371,8 +398,6 @@ class HoleFiller {
   const Adjacency adj_;
   const std::size_t input_vertices_;
   const std::size_t input_corners_;
-  std::vector<std::uint32_t> stamp_;
-  std::uint32_t mark_ = 0;
   std::vector<VertexId> new_triangles_;
   std::vector<HalfedgeId> new_halfedges_;
 };
@@ -392,8 +417,9 @@ Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
 
 Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
                                const MeshPart* part, VertexSpacing* known,
-                               FillResult& result)
+                               FillResult& result, unsigned threads)
 {
+  threads = threads > 0 ? threads : allCores();
   result = FillResult{};
   Status status = validateFillOptions(options);
   if (!status.ok())
@@ -424,7 +450,7 @@ Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
   Adjacency adjacency = buildAdjacency(mesh);
   PointSpacing spacing;
   if (known != nullptr) {
-    known->settle(mesh);
+    known->settle(mesh, threads);
     // measurePointSpacing's local figure at the rims, from the known own medians
     // and the same rows (buildAdjacency's rule is measurePointSpacing's).
     spacing.global_median = known->global_median;
@@ -439,7 +465,7 @@ Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
       spacing.local[v] = medianOf(values);
     }
   } else {
-    spacing = measurePointSpacing(mesh, &on_rim);
+    spacing = detail::measurePointSpacing(mesh, &on_rim, nullptr, threads);
   }
   const double global_h =
       part != nullptr ? part->global_spacing : spacing.global_median;
@@ -449,10 +475,25 @@ Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
 
   HoleFiller filler(mesh, options, spacing, global_h, pieceProbes(mesh, loops, real),
                     std::move(adjacency), result);
+  // Holes are independent once found: measured on the threads (each taking the next
+  // hole: their sizes differ), then appended in loop order, so the output does not
+  // depend on the thread count.
+  std::vector<const BoundaryLoop*> holes;
   for (const BoundaryLoop& loop : loops.loops)
     if (is_hole(loop))
-      if (Status s = filler.fill(loop); !s.ok())
-        return s;
+      holes.push_back(&loop);
+  std::vector<HolePatch> patches(holes.size());
+  std::atomic<std::size_t> next{0};
+  runTeam(static_cast<unsigned>(std::min<std::size_t>(threads, holes.size())),
+          [&](unsigned) {
+            for (std::size_t k = next++; k < holes.size(); k = next++)
+              patches[k] = filler.measure(*holes[k]);
+          });
+  for (std::size_t k = 0; k < holes.size(); ++k) {
+    if (Status s = filler.append(*holes[k], patches[k]); !s.ok())
+      return s;
+    patches[k] = HolePatch{}; // appended: its memory goes back
+  }
   filler.finish();
   return Status::success();
 }

@@ -2,9 +2,11 @@
 // data it checks (ids are range-checked before use) and, on failure, names the first
 // offending triangle, halfedge or vertex. Geometry goes through the exact predicates.
 #include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/predicates.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
@@ -13,6 +15,32 @@
 
 namespace pcl_vts {
 namespace {
+
+/// Whether ok(k) holds for every k in [0, n), on `threads` threads (0 = all cores);
+/// a range stops once any thread has found a failure. The verdict does not depend
+/// on the split; callers find the first failure for their message sequentially.
+template <typename Ok>
+bool everyIndex(unsigned threads, std::size_t n, const Ok& ok)
+{
+  std::atomic<bool> failed{false};
+  parallelRanges(threads > 0 ? threads : allCores(), n,
+                 [&](std::size_t begin, std::size_t end) {
+                   constexpr std::size_t STEP = 4096; // indices between flag reads
+                   for (std::size_t k = begin; k < end;) {
+                     if (failed.load(std::memory_order_relaxed))
+                       return;
+                     const std::size_t stop = std::min(end, k + STEP);
+                     bool good = true;
+                     for (; k < stop; ++k)
+                       good &= ok(k);
+                     if (!good) {
+                       failed.store(true, std::memory_order_relaxed);
+                       return;
+                     }
+                   }
+                 });
+  return !failed.load();
+}
 
 void setWhy(std::string* why, const std::string& text)
 {
@@ -37,7 +65,8 @@ std::string halfedgeText(const TriangleMesh& mesh, HalfedgeId e)
 }
 
 /// Triangles come in threes and every id names an existing vertex.
-bool trianglesWellFormed(const TriangleMesh& mesh, std::string* why)
+bool trianglesWellFormed(const TriangleMesh& mesh, std::string* why,
+                         unsigned threads = 1)
 {
   if (mesh.xy.size() != mesh.z.size()) {
     std::ostringstream out;
@@ -51,6 +80,9 @@ bool trianglesWellFormed(const TriangleMesh& mesh, std::string* why)
     setWhy(why, out.str());
     return false;
   }
+  if (everyIndex(threads, mesh.triangles.size(),
+                 [&](std::size_t i) { return mesh.triangles[i] < mesh.xy.size(); }))
+    return true;
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     if (mesh.triangles[i] >= mesh.xy.size()) {
       std::ostringstream out;
@@ -129,10 +161,16 @@ bool edgeUsesManifold(const std::vector<EdgeUse>& uses, std::string* why)
 
 } // namespace
 
-bool allTrianglesCcw(const TriangleMesh& mesh, std::string* why)
+bool allTrianglesCcw(const TriangleMesh& mesh, std::string* why, unsigned threads)
 {
-  if (!trianglesWellFormed(mesh, why))
+  if (!trianglesWellFormed(mesh, why, threads))
     return false;
+  if (everyIndex(threads, mesh.triangleCount(), [&](std::size_t t) {
+        return orient2d(mesh.xy[mesh.triangles[3 * t]],
+                        mesh.xy[mesh.triangles[3 * t + 1]],
+                        mesh.xy[mesh.triangles[3 * t + 2]]) == Sign::POSITIVE;
+      }))
+    return true;
   for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
     const Point2& a = mesh.xy[mesh.triangles[3 * t]];
     const Point2& b = mesh.xy[mesh.triangles[3 * t + 1]];
@@ -148,9 +186,9 @@ bool allTrianglesCcw(const TriangleMesh& mesh, std::string* why)
   return true;
 }
 
-bool halfedgesConsistent(const TriangleMesh& mesh, std::string* why)
+bool halfedgesConsistent(const TriangleMesh& mesh, std::string* why, unsigned threads)
 {
-  if (!trianglesWellFormed(mesh, why))
+  if (!trianglesWellFormed(mesh, why, threads))
     return false;
   const std::size_t count = mesh.triangles.size();
   if (mesh.halfedges.size() != count) {
@@ -160,6 +198,16 @@ bool halfedgesConsistent(const TriangleMesh& mesh, std::string* why)
     setWhy(why, out.str());
     return false;
   }
+  auto good = [&](std::size_t i) {
+    const auto e = static_cast<HalfedgeId>(i);
+    const HalfedgeId twin = mesh.halfedges[e];
+    return twin == INVALID_ID ||
+           (twin < count && twin != e && mesh.halfedges[twin] == e &&
+            mesh.triangles[twin] == mesh.triangles[nextHalfedge(e)] &&
+            mesh.triangles[nextHalfedge(twin)] == mesh.triangles[e]);
+  };
+  if (everyIndex(threads, count, good))
+    return true;
   for (std::size_t i = 0; i < count; ++i) {
     const auto e = static_cast<HalfedgeId>(i);
     const HalfedgeId twin = mesh.halfedges[e];
@@ -267,10 +315,10 @@ bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
   return true;
 }
 
-bool isValidSurfaceMesh(const TriangleMesh& mesh, std::string* why)
+bool isValidSurfaceMesh(const TriangleMesh& mesh, std::string* why, unsigned threads)
 {
   auto fast = [&] {
-    if (!halfedgesConsistent(mesh, nullptr)) // ids in range, twins reversed
+    if (!halfedgesConsistent(mesh, nullptr, threads)) // ids in range, twins reversed
       return false;
     // Twins consistent: an interior pair holds both directions of its edge, a
     // boundary halfedge its own; a directed edge is used twice (also when the edge is
@@ -302,20 +350,19 @@ bool isValidSurfaceMesh(const TriangleMesh& mesh, std::string* why)
       bucket[fill[std::min(from, to)]++] =
           (std::uint64_t{std::max(from, to)} << 2) | directions;
     }
-    for (std::size_t v = 0; v < n; ++v) {
+    const bool unshared = everyIndex(threads, n, [&](std::size_t v) {
       const auto first = bucket.begin() + start[v];
       const auto last = bucket.begin() + start[v + 1];
       if (last - first > 16)
-        std::sort(first, last);
+        std::sort(first, last); // each bucket by one thread
       bool shared = false;
       for (auto i = first; i != last; ++i)
         for (auto j = i + 1;
              j != last && (last - first <= 16 || (*j >> 2) == (*i >> 2)); ++j)
           shared |= (*i >> 2) == (*j >> 2) && (*i & *j & 3) != 0;
-      if (shared)
-        return false;
-    }
-    return allTrianglesCcw(mesh, nullptr);
+      return !shared;
+    });
+    return unshared && allTrianglesCcw(mesh, nullptr, threads);
   };
   if (fast())
     return true;

@@ -1,6 +1,7 @@
 // Point spacing: median incident edge per vertex, then a one-ring median.
 #include "post_pass_spacing.h"
 
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/point_spacing.h>
 
 #include <algorithm>
@@ -95,7 +96,7 @@ double medianInPlace(std::vector<double>& values)
 /// measurePointSpacing with rows indexed by Index (32 bits while they fit).
 template <typename Index>
 PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_for,
-                     std::vector<double>* own_out)
+                     std::vector<double>* own_out, unsigned threads)
 {
   const std::size_t n = mesh.vertexCount();
   const std::size_t corners = mesh.triangles.size();
@@ -125,34 +126,42 @@ PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_fo
   // Per vertex: median incident edge length. Robust to a few long edges into a
   // void (a rim vertex keeps most of its short ones) and to anisotropic sampling
   // (scan lines: the shortest edge would only see the along-line spacing).
+  // Each vertex's medians are its own slot's: ranges of vertices on any threads.
   std::vector<double> own(n, 0.0);
-  std::vector<double> values;
+  parallelRanges(threads, n, [&](std::size_t begin, std::size_t end) {
+    std::vector<double> values; // reused across the range: no copy per vertex
+    for (std::size_t v = begin; v < end; ++v) {
+      if (start[v] == start[v + 1])
+        continue;
+      values.clear();
+      const Point2& p = mesh.xy[v];
+      for (Index k = start[v]; k < start[v + 1]; ++k) {
+        const Point2& q = mesh.xy[ring[k]];
+        const double dx = p.x - q.x, dy = p.y - q.y;
+        values.push_back(std::sqrt(dx * dx + dy * dy)); // hypot is 5x slower
+      }
+      own[v] = medianInPlace(values);
+    }
+  });
   std::vector<double> used;
   used.reserve(n);
-  for (VertexId v = 0; v < n; ++v) {
-    if (start[v] == start[v + 1])
-      continue;
-    values.clear();
-    const Point2& p = mesh.xy[v];
-    for (Index k = start[v]; k < start[v + 1]; ++k) {
-      const Point2& q = mesh.xy[ring[k]];
-      const double dx = p.x - q.x, dy = p.y - q.y;
-      values.push_back(std::sqrt(dx * dx + dy * dy)); // hypot is 5x slower
-    }
-    own[v] = medianInPlace(values); // reused buffer: no copy per vertex
-    used.push_back(own[v]);
-  }
+  for (std::size_t v = 0; v < n; ++v)
+    if (start[v] != start[v + 1])
+      used.push_back(own[v]);
   spacing.global_median = medianInPlace(used);
   std::vector<double>().swap(used);
   spacing.local.assign(n, 0.0);
-  for (VertexId v = 0; v < n; ++v) {
-    if (start[v] == start[v + 1] || (local_for != nullptr && !(*local_for)[v]))
-      continue;
-    values.assign(1, own[v]);
-    for (Index k = start[v]; k < start[v + 1]; ++k)
-      values.push_back(own[ring[k]]);
-    spacing.local[v] = medianInPlace(values);
-  }
+  parallelRanges(threads, n, [&](std::size_t begin, std::size_t end) {
+    std::vector<double> values;
+    for (std::size_t v = begin; v < end; ++v) {
+      if (start[v] == start[v + 1] || (local_for != nullptr && !(*local_for)[v]))
+        continue;
+      values.assign(1, own[v]);
+      for (Index k = start[v]; k < start[v + 1]; ++k)
+        values.push_back(own[ring[k]]);
+      spacing.local[v] = medianInPlace(values);
+    }
+  });
   if (own_out != nullptr)
     own_out->swap(own);
   return spacing;
@@ -175,16 +184,17 @@ namespace detail {
 
 PointSpacing measurePointSpacing(const TriangleMesh& mesh,
                                  const std::vector<bool>* local_for,
-                                 std::vector<double>* own)
+                                 std::vector<double>* own, unsigned threads)
 {
+  threads = threads > 0 ? threads : allCores();
   // A row entry per halfedge, two for a boundary one.
   if (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max())
-    return measure<std::uint32_t>(mesh, local_for, own);
-  return measure<std::size_t>(mesh, local_for, own);
+    return measure<std::uint32_t>(mesh, local_for, own, threads);
+  return measure<std::size_t>(mesh, local_for, own, threads);
 }
 
 void remeasureOwnSpacing(const TriangleMesh& mesh, const std::vector<bool>& changed,
-                         std::vector<double>& own)
+                         std::vector<double>& own, unsigned threads)
 {
   // The rows of the changed vertices only (measure's rule: every halfedge leaving
   // the vertex, and the boundary ones entering it), as (vertex, edge length).
@@ -193,14 +203,27 @@ void remeasureOwnSpacing(const TriangleMesh& mesh, const std::vector<bool>& chan
     const double dx = mesh.xy[a].x - mesh.xy[b].x, dy = mesh.xy[a].y - mesh.xy[b].y;
     return std::sqrt(dx * dx + dy * dy);
   };
-  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
-    const VertexId a = mesh.triangles[e];
-    const VertexId b = mesh.triangles[nextHalfedge(e)];
-    if (changed[a])
-      rows.emplace_back(a, length(a, b));
-    if (mesh.halfedges[e] == INVALID_ID && changed[b])
-      rows.emplace_back(b, length(b, a));
-  }
+  // Each range of halfedges collects its own, then they are joined in range order
+  // (sorted below, so the order would not matter anyway).
+  const auto parts = static_cast<unsigned>(
+      std::min<std::size_t>(threads > 0 ? threads : allCores(),
+                            std::max<std::size_t>(1, mesh.triangles.size() >> 16)));
+  std::vector<std::vector<std::pair<VertexId, double>>> found(parts);
+  parallelChunks(parts, mesh.triangles.size(),
+                 [&](std::size_t begin, std::size_t end, unsigned t) {
+                   for (std::size_t i = begin; i < end; ++i) {
+                     const auto e = static_cast<HalfedgeId>(i);
+                     const VertexId a = mesh.triangles[e];
+                     const VertexId b = mesh.triangles[nextHalfedge(e)];
+                     if (changed[a])
+                       found[t].emplace_back(a, length(a, b));
+                     if (mesh.halfedges[e] == INVALID_ID && changed[b])
+                       found[t].emplace_back(b, length(b, a));
+                   }
+                 });
+  for (const auto& part : found)
+    rows.insert(rows.end(), part.begin(), part.end());
+  std::vector<std::vector<std::pair<VertexId, double>>>().swap(found);
   std::sort(rows.begin(), rows.end()); // a row's order does not change its median
   for (std::size_t v = 0; v < changed.size(); ++v)
     if (changed[v])
@@ -216,11 +239,11 @@ void remeasureOwnSpacing(const TriangleMesh& mesh, const std::vector<bool>& chan
   }
 }
 
-void VertexSpacing::settle(const TriangleMesh& trimmed)
+void VertexSpacing::settle(const TriangleMesh& trimmed, unsigned threads)
 {
   if (settled)
     return;
-  remeasureOwnSpacing(trimmed, changed, own);
+  remeasureOwnSpacing(trimmed, changed, own, threads);
   global_median = medianOverUsed(own, has_triangle);
   std::vector<bool>().swap(changed);
   std::vector<bool>().swap(has_triangle);

@@ -27,31 +27,34 @@ struct VertexSpacing {
   double global_median = 0.0;
   bool settled = false;
 
-  void settle(const TriangleMesh& trimmed);
+  void settle(const TriangleMesh& trimmed, unsigned threads = 1);
 };
 
-/// measurePointSpacing, also giving each vertex's own median (own may be null).
+/// measurePointSpacing, also giving each vertex's own median (own may be null), on
+/// `threads` threads (0 = all cores; the same figures for any value).
 PointSpacing measurePointSpacing(const TriangleMesh& mesh,
                                  const std::vector<bool>* local_for,
-                                 std::vector<double>* own);
+                                 std::vector<double>* own, unsigned threads = 1);
 
 /// Measures own[v] again on mesh for every vertex flagged in `changed` (0 for one
 /// left without triangles); the others keep theirs.
 void remeasureOwnSpacing(const TriangleMesh& mesh, const std::vector<bool>& changed,
-                         std::vector<double>& own);
+                         std::vector<double>& own, unsigned threads = 1);
 
 /// The upper median of own over the vertices flagged in `has_triangle`.
 double medianOverUsed(const std::vector<double>& own,
                       const std::vector<bool>& has_triangle);
 
-/// trimOutwardTriangles; with `after`, also the trimmed mesh's VertexSpacing.
+/// trimOutwardTriangles; with `after`, also the trimmed mesh's VertexSpacing; on
+/// `threads` threads (0 = all cores; the same mesh for any value).
 Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
-                            TrimResult& result, VertexSpacing* after);
+                            TrimResult& result, VertexSpacing* after,
+                            unsigned threads = 1);
 
 /// fillHolesOfPart; with `spacing` (handed over by the trim of this mesh), the
 /// local spacing at hole rims is read from it instead of measuring the whole mesh.
 Status fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
-                       const MeshPart* part, VertexSpacing* spacing,
-                       FillResult& result);
+                       const MeshPart* part, VertexSpacing* spacing, FillResult& result,
+                       unsigned threads = 1);
 
 } // namespace pcl_vts::detail

@@ -2,6 +2,7 @@
 #include "post_pass_spacing.h"
 
 #include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/reconstruct_surface.h>
 #include <pcl_vts/core/stopwatch.h>
 
@@ -42,21 +43,23 @@ Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& optio
                                " is not a vertex id (" +
                                std::to_string(mesh.vertexCount()) + " vertices)");
   diagnostics.triangles_in = mesh.triangleCount();
+  const unsigned threads = options.threads > 0 ? options.threads : allCores();
   // The trim hands the trimmed mesh's spacing to the fill (post_pass_spacing.h).
   detail::VertexSpacing spacing;
   const bool handed = options.trim && options.fill;
   if (options.trim) {
     const Stopwatch watch;
     status = detail::trimOutwardTriangles(mesh, options.trim_options, diagnostics.trim,
-                                          handed ? &spacing : nullptr);
+                                          handed ? &spacing : nullptr, threads);
     diagnostics.seconds_trim = watch.seconds();
     if (!status.ok())
       return status;
   }
   if (options.fill) {
     const Stopwatch watch;
-    status = detail::fillHolesOfPart(mesh, options.fill_options, nullptr,
-                                     handed ? &spacing : nullptr, diagnostics.fill);
+    status =
+        detail::fillHolesOfPart(mesh, options.fill_options, nullptr,
+                                handed ? &spacing : nullptr, diagnostics.fill, threads);
     diagnostics.seconds_fill = watch.seconds();
     if (!status.ok())
       return status;
@@ -66,7 +69,7 @@ Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& optio
   diagnostics.triangles_out = mesh.triangleCount();
   if (options.check_output) {
     std::string why;
-    if (!isValidSurfaceMesh(mesh, &why))
+    if (!isValidSurfaceMesh(mesh, &why, threads))
       return Status::error(StatusCode::INTERNAL_ERROR,
                            "reconstructed mesh check failed: " + why);
   }

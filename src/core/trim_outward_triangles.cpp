@@ -3,6 +3,7 @@
 // See trim_outward_triangles.h.
 #include "post_pass_spacing.h"
 
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/point_spacing.h>
 #include <pcl_vts/core/trim_outward_triangles.h>
 
@@ -251,14 +252,16 @@ std::size_t repairPinches(const TriangleMesh& mesh, std::vector<bool>& removed)
 }
 
 /// OVERSIZED / VOID_SEED per triangle, against the largest local spacing of its
-/// corners.
+/// corners; each triangle its own slot, on any threads.
 std::vector<std::uint8_t> classifyTriangles(const TriangleMesh& mesh,
                                             const PointSpacing& spacing,
-                                            const TrimOptions& options)
+                                            const TrimOptions& options,
+                                            unsigned threads)
 {
   const std::size_t count = mesh.triangleCount();
   std::vector<std::uint8_t> flags(count, 0);
-  for (TriangleId t = 0; t < count; ++t) {
+  parallelFor(threads, count, [&](std::size_t k) {
+    const auto t = static_cast<TriangleId>(k);
     double scale = 0.0;
     for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
       scale = std::max(scale, spacing.local[mesh.triangles[e]]);
@@ -267,34 +270,72 @@ std::vector<std::uint8_t> classifyTriangles(const TriangleMesh& mesh,
         mesh.xy[mesh.triangles[3 * t + 2]], scale, options);
     flags[t] = static_cast<std::uint8_t>((size.oversized ? OVERSIZED : 0) |
                                          (size.void_seed ? VOID_SEED : 0));
-  }
+  });
   return flags;
 }
 
 /// Drops the removed triangles: the survivors keep their order, twins are remapped.
-/// In place: a survivor only moves down, over triangles already moved or dropped.
-void compactTriangles(TriangleMesh& mesh, const std::vector<bool>& removed)
+/// In place, on contiguous ranges of triangles (one per thread): a survivor only
+/// moves down, over triangles already moved or dropped. The first survivors of a
+/// range whose new place lies in an earlier range are set aside while every range
+/// moves its others within itself, then written: no range writes where another reads.
+void compactTriangles(TriangleMesh& mesh, const std::vector<bool>& removed,
+                      unsigned threads)
 {
   const std::size_t count = mesh.triangleCount();
+  const auto parts = static_cast<unsigned>(
+      std::min<std::size_t>(threads, std::max<std::size_t>(1, count >> 16)));
   std::vector<TriangleId> new_id(count, INVALID_ID);
-  TriangleId next = 0;
-  for (TriangleId t = 0; t < count; ++t)
-    if (!removed[t])
-      new_id[t] = next++;
-  for (TriangleId t = 0; t < count; ++t) {
-    if (removed[t])
-      continue;
-    const HalfedgeId to = 3 * new_id[t];
-    for (HalfedgeId k = 0; k < 3; ++k) {
-      const HalfedgeId twin = mesh.halfedges[3 * t + k];
-      const bool open = twin == INVALID_ID || removed[triangleOf(twin)];
-      mesh.triangles[to + k] = mesh.triangles[3 * t + k];
-      mesh.halfedges[to + k] =
-          open ? INVALID_ID : 3 * new_id[triangleOf(twin)] + twin % 3;
+  std::vector<std::size_t> first_id(parts + 1, 0); // per range: survivors before it
+  parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
+    std::size_t kept = 0;
+    for (std::size_t t = begin; t < end; ++t)
+      kept += removed[t] ? 0 : 1;
+    first_id[p + 1] = kept;
+  });
+  for (unsigned p = 0; p < parts; ++p)
+    first_id[p + 1] += first_id[p];
+  struct Moved {
+    TriangleId to;
+    VertexId corners[3];
+    HalfedgeId twins[3];
+  };
+  std::vector<std::vector<Moved>> aside(parts);
+  parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
+    auto next = static_cast<TriangleId>(first_id[p]);
+    for (std::size_t t = begin; t < end; ++t)
+      if (!removed[t])
+        new_id[t] = next++;
+  });
+  parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
+    for (std::size_t t = begin; t < end; ++t) {
+      if (removed[t])
+        continue;
+      Moved moved{new_id[t], {}, {}};
+      for (std::size_t k = 0; k < 3; ++k) {
+        const HalfedgeId twin = mesh.halfedges[3 * t + k];
+        const bool open = twin == INVALID_ID || removed[triangleOf(twin)];
+        moved.corners[k] = mesh.triangles[3 * t + k];
+        moved.twins[k] = open ? INVALID_ID : 3 * new_id[triangleOf(twin)] + twin % 3;
+      }
+      if (moved.to < begin) {
+        aside[p].push_back(moved);
+        continue;
+      }
+      for (std::size_t k = 0; k < 3; ++k) {
+        mesh.triangles[3 * std::size_t{moved.to} + k] = moved.corners[k];
+        mesh.halfedges[3 * std::size_t{moved.to} + k] = moved.twins[k];
+      }
     }
-  }
-  mesh.triangles.resize(3 * static_cast<std::size_t>(next));
-  mesh.halfedges.resize(3 * static_cast<std::size_t>(next));
+  });
+  for (const std::vector<Moved>& part : aside)
+    for (const Moved& moved : part)
+      for (std::size_t k = 0; k < 3; ++k) {
+        mesh.triangles[3 * std::size_t{moved.to} + k] = moved.corners[k];
+        mesh.halfedges[3 * std::size_t{moved.to} + k] = moved.twins[k];
+      }
+  mesh.triangles.resize(3 * first_id[parts]);
+  mesh.halfedges.resize(3 * first_id[parts]);
 }
 
 } // namespace
@@ -315,8 +356,10 @@ Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
 }
 
 Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
-                                    TrimResult& result, VertexSpacing* after)
+                                    TrimResult& result, VertexSpacing* after,
+                                    unsigned threads)
 {
+  threads = threads > 0 ? threads : allCores();
   result = TrimResult{};
   Status status = validateTrimOptions(options);
   if (!status.ok())
@@ -325,10 +368,11 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
     return Status::error(StatusCode::INVALID_PARAMETER,
                          "halfedges must have one entry per triangle corner");
   std::vector<double> own;
-  const PointSpacing spacing =
-      detail::measurePointSpacing(mesh, nullptr, after != nullptr ? &own : nullptr);
+  const PointSpacing spacing = detail::measurePointSpacing(
+      mesh, nullptr, after != nullptr ? &own : nullptr, threads);
   result.spacing = spacing.global_median;
-  const std::vector<std::uint8_t> flags = classifyTriangles(mesh, spacing, options);
+  const std::vector<std::uint8_t> flags =
+      classifyTriangles(mesh, spacing, options, threads);
 
   std::vector<bool> removed;
   result.kept_to_stay_manifold =
@@ -344,7 +388,7 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
       changed[mesh.triangles[e]] = true;
   }
   if (result.triangles_removed > 0)
-    compactTriangles(mesh, removed);
+    compactTriangles(mesh, removed, threads);
   std::vector<bool>().swap(removed);
 
   std::vector<bool> has_triangle;

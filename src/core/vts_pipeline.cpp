@@ -105,9 +105,10 @@ Status finishPipeline(const VtsOptions& options, VtsResult& result)
     const bool post_checked =
         (options.reconstruction.trim || options.reconstruction.fill) &&
         options.reconstruction.check_output;
+    const unsigned threads = options.threads > 0 ? options.threads : allCores();
     std::string why;
-    if (!halfedgesConsistent(mesh, &why) ||
-        (!post_checked && !allTrianglesCcw(mesh, &why))) {
+    if (!halfedgesConsistent(mesh, &why, threads) ||
+        (!post_checked && !allTrianglesCcw(mesh, &why, threads))) {
       result.mesh = TriangleMesh{};
       return Status::error(StatusCode::INTERNAL_ERROR, "output check failed: " + why);
     }
@@ -117,6 +118,7 @@ Status finishPipeline(const VtsOptions& options, VtsResult& result)
   if (options.reconstruction.trim || options.reconstruction.fill) {
     ReconstructionOptions post = options.reconstruction;
     post.check_output = post.check_output && options.check_output;
+    post.threads = options.threads;
     if (Status s = reconstructSurface(mesh, post, result.reconstruction); !s.ok()) {
       result.mesh = TriangleMesh{};
       return s;

@@ -1,6 +1,7 @@
 // Region growing in strips: the triangle arrays are identical for every thread count
-// (the strips, not the threads, fix the output), every strip width gives the same
-// triangulation, and each run is a valid Delaunay triangulation of the hull.
+// (the strips, not the threads, fix the output; with the trim and fill too), every
+// strip width gives the same triangulation, and each run is a valid Delaunay
+// triangulation of the hull.
 #include "support/generators.h"
 
 #include <pcl_vts/core/mesh_checks.h>
@@ -10,6 +11,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <random>
+#include <string>
+#include <utility>
 
 namespace pcl_vts {
 namespace {
@@ -64,6 +69,106 @@ TEST(GridTriangulator, LargeInputIsIdenticalForEveryThreadCount)
     EXPECT_EQ(many.mesh.z, one.mesh.z);
     EXPECT_EQ(many.source_index, one.source_index);
     EXPECT_EQ(many.input_to_vertex, one.input_to_vertex);
+  }
+}
+
+/// A jittered lattice side x side with round holes (radius 3 to 9, filled, and 15,
+/// left open) and a square notch cut from one corner (outward triangles across it).
+std::vector<double> holesAndNotch(std::size_t side)
+{
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  const auto s = static_cast<double>(side);
+  std::vector<double> xyz;
+  for (std::size_t j = 0; j < side; ++j)
+    for (std::size_t i = 0; i < side; ++i) {
+      const auto x = static_cast<double>(i), y = static_cast<double>(j);
+      if (x > 0.7 * s && y > 0.7 * s)
+        continue; // the notch
+      const double cx = std::fmod(x, 60.0) - 30.0, cy = std::fmod(y, 60.0) - 30.0;
+      const double r =
+          std::fmod(std::floor(x / 60.0) + 2.0 * std::floor(y / 60.0), 5.0) == 4.0
+              ? 15.0
+              : 3.0 + 1.5 * std::fmod(std::floor(x / 60.0) + std::floor(y / 60.0), 5.0);
+      if (cx * cx + cy * cy < r * r)
+        continue; // a hole
+      const double px = x + jitter(rng), py = y + jitter(rng);
+      xyz.insert(xyz.end(), {px, py, 5.0 * std::sin(0.05 * px) * std::cos(0.07 * py)});
+    }
+  return xyz;
+}
+
+TEST(GridTriangulator, DefaultPipelineWithTrimAndFillIsIdenticalForEveryThreadCount)
+{
+  // pcd_to_mesh's pipeline: the trim and the fill run on VtsOptions::threads too
+  // (spacing, classification, compaction, checks); 3e5 points give every loop
+  // several ranges.
+  const std::vector<double> xyz = holesAndNotch(560);
+  auto run = [&](unsigned threads) {
+    VtsOptions options;
+    options.threads = threads;
+    options.reconstruction = ReconstructionOptions{}; // trim and fill, checked
+    VtsResult result;
+    const Status status = runVtsPipeline(xyz.data(), xyz.size() / 3, options, result);
+    EXPECT_TRUE(status.ok()) << status.toString();
+    return result;
+  };
+  const VtsResult one = run(1);
+  const ReconstructionDiagnostics& post = one.reconstruction;
+  EXPECT_GT(post.trim.triangles_removed, 1000u);
+  EXPECT_GT(post.fill.holes_filled, 20u);
+  EXPECT_GT(post.fill.holes_left_open, 0u);
+  EXPECT_GT(post.fill.points_inserted, 1000u);
+  std::string why;
+  EXPECT_TRUE(isValidSurfaceMesh(one.mesh, &why)) << why;
+  for (const unsigned threads : {2u, 3u, 8u, 0u}) {
+    SCOPED_TRACE(threads);
+    const VtsResult many = run(threads);
+    EXPECT_EQ(many.mesh.triangles, one.mesh.triangles);
+    EXPECT_EQ(many.mesh.halfedges, one.mesh.halfedges);
+    EXPECT_EQ(many.mesh.xy, one.mesh.xy);
+    EXPECT_EQ(many.mesh.z, one.mesh.z);
+    EXPECT_EQ(many.source_index, one.source_index);
+    EXPECT_EQ(many.reconstruction.fill.inserted, post.fill.inserted);
+    EXPECT_EQ(many.reconstruction.trim.triangles_removed, post.trim.triangles_removed);
+    EXPECT_EQ(many.reconstruction.trim.kept_to_stay_manifold,
+              post.trim.kept_to_stay_manifold);
+    EXPECT_EQ(many.reconstruction.trim.vertices_lost, post.trim.vertices_lost);
+    EXPECT_EQ(many.reconstruction.trim.spacing, post.trim.spacing);
+    EXPECT_EQ(many.reconstruction.fill.holes_filled, post.fill.holes_filled);
+  }
+}
+
+TEST(GridTriangulator, ChecksOnThreadsGiveTheSameVerdictAndMessage)
+{
+  VtsResult result;
+  const std::vector<double> xyz =
+      test::generatePoints(test::Distribution::JITTERED_GRID, 200000, 3);
+  ASSERT_TRUE(runVtsPipeline(xyz.data(), xyz.size() / 3, VtsOptions{}, result).ok());
+  for (const unsigned threads : {1u, 3u, 8u})
+    EXPECT_TRUE(isValidSurfaceMesh(result.mesh, nullptr, threads));
+  // Two flipped triangles far apart: every thread count names the first one.
+  TriangleMesh flipped = result.mesh;
+  for (const std::size_t t : {flipped.triangleCount() - 5, flipped.triangleCount() / 3})
+    std::swap(flipped.triangles[3 * t + 1], flipped.triangles[3 * t + 2]);
+  flipped.rebuildHalfedges();
+  // Twins broken at two places, far apart.
+  TriangleMesh twins = result.mesh;
+  for (const std::size_t e : {twins.halfedges.size() - 7, twins.halfedges.size() / 4})
+    twins.halfedges[e] = INVALID_ID - 1;
+  std::string ccw1, valid1, twins1;
+  EXPECT_FALSE(allTrianglesCcw(flipped, &ccw1, 1));
+  EXPECT_FALSE(isValidSurfaceMesh(flipped, &valid1, 1));
+  EXPECT_FALSE(halfedgesConsistent(twins, &twins1, 1));
+  for (const unsigned threads : {2u, 3u, 8u}) {
+    SCOPED_TRACE(threads);
+    std::string ccw, valid, twin;
+    EXPECT_FALSE(allTrianglesCcw(flipped, &ccw, threads));
+    EXPECT_EQ(ccw, ccw1);
+    EXPECT_FALSE(isValidSurfaceMesh(flipped, &valid, threads));
+    EXPECT_EQ(valid, valid1);
+    EXPECT_FALSE(halfedgesConsistent(twins, &twin, threads));
+    EXPECT_EQ(twin, twins1);
   }
 }
 

@@ -70,7 +70,9 @@ bool runOnce(const std::vector<double>& xyz, unsigned threads, bool post, Run& r
   Status status = runVtsPipeline(xyz.data(), xyz.size() / 3, options, result);
   if (status.ok() && post) {
     ReconstructionDiagnostics diagnostics;
-    status = reconstructSurface(result.mesh, ReconstructionOptions{}, diagnostics);
+    ReconstructionOptions passes; // pcd_to_mesh's defaults, on the pipeline's threads
+    passes.threads = threads;
+    status = reconstructSurface(result.mesh, passes, diagnostics);
   }
   run.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -13,14 +13,18 @@
 namespace pcl_vts {
 
 /// Every triangle has positive exact orientation (CCW seen from +z).
-/// On failure, *why names the first bad triangle.
+/// On failure, *why names the first bad triangle. `threads` (0 = all hardware
+/// threads) split the scan; the verdict and the message are the same for any value
+/// (here and in halfedgesConsistent and isValidSurfaceMesh).
 PCL_VTS_CORE_EXPORT bool allTrianglesCcw(const TriangleMesh& mesh,
-                                         std::string* why = nullptr);
+                                         std::string* why = nullptr,
+                                         unsigned threads = 1);
 
 /// halfedges is twin-symmetric: h[h[e]] == e, twins join the same two vertices in
 /// opposite directions, ids are in range.
 PCL_VTS_CORE_EXPORT bool halfedgesConsistent(const TriangleMesh& mesh,
-                                             std::string* why = nullptr);
+                                             std::string* why = nullptr,
+                                             unsigned threads = 1);
 
 /// No undirected edge is used by more than two triangles, and no directed edge twice.
 PCL_VTS_CORE_EXPORT bool isEdgeManifold(const TriangleMesh& mesh,
@@ -30,7 +34,8 @@ PCL_VTS_CORE_EXPORT bool isEdgeManifold(const TriangleMesh& mesh,
 /// failure's message), in fewer passes: once the twins are known consistent, an
 /// interior edge is counted once for both its directions.
 PCL_VTS_CORE_EXPORT bool isValidSurfaceMesh(const TriangleMesh& mesh,
-                                            std::string* why = nullptr);
+                                            std::string* why = nullptr,
+                                            unsigned threads = 1);
 
 /// Every interior edge is locally Delaunay: the vertex opposite across the edge is
 /// not strictly inside the circumcircle (exact incircle). Together with a valid

@@ -50,18 +50,28 @@ void parallelChunks(unsigned threads, std::size_t n, const Chunk& chunk)
   });
 }
 
-/// body(k) for every k in [0, n), each index by exactly one thread; ranges too small
-/// to pay for threads (under 65536 indices a thread) stay on the calling thread.
-template <typename Body>
-void parallelFor(unsigned threads, std::size_t n, const Body& body)
+/// chunk(begin, end) over contiguous ranges covering [0, n), each by one thread;
+/// ranges too small to pay for threads (under 65536 indices a thread) stay on the
+/// calling thread. For loops that reuse a buffer across a range's indices.
+template <typename Chunk>
+void parallelRanges(unsigned threads, std::size_t n, const Chunk& chunk)
 {
   constexpr std::size_t MIN_PER_THREAD = 1u << 16; // below this, threads cost more
   const std::size_t useful = std::max<std::size_t>(1, n / MIN_PER_THREAD);
-  parallelChunks(static_cast<unsigned>(std::min<std::size_t>(threads, useful)), n,
-                 [&](std::size_t begin, std::size_t end, unsigned) {
-                   for (std::size_t k = begin; k < end; ++k)
-                     body(k);
-                 });
+  parallelChunks(
+      static_cast<unsigned>(std::min<std::size_t>(threads, useful)), n,
+      [&](std::size_t begin, std::size_t end, unsigned) { chunk(begin, end); });
+}
+
+/// body(k) for every k in [0, n), each index by exactly one thread, split as
+/// parallelRanges splits.
+template <typename Body>
+void parallelFor(unsigned threads, std::size_t n, const Body& body)
+{
+  parallelRanges(threads, n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+      body(k);
+  });
 }
 
 } // namespace pcl_vts

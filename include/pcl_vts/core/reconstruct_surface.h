@@ -23,6 +23,10 @@ struct ReconstructionOptions {
   /// Verify the output (edge-manifold, twins, CCW) before returning; a failure is
   /// INTERNAL_ERROR. Linear.
   bool check_output = true;
+  /// Threads for the spacing, the triangle classification, the hole patches and the
+  /// checks; 0 = all hardware threads. The output is identical for every value.
+  /// runVtsPipeline sets it to VtsOptions::threads.
+  unsigned threads = 1;
 };
 
 /// Checks the options of the enabled passes.

@@ -29,8 +29,9 @@ struct VtsOptions {
   /// (docs/decisions.md). Must be finite and >= 0.
   double cell_size = 0.0;
   DuplicateRule duplicate_rule = DuplicateRule::LOWEST_Z;
-  /// Threads for the triangulation; 0 = all hardware threads. The output is
-  /// identical for every value.
+  /// Threads for the grid, the triangulation and the post-passes (it replaces
+  /// reconstruction.threads); 0 = all hardware threads. The output is identical for
+  /// every value.
   unsigned threads = 1;
   /// Width of the strips of grid columns grown independently (docs/algorithm.md,
   /// section 4); 0 = automatic (about 32 strips, at least 32 columns wide), else a
