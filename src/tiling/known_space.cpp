@@ -124,6 +124,32 @@ void KnownSpace::unknownInDisk(const CircumdiskBound& disk, const LoadedBlocks& 
       return true;
     return distanceToPolygon(clipped->second.polygon, disk.center) <= disk.radius;
   };
+  if (!disk.unbounded) {
+    // A small disk: its blocks directly, not by a descent from the root (most disks
+    // of a tile's triangles lie inside one block or four). column() is monotone and
+    // the slack exceeds the rounding of `meets`, so every block whose box the disk
+    // meets is among these; the same blocks as the descent, in its (Morton) order.
+    const double slack = 1e-9 * (frame_.side + std::fabs(frame_.min_x) +
+                                 std::fabs(frame_.min_y) + disk.radius);
+    const double reach = disk.radius + slack;
+    const int shift = TileFrame::CODE_LEVEL - level_;
+    const std::uint32_t x0 = frame_.column(disk.center.x - reach) >> shift,
+                        x1 = frame_.column(disk.center.x + reach) >> shift,
+                        y0 = frame_.row(disk.center.y - reach) >> shift,
+                        y1 = frame_.row(disk.center.y + reach) >> shift;
+    if ((x1 - x0 + 1) * (y1 - y0 + 1) <= 16) {
+      const std::size_t before = hits.size();
+      const std::vector<std::uint32_t>& blocks = counts_[level_];
+      for (std::uint32_t y = y0; y <= y1; ++y)
+        for (std::uint32_t x = x0; x <= x1; ++x) {
+          const std::uint32_t b = spreadBits(x) | (spreadBits(y) << 1);
+          if (blocks[b] != 0 && !loaded[b] && meets_block(b))
+            hits.push_back(b);
+        }
+      std::sort(hits.begin() + static_cast<std::ptrdiff_t>(before), hits.end());
+      return;
+    }
+  }
   collect(0, 0, meets, meets_block, loaded, hits);
 }
 

@@ -197,15 +197,17 @@ void keepFirstReachedFrom(const KnownSpace& space, const Point2* corners,
   keepFirstReached(space, corners[k], corners[(k + 1) % 3], cap, first, hits);
 }
 
-/// Unknown blocks that the stars of the tile's vertices (and their hull edges) meet.
-void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in_tile,
+/// Unknown blocks that the stars of the vertices to check (and their hull edges)
+/// meet. A vertex to check whose star meets one is marked in `failed`.
+void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& check,
                    const KnownSpace& space, const LoadedBlocks& flags,
-                   double block_side, std::size_t cap, std::vector<std::uint32_t>& hits)
+                   double block_side, std::size_t cap, std::vector<std::uint32_t>& hits,
+                   std::vector<std::uint8_t>& failed)
 {
   const std::size_t nt = mesh.triangleCount();
   for (std::size_t t = 0; t < nt; ++t) {
     const VertexId* v = &mesh.triangles[3 * t];
-    if (!in_tile[v[0]] && !in_tile[v[1]] && !in_tile[v[2]])
+    if (!check[v[0]] && !check[v[1]] && !check[v[2]])
       continue;
     CircumdiskBound disk = boundCircumdisk(mesh.xy[v[0]], mesh.xy[v[1]], mesh.xy[v[2]]);
     const std::size_t before = hits.size();
@@ -228,13 +230,69 @@ void unprovenStars(const TriangleMesh& mesh, const std::vector<std::uint8_t>& in
       disk.radius += std::min(disk.radius, 3 * block_side);
       space.unknownInDisk(disk, flags, hits);
     }
+    if (hits.size() != before)
+      for (int k = 0; k < 3; ++k)
+        failed[v[k]] = 1;
     for (int k = 0; k < 3; ++k) {
       const std::size_t e = 3 * t + static_cast<std::size_t>(k);
       const VertexId a = mesh.triangles[e],
                      b = mesh.triangles[nextHalfedge(static_cast<HalfedgeId>(e))];
-      if (mesh.halfedges[e] == INVALID_ID && (in_tile[a] || in_tile[b]))
+      if (mesh.halfedges[e] == INVALID_ID && (check[a] || check[b])) {
+        const std::size_t at = hits.size();
         nearestRightOf(space, mesh.xy[a], mesh.xy[b], flags, block_side, cap, hits);
+        if (hits.size() != at)
+          failed[a] = failed[b] = 1;
+      }
     }
+  }
+}
+
+/// Occupied blocks whose code cells may meet the rectangle [x0, x1] x [y0, y1]
+/// widened by `margin` blocks, appended to `out` (column() is monotone, so every
+/// point inside the rectangle lies in one of them).
+void blocksInRect(const TileFrame& frame, const KnownSpace& space, double x0, double y0,
+                  double x1, double y1, std::uint32_t margin,
+                  std::vector<std::uint32_t>& out)
+{
+  const int shift = TileFrame::CODE_LEVEL - space.level();
+  const std::uint32_t last = (1u << space.level()) - 1;
+  const std::uint32_t bx0 = frame.column(x0) >> shift, bx1 = frame.column(x1) >> shift;
+  const std::uint32_t by0 = frame.row(y0) >> shift, by1 = frame.row(y1) >> shift;
+  const std::uint32_t cx0 = bx0 > margin ? bx0 - margin : 0,
+                      cy0 = by0 > margin ? by0 - margin : 0;
+  const std::uint32_t cx1 = std::min(bx1 + margin, last),
+                      cy1 = std::min(by1 + margin, last);
+  for (std::uint32_t y = cy0; y <= cy1; ++y)
+    for (std::uint32_t x = cx0; x <= cx1; ++x) {
+      const std::uint32_t b = spreadBits(x) | (spreadBits(y) << 1);
+      if (space.occupied(b))
+        out.push_back(b);
+    }
+}
+
+/// The blocks the next round triangulates around the vertices still unproven: those
+/// under the circumdisks of their triangles (or the triangles themselves, for a disk
+/// too large or unbounded; their hull edges are edges of those), one block wider.
+/// Where the points that will settle them are beyond, the unknown blocks that the
+/// checks met bring them.
+void windowsAround(const TriangleMesh& mesh, const std::vector<std::uint8_t>& unproven,
+                   const TileFrame& frame, const KnownSpace& space, double block_side,
+                   std::vector<std::uint32_t>& out)
+{
+  const std::size_t nt = mesh.triangleCount();
+  for (std::size_t t = 0; t < nt; ++t) {
+    const VertexId* v = &mesh.triangles[3 * t];
+    if (!unproven[v[0]] && !unproven[v[1]] && !unproven[v[2]])
+      continue;
+    const Point2 &a = mesh.xy[v[0]], &b = mesh.xy[v[1]], &c = mesh.xy[v[2]];
+    const CircumdiskBound disk = boundCircumdisk(a, b, c);
+    if (!disk.unbounded && disk.radius <= ENLARGED_RADIUS_BLOCKS * block_side)
+      blocksInRect(frame, space, disk.center.x - disk.radius,
+                   disk.center.y - disk.radius, disk.center.x + disk.radius,
+                   disk.center.y + disk.radius, 1, out);
+    else
+      blocksInRect(frame, space, std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}),
+                   std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), 1, out);
   }
 }
 
@@ -248,27 +306,50 @@ Status triangulateTile(const TileContext& context, std::uint32_t tile,
   const KnownSpace& space = *context.space;
   const int tile_level = store.tileLevel(), block_level = store.blockLevel();
   const int shift = 2 * (block_level - tile_level);
+  const double block_side = frame.side / (1u << block_level);
   result = TileResult{};
 
+  // The tile's vertices have the global ids [tile_first, tile_first + tile_vertices).
+  const std::vector<std::uint64_t>& first = *context.block_first_vertex;
+  const std::uint32_t first_block = tile << shift, end_block = (tile + 1) << shift;
+  const std::uint64_t tile_first = first[first_block];
+  std::uint64_t tile_vertices = 0;
   std::vector<std::uint32_t> loaded, more;
-  for (std::uint32_t b = tile << shift; b < ((tile + 1) << shift); ++b)
-    if (space.occupied(b))
+  for (std::uint32_t b = first_block; b < end_block; ++b)
+    if (space.occupied(b)) {
       more.push_back(b);
+      tile_vertices += store.blockDistinct()[b];
+    }
+  const std::size_t cap = std::max(MIN_BLOCKS_PER_ROUND, more.size());
   const std::vector<std::uint32_t> own = more;
   ringAround(own, block_level, space, flags, more);
   load(more, loaded, flags);
 
+  // Each round triangulates the loaded blocks and proves the stars of the tile's
+  // vertices not proven yet; a proven vertex gives its owned triangles (those whose
+  // smallest vertex it is) at once. The first round loads the tile and a ring; the
+  // next ones only the blocks around the vertices left and the unknown blocks their
+  // stars met, so a few triangles across a void do not re-mesh the whole tile.
+  std::vector<std::uint8_t> proven(tile_vertices, 0);
+  std::uint64_t proven_count = 0;
   std::vector<double> xyz;
   VtsResult mesh;
-  std::vector<std::uint32_t> code;
-  std::vector<std::uint8_t> in_tile;
+  std::vector<std::uint32_t> code, global, window;
+  std::vector<std::uint8_t> check, failed;
+  std::vector<VertexId> order;
+  std::vector<std::size_t> block_start;
+  std::vector<std::array<std::uint32_t, 3>> owned;
   Status status;
   for (;;) {
     ++result.rounds;
     xyz.clear();
-    for (std::uint32_t b : loaded)
+    block_start.clear();
+    for (std::uint32_t b : loaded) {
+      block_start.push_back(xyz.size() / 3);
       if (!(status = store.readBlock(b, xyz)).ok())
         break;
+    }
+    block_start.push_back(xyz.size() / 3);
     if (status.ok())
       status = runVtsPipeline(xyz.data(), xyz.size() / 3, context.options, mesh);
     if (!status.ok()) {
@@ -286,69 +367,135 @@ Status triangulateTile(const TileContext& context, std::uint32_t tile,
       load(more, loaded, flags);
       continue;
     }
+    result.points_loaded =
+        std::max<std::uint64_t>(result.points_loaded, xyz.size() / 3);
     const TriangleMesh& m = mesh.mesh;
     const std::size_t nv = m.vertexCount();
+
+    // Global ids: canonical rank inside each loaded (hence complete) block. The
+    // blocks were read in Morton order, so sorting each block's vertices gives the
+    // canonical order of all.
     code.resize(nv);
-    in_tile.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v) {
-      code[v] = frame.code(m.xy[v]);
-      in_tile[v] = TileFrame::nodeOf(code[v], tile_level) == tile;
+    global.resize(nv);
+    order.clear();
+    for (std::size_t j = 0; j < loaded.size() && status.ok(); ++j) {
+      const std::size_t group = order.size();
+      for (std::size_t i = block_start[j]; i < block_start[j + 1]; ++i)
+        if (mesh.input_to_vertex[i] != INVALID_ID) // the store holds finite points
+          order.push_back(mesh.input_to_vertex[i]);
+      const auto begin = order.begin() + static_cast<std::ptrdiff_t>(group);
+      std::sort(begin, order.end());
+      order.erase(std::unique(begin, order.end()), order.end());
+      for (auto v = begin; v != order.end(); ++v)
+        code[*v] = frame.code(m.xy[*v]);
+      std::sort(begin, order.end(), [&](VertexId a, VertexId b) {
+        return canonicalLess(code[a], m.xy[a], code[b], m.xy[b]);
+      });
+      const std::uint32_t block = loaded[j];
+      const std::size_t distinct = order.size() - group;
+      if (distinct == 0 || distinct != store.blockDistinct()[block] ||
+          TileFrame::nodeOf(code[*begin], block_level) != block ||
+          TileFrame::nodeOf(code[order.back()], block_level) != block) {
+        status = Status::error(
+            StatusCode::INTERNAL_ERROR,
+            "tile " + std::to_string(tile) + ": block " + std::to_string(block) +
+                " has " + std::to_string(distinct) + " vertices, its index says " +
+                std::to_string(store.blockDistinct()[block]));
+        break;
+      }
+      for (std::size_t k = group; k < order.size(); ++k)
+        global[order[k]] = static_cast<std::uint32_t>(first[block] + (k - group));
     }
-    unprovenStars(m, in_tile, space, flags, frame.side / (1u << block_level),
-                  std::max(MIN_BLOCKS_PER_ROUND, own.size()), more);
-    if (more.empty())
+    if (status.ok() && order.size() != nv)
+      status = Status::error(StatusCode::INTERNAL_ERROR,
+                             "tile " + std::to_string(tile) + ": " +
+                                 std::to_string(nv) + " vertices, " +
+                                 std::to_string(order.size()) + " in its blocks");
+    if (!status.ok())
       break;
-    load(more, loaded, flags);
+    if (result.xyz.empty()) // the first round holds every block of the tile
+      for (VertexId v : order)
+        if (global[v] - tile_first < tile_vertices)
+          result.xyz.insert(result.xyz.end(), {m.xy[v].x, m.xy[v].y, m.z[v]});
+
+    // The tile's vertices not proven yet are checked.
+    check.assign(nv, 0);
+    failed.assign(nv, 0);
+    for (std::size_t v = 0; v < nv; ++v) {
+      const std::uint64_t id = global[v] - tile_first;
+      check[v] = id < tile_vertices && !proven[id];
+    }
+    unprovenStars(m, check, space, flags, block_side, cap, more, failed);
+
+    // Proven: a checked vertex whose star met nothing unknown. Its owned triangles
+    // are global ones.
+    std::uint64_t newly = 0;
+    for (std::size_t v = 0; v < nv; ++v)
+      if (check[v] && !failed[v]) {
+        proven[global[v] - tile_first] = 1;
+        ++newly;
+      }
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+      const VertexId* tv = &m.triangles[3 * t];
+      std::array<std::uint32_t, 3> g = {global[tv[0]], global[tv[1]], global[tv[2]]};
+      const int k = g[0] < g[1] ? (g[0] < g[2] ? 0 : 2) : (g[1] < g[2] ? 1 : 2);
+      const VertexId smallest = tv[k];
+      if (!check[smallest] || failed[smallest])
+        continue;
+      std::rotate(g.begin(), g.begin() + k, g.end());
+      owned.push_back(g);
+    }
+    proven_count += newly;
+    if (proven_count == tile_vertices)
+      break;
+    if (more.empty()) {
+      status = Status::error(StatusCode::INTERNAL_ERROR,
+                             "tile " + std::to_string(tile) +
+                                 ": a vertex is unproven with nothing to load");
+      break;
+    }
+
+    // The next round: the blocks around the vertices left, and the unknown blocks
+    // their stars met. While a round proves nothing the loaded blocks only grow, so
+    // the rounds end (at worst with every block loaded).
+    for (std::size_t v = 0; v < nv; ++v)
+      failed[v] = check[v] && failed[v];
+    window.clear();
+    windowsAround(m, failed, frame, space, block_side, window);
+    if (newly == 0)
+      window.insert(window.end(), loaded.begin(), loaded.end());
+    window.insert(window.end(), more.begin(), more.end());
+    more.clear();
+    for (std::uint32_t b : loaded)
+      flags[b] = 0;
+    loaded.clear();
+    load(window, loaded, flags);
   }
-  result.points_loaded = xyz.size() / 3;
   for (std::uint32_t b : loaded)
     flags[b] = 0;
   if (!status.ok())
     return status;
 
-  // Global ids: canonical rank inside each loaded (hence complete) block.
-  const TriangleMesh& m = mesh.mesh;
-  const std::size_t nv = m.vertexCount();
-  std::vector<VertexId> order(nv);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](VertexId a, VertexId b) {
-    return canonicalLess(code[a], m.xy[a], code[b], m.xy[b]);
-  });
-  std::vector<std::uint32_t> global(nv);
-  const std::vector<std::uint64_t>& first = *context.block_first_vertex;
-  for (std::size_t k = 0; k < nv;) {
-    const std::uint32_t block = TileFrame::nodeOf(code[order[k]], block_level);
-    std::size_t end = k;
-    while (end < nv && TileFrame::nodeOf(code[order[end]], block_level) == block) {
-      global[order[end]] = static_cast<std::uint32_t>(first[block] + (end - k));
-      ++end;
-    }
-    if (end - k != store.blockDistinct()[block])
-      return Status::error(StatusCode::INTERNAL_ERROR,
-                           "tile " + std::to_string(tile) + ": block " +
-                               std::to_string(block) + " has " +
-                               std::to_string(end - k) + " vertices, its index says " +
-                               std::to_string(store.blockDistinct()[block]));
-    k = end;
-  }
-  for (VertexId v : order)
-    if (in_tile[v])
-      result.xyz.insert(result.xyz.end(), {m.xy[v].x, m.xy[v].y, m.z[v]});
-  std::vector<std::array<std::uint32_t, 3>> owned;
-  for (std::size_t t = 0; t < m.triangleCount(); ++t) {
-    std::array<std::uint32_t, 3> g = {global[m.triangles[3 * t]],
-                                      global[m.triangles[3 * t + 1]],
-                                      global[m.triangles[3 * t + 2]]};
-    const int k = g[0] < g[1] ? (g[0] < g[2] ? 0 : 2) : (g[1] < g[2] ? 1 : 2);
-    if (!in_tile[m.triangles[3 * t + static_cast<std::size_t>(k)]])
-      continue;
-    std::rotate(g.begin(), g.begin() + k, g.end());
-    owned.push_back(g);
-  }
-  std::sort(owned.begin(), owned.end());
-  result.triangles.reserve(3 * owned.size());
+  // Sorted by smallest vertex (a tile's vertex: counted into rows), then by the
+  // second (a directed edge is in one triangle only, so that decides).
+  std::vector<std::size_t> row(tile_vertices + 1, 0);
   for (const auto& g : owned)
-    result.triangles.insert(result.triangles.end(), g.begin(), g.end());
+    ++row[g[0] - tile_first + 1];
+  for (std::size_t v = 0; v < tile_vertices; ++v)
+    row[v + 1] += row[v];
+  std::vector<std::size_t> next(row.begin(), row.end() - 1);
+  result.triangles.resize(3 * owned.size());
+  for (const auto& g : owned) {
+    const std::size_t v = g[0] - tile_first;
+    // Insertion by the second vertex among the few triangles of its row so far.
+    std::uint32_t* const row_begin = &result.triangles[3 * row[v]];
+    std::uint32_t* out = &result.triangles[3 * next[v]++];
+    while (out != row_begin && out[-2] > g[1]) {
+      std::copy(out - 3, out, out);
+      out -= 3;
+    }
+    std::copy(g.begin(), g.end(), out);
+  }
   return Status::success();
 }
 

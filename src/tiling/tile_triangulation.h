@@ -31,7 +31,7 @@ struct TileContext {
 struct TileResult {
   std::vector<double> xyz;              ///< the tile's vertices, canonical order
   std::vector<std::uint32_t> triangles; ///< owned, global ids, smallest first, sorted
-  std::uint64_t points_loaded = 0;      ///< in the last round
+  std::uint64_t points_loaded = 0;      ///< the most in one round
   unsigned rounds = 0; ///< triangulations run (1 = the first halo sufficed)
 };
 
