@@ -313,6 +313,11 @@ pcl_vts::tools::CommandLine describeOptions(CliOptions& opt)
             "path for points on a rectilinear lattice; the same mesh, "
             "docs/algorithm.md section 7)",
             [&opt] { opt.vts.lattice = false; })
+      .flag("no-cache-blocks",
+            "grow the whole triangulation by the mediatrix search (default: cache "
+            "blocks of 32 x 32 cells triangulated locally first, the proven "
+            "triangles kept; the same mesh, docs/scaling.md)",
+            [&opt] { opt.vts.cache_blocks = false; })
       .value("max-hole-area", "A",
              "fill only holes up to this XY area, A >= 0; 0 = automatic (500 x "
              "spacing^2) (default: 0)",

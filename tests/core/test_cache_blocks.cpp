@@ -65,6 +65,7 @@ TEST(CacheBlocksWork, FewSearchesAreLeft)
       test::generatePoints(Distribution::JITTERED_GRID, 20000, 3);
   VtsOptions options;
   options.lattice = false;
+  options.cache_blocks = false;
   const PipelineRun plain = runPipeline(xyz, options);
   options.cache_blocks = true;
   const PipelineRun blocks = runPipeline(xyz, options);

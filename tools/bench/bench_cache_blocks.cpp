@@ -18,7 +18,7 @@
 // distinct point, the share of the Delaunay triangles proven. --check compares every
 // kept triangle with the core's triangulation (must be one of its triangles, kept once)
 // and exits 3 on a mismatch. The integrated version is VtsOptions::cache_blocks
-// (src/core/local_delaunay.cpp; bench_triangulation vts-blocks).
+// (src/core/local_delaunay.cpp; bench_triangulation vts against vts-search).
 #include "bench_inputs.h"
 
 #include <pcl_vts/core/cell_grid.h>

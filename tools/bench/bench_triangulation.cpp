@@ -1,15 +1,17 @@
 // One measurement per process, so that peak RSS belongs to one method and one input:
 //   bench_triangulation METHOD DIST N [SEED [THREADS]]
 //   bench_triangulation METHOD file PATH [--classes LIST] [--name NAME] [THREADS]
-//   METHOD: vts | vts-grid | vts-blocks | cgal
+//   METHOD: vts | vts-grid | vts-search | cgal
 //   DIST: jittered | uniform | clustered | grid | raster
-//   vts-blocks is vts with VtsOptions::cache_blocks on (docs/scaling.md).
-//   vts-grid is vts with the lattice fast path off (VtsOptions::lattice), the grid
-//   path on every input; raster is a square DEM-like lattice (N cells, spacing 1,
-//   rows from the top) with NODATA ellipses (one per 20000 cells, radii 0.5 to 12.5
-//   cells) and 0.1 % single-cell dropouts.
-//   bench_triangulation write-pcd DIST N FILE [SEED]: the same input as a binary PCD
-//   with float64 x y z, shifted to UTM-like coordinates (+5e5 east, +5e6 north).
+//   vts runs the core's defaults, as pcd_to_mesh does; vts-search is vts with the
+//   cache blocks off (VtsOptions::cache_blocks, docs/scaling.md: the mediatrix search
+//   alone, as --no-cache-blocks); vts-grid is vts with the lattice fast path off
+//   (VtsOptions::lattice), the grid path on every input, as --no-lattice; raster is a
+//   square DEM-like lattice (N cells, spacing 1, rows from the top) with NODATA
+//   ellipses (one per 20000 cells, radii 0.5 to 12.5 cells) and 0.1 % single-cell
+//   dropouts. bench_triangulation write-pcd DIST N FILE [SEED]: the same input as a
+//   binary PCD with float64 x y z, shifted to UTM-like coordinates (+5e5 east, +5e6
+//   north).
 // Prints one JSON line ("seconds": wall clock; "cpu_s": the process's user + system
 // CPU time over the same span). The input is generated or read
 // (pcl_vts::loadPointCloud, any file pcd_to_mesh reads) before the clock starts.
@@ -139,9 +141,9 @@ int usage(const char* self)
 {
   std::fprintf(
       stderr,
-      "usage: %s vts|vts-grid|vts-blocks|cgal jittered|uniform|clustered|grid|raster N "
+      "usage: %s vts|vts-grid|vts-search|cgal jittered|uniform|clustered|grid|raster N "
       "[SEED [THREADS]]\n"
-      "       %s vts|vts-grid|vts-blocks|cgal file PATH [--classes LIST] [--name NAME] "
+      "       %s vts|vts-grid|vts-search|cgal file PATH [--classes LIST] [--name NAME] "
       "[THREADS]\n"
       "       %s write-pcd jittered|uniform|clustered|grid N FILE [SEED]\n",
       self, self, self);
@@ -202,7 +204,7 @@ int main(int argc, char** argv)
   Measure m;
   m.method = argv[1];
   m.dist = argv[2];
-  if (m.method != "vts" && m.method != "vts-grid" && m.method != "vts-blocks" &&
+  if (m.method != "vts" && m.method != "vts-grid" && m.method != "vts-search" &&
       m.method != "cgal") {
     std::fprintf(stderr, "unknown method '%s'\n", m.method.c_str());
     return usage(argv[0]);
@@ -240,8 +242,8 @@ int main(int argc, char** argv)
   pcl_vts::VtsResult result;
   if (m.method != "cgal") {
     pcl_vts::VtsOptions options;
-    options.lattice = m.method == "vts";
-    options.cache_blocks = m.method == "vts-blocks";
+    options.lattice = m.method != "vts-grid";
+    options.cache_blocks = m.method != "vts-search";
     options.check_output = false;
     options.threads = m.threads;
     const pcl_vts::Status status =

@@ -40,8 +40,9 @@ struct VtsOptions {
   std::uint32_t strip_columns = 0;
   /// Cache blocks (docs/scaling.md): each block of 32 x 32 cells is triangulated with
   /// a ring of cells by Bowyer-Watson, the triangles proven final are kept and the
-  /// search only grows the rest. The same triangulation, another triangle order.
-  bool cache_blocks = false;
+  /// search only grows the rest. The same triangulation, another triangle order
+  /// (14-28 % faster than the search alone at 1e6 points).
+  bool cache_blocks = true;
   /// Post-passes after the triangulation (docs/reconstruction.md). Off by default
   /// here, so the core returns the exact Delaunay triangulation of the hull;
   /// pcd_to_mesh turns both on unless --no-trim / --no-fill.
