@@ -1,3 +1,4 @@
+#include "release_memory.h"
 #include "strip_growth.h"
 
 #include <pcl_vts/core/grid_triangulator.h>
@@ -135,8 +136,11 @@ Status mergeStrips(std::vector<StripMesh>& strips, std::size_t expected,
   triangles.reserve(3 * expected);
   halfedges.reserve(3 * expected);
   std::vector<BorderRecord> border;
-  for (StripMesh& s : strips)
+  for (StripMesh& s : strips) {
     appendStrip(s, triangles, halfedges, border);
+    // Else the strips already merged stay resident beside the output.
+    detail::releaseFreedMemory();
+  }
   std::sort(border.begin(), border.end());
   for (std::size_t k = 0; k < border.size(); k += 2) {
     if (k + 1 == border.size() || border[k].low != border[k + 1].low ||

@@ -1,4 +1,5 @@
 #include "lattice_triangulation.h"
+#include "release_memory.h"
 
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
@@ -268,10 +269,12 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   diag.seconds_grid = watch.seconds();
 
   watch.restart();
-  const std::vector<VertexId> hull_candidates = gridHullCandidates(grid);
-  if (Status s = convexHull(grid.points, result.hull, &hull_candidates); !s.ok()) {
-    result.input_to_vertex.clear();
-    return s;
+  { // the candidates released before the triangulation allocates
+    const std::vector<VertexId> hull_candidates = gridHullCandidates(grid);
+    if (Status s = convexHull(grid.points, result.hull, &hull_candidates); !s.ok()) {
+      result.input_to_vertex.clear();
+      return s;
+    }
   }
   diag.hull_vertices = result.hull.size();
   diag.seconds_hull = watch.seconds();
@@ -292,6 +295,13 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     return grown;
   }
   mesh.xy = std::move(stage.grid.points);
+  // The cells, the pyramid and the subdivision are not needed any more: released (and
+  // their pages handed back) before the heights, the last array allocated, so that
+  // they do not add to the peak.
+  stage.grid = CellGrid{};
+  stage.pyramid = CellPyramid{};
+  stage.subdivision = CellSubdivision{};
+  detail::releaseFreedMemory();
   mesh.z = vertexHeights(xyz, n, result.input_to_vertex, stage.source,
                          options.duplicate_rule);
   result.source_index = std::move(stage.source);
