@@ -172,11 +172,6 @@ struct Lattice {
   {
     return cell_rank[cell(i, j)] != INVALID_ID;
   }
-  /// First of the two triangles of a complete cell.
-  std::size_t firstTriangle(std::uint32_t i, std::uint32_t j) const
-  {
-    return 2 * (row_start[j] + cell_rank[cell(i, j)]);
-  }
   Point2 point(std::size_t p) const { return {xs[p % nx], ys[p / nx]}; }
 };
 
@@ -301,19 +296,32 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   const std::size_t nv = finite - merged;
   std::vector<std::uint32_t>& source = result.source_index;
   TriangleMesh& mesh = result.mesh;
-  // Appended (no pass zeroing them first).
+  // Grown row by row (no pass zeroing them first: a row's zeros are in cache when
+  // it is written).
   source.reserve(nv);
   mesh.xy.reserve(nv);
   mesh.z.reserve(nv);
   VertexId next = 0;
-  for (std::uint32_t& s : slot)
-    if (s != INVALID_ID) {
-      const double* p = xyz + 3 * static_cast<std::size_t>(s);
-      source.push_back(s);
-      mesh.xy.push_back({p[0], p[1]});
-      mesh.z.push_back(p[2]);
-      s = next++;
-    }
+  for (std::uint32_t j = 0; j < lat.ny; ++j) {
+    std::uint32_t* row = &slot[lat.position(0, j)];
+    std::size_t count = 0;
+    for (std::uint32_t i = 0; i < lat.nx; ++i)
+      count += row[i] != INVALID_ID;
+    source.resize(next + count);
+    mesh.xy.resize(next + count);
+    mesh.z.resize(next + count);
+    std::uint32_t* src = source.data();
+    Point2* xy = mesh.xy.data();
+    double* z = mesh.z.data();
+    for (std::uint32_t i = 0; i < lat.nx; ++i)
+      if (const std::uint32_t s = row[i]; s != INVALID_ID) {
+        const double* p = xyz + 3 * static_cast<std::size_t>(s);
+        src[next] = s;
+        xy[next] = {p[0], p[1]};
+        z[next] = p[2];
+        row[i] = next++;
+      }
+  }
   for (std::uint32_t& c : code)
     if (c != INVALID_ID)
       c = slot[c];
@@ -435,36 +443,6 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
     lat.incomplete.insert(lat.incomplete.end(), part.begin(), part.end());
 }
 
-/// The two triangles of complete cell (i, j): vertices and twins; the halfedges
-/// facing an incomplete cell (or the border) get INVALID_ID.
-void cellTriangles(const Lattice& lat, std::uint32_t i, std::uint32_t j,
-                   std::array<VertexId, 6>& tri, std::array<HalfedgeId, 6>& twin)
-{
-  const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
-  const std::size_t t0 = lat.firstTriangle(i, j);
-  const VertexId a = lat.vertex_at[lat.position(i, j)];
-  const VertexId b = lat.vertex_at[lat.position(i + 1, j)];
-  const VertexId c = lat.vertex_at[lat.position(i + 1, j + 1)];
-  const VertexId d = lat.vertex_at[lat.position(i, j + 1)];
-  tri = {a, b, d, b, c, d}; // (A, B, D), (B, C, D)
-  const auto e0 = static_cast<HalfedgeId>(3 * t0), e1 = e0 + 3;
-  const auto he = [](std::size_t t, unsigned k) {
-    return static_cast<HalfedgeId>(3 * t + k);
-  };
-  // A->B faces the cell below (its C->D), D->A the cell on the left (its B->C), B->C
-  // the cell on the right (its D->A), C->D the cell above (its A->B); B-D is shared.
-  twin[0] =
-      j > 0 && lat.complete(i, j - 1) ? he(lat.firstTriangle(i, j - 1), 4) : INVALID_ID;
-  twin[1] = e1 + 2;
-  twin[2] =
-      i > 0 && lat.complete(i - 1, j) ? he(lat.firstTriangle(i - 1, j), 3) : INVALID_ID;
-  twin[3] = i + 1 < cx && lat.complete(i + 1, j) ? he(lat.firstTriangle(i + 1, j), 2)
-                                                 : INVALID_ID;
-  twin[4] = j + 1 < cy && lat.complete(i, j + 1) ? he(lat.firstTriangle(i, j + 1), 0)
-                                                 : INVALID_ID;
-  twin[5] = e0 + 1;
-}
-
 /// The triangles of every complete cell in row-major order (the first
 /// 2 * row_start.back() triangles), with the twins among them; the halfedges facing
 /// an incomplete cell (or the border) are INVALID_ID and listed in `open`. One
@@ -474,44 +452,81 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
                        std::vector<HalfedgeId>& halfedges,
                        std::vector<HalfedgeId>& open, std::size_t capacity)
 {
-  // Rows [begin, end): each cell's six halfedges to put(e, vertices, twins) (e the
-  // first one's id), the open ones listed.
-  const auto emitRows = [&lat](std::size_t begin, std::size_t end,
-                               std::vector<HalfedgeId>& my_open, const auto& put) {
-    std::array<VertexId, 6> tri{};
-    std::array<HalfedgeId, 6> twin{};
-    for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j)
-      for (std::uint32_t i = 0; i + 1 < lat.nx; ++i)
-        if (lat.complete(i, j)) {
-          cellTriangles(lat, i, j, tri, twin);
-          const std::size_t e = 3 * lat.firstTriangle(i, j);
-          for (unsigned k = 0; k < 6; ++k)
-            if (twin[k] == INVALID_ID)
-              my_open.push_back(static_cast<HalfedgeId>(e + k));
-          put(e, tri, twin);
-        }
+  // Rows [begin, end): each cell's six halfedges written in place, the open ones
+  // listed. Complete cell (i, j) has triangles (A, B,
+  // D) and (B, C, D), A lower left, B lower right, C upper right, D upper left. A->B
+  // faces the cell below (its C->D, halfedge 4), D->A the cell on the left (its B->C,
+  // halfedge 3), B->C the cell on the right (its D->A, halfedge 2), C->D the cell
+  // above (its A->B, halfedge 0); B-D is shared. The row's neighbours are read
+  // through row pointers (the ranks of the rows below and above, the vertices of the
+  // two lattice rows), with no per-cell bounds work.
+  // Row j's halfedges are [6 row_start[j], 6 row_start[j + 1]): one thread grows the
+  // arrays row by row (no pass zeroing them first: the zeros of a row are in cache
+  // when it is written), several write into arrays sized once.
+  const auto emitRows = [&lat, &triangles,
+                         &halfedges](std::size_t begin, std::size_t end,
+                                     std::vector<HalfedgeId>& my_open, bool grow) {
+    const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
+    for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j) {
+      const std::uint32_t* rank = &lat.cell_rank[lat.cell(0, j)];
+      const std::uint32_t* below = j > 0 ? rank - cx : nullptr;
+      const std::uint32_t* above = j + 1 < cy ? rank + cx : nullptr;
+      const std::size_t base = 2 * lat.row_start[j];
+      const std::size_t base_below = j > 0 ? 2 * lat.row_start[j - 1] : 0;
+      const std::size_t base_above = j + 1 < cy ? 2 * lat.row_start[j + 1] : 0;
+      const VertexId* low = &lat.vertex_at[lat.position(0, j)];
+      const VertexId* high = low + lat.nx;
+      if (grow) {
+        triangles.resize(6 * lat.row_start[j + 1]);
+        halfedges.resize(6 * lat.row_start[j + 1]);
+      }
+      VertexId* tri = triangles.data();
+      HalfedgeId* twin = halfedges.data();
+      for (std::uint32_t i = 0; i < cx; ++i) {
+        if (rank[i] == INVALID_ID)
+          continue;
+        const std::size_t t0 = base + 2 * static_cast<std::size_t>(rank[i]);
+        const auto e0 = static_cast<HalfedgeId>(3 * t0);
+        VertexId* const v = tri + e0;
+        HalfedgeId* const h = twin + e0;
+        v[0] = low[i];
+        v[1] = low[i + 1];
+        v[2] = high[i];
+        v[3] = low[i + 1];
+        v[4] = high[i + 1];
+        v[5] = high[i];
+        h[0] = below != nullptr && below[i] != INVALID_ID
+                   ? static_cast<HalfedgeId>(
+                         3 * (base_below + 2 * static_cast<std::size_t>(below[i])) + 4)
+                   : INVALID_ID;
+        h[1] = e0 + 5;
+        // The complete cells of a row are ranked consecutively: the left one's
+        // triangles end where this one's start, the right one's start after them.
+        h[2] = i > 0 && rank[i - 1] != INVALID_ID ? e0 - 3 : INVALID_ID;
+        h[3] = i + 1 < cx && rank[i + 1] != INVALID_ID ? e0 + 8 : INVALID_ID;
+        h[4] = above != nullptr && above[i] != INVALID_ID
+                   ? static_cast<HalfedgeId>(
+                         3 * (base_above + 2 * static_cast<std::size_t>(above[i])))
+                   : INVALID_ID;
+        h[5] = e0 + 1;
+        for (unsigned k = 0; k < 6; ++k)
+          if (h[k] == INVALID_ID)
+            my_open.push_back(e0 + k);
+      }
+    }
   };
   const std::size_t rows = lat.ny - 1;
-  if (threads <= 1) { // appended in order (e is the size): no zeroing pass
-    triangles.reserve(capacity);
-    halfedges.reserve(capacity);
-    emitRows(0, rows, open, [&](std::size_t, const auto& tri, const auto& twin) {
-      triangles.insert(triangles.end(), tri.begin(), tri.end());
-      halfedges.insert(halfedges.end(), twin.begin(), twin.end());
-    });
+  triangles.reserve(capacity); // the fringe's triangles follow
+  halfedges.reserve(capacity);
+  if (threads <= 1) {
+    emitRows(0, rows, open, true);
     return;
   }
   triangles.resize(6 * lat.row_start.back());
   halfedges.resize(triangles.size());
   std::vector<std::vector<HalfedgeId>> open_per_chunk(threads);
   parallelChunks(threads, rows, [&](std::size_t begin, std::size_t end, unsigned t) {
-    emitRows(begin, end, open_per_chunk[t],
-             [&](std::size_t e, const auto& tri, const auto& twin) {
-               std::copy(tri.begin(), tri.end(),
-                         triangles.begin() + static_cast<std::ptrdiff_t>(e));
-               std::copy(twin.begin(), twin.end(),
-                         halfedges.begin() + static_cast<std::ptrdiff_t>(e));
-             });
+    emitRows(begin, end, open_per_chunk[t], false);
   });
   for (const std::vector<HalfedgeId>& part : open_per_chunk)
     open.insert(open.end(), part.begin(), part.end());
@@ -617,12 +632,16 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
     for (std::size_t k = 0; k < cells.size(); ++k)
       dense[cells[k]] = static_cast<std::uint32_t>(k);
   }
-  const auto index = [&](std::size_t c) {
-    return dense.empty()
-               ? static_cast<std::size_t>(
-                     std::lower_bound(cells.begin(), cells.end(), c) - cells.begin())
-               : static_cast<std::size_t>(dense[c]);
-  };
+  // Else the first incomplete cell of each row: a neighbour's bisection then runs
+  // over its row's incomplete cells only (a few dozen), once per row of neighbours.
+  std::vector<std::size_t> row_first;
+  if (dense.empty()) {
+    row_first.assign(static_cast<std::size_t>(cy) + 1, cells.size());
+    for (std::size_t k = cells.size(); k-- > 0;)
+      row_first[cells[k] / cx] = k;
+    for (std::uint32_t j = cy; j-- > 0;)
+      row_first[j] = std::min(row_first[j], row_first[j + 1]);
+  }
   std::vector<std::pair<std::size_t, std::uint32_t>> corners;
   std::vector<std::size_t> stack;
   for (std::size_t seed = 0; seed < cells.size(); ++seed) {
@@ -642,13 +661,32 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
                                   lat_.position(i, j + 1), lat_.position(i + 1, j + 1)})
         if (lat_.present(q))
           corners.emplace_back(q, label);
-      for (std::uint32_t jj = j > 0 ? j - 1 : 0; jj <= std::min(cy - 1, j + 1); ++jj)
-        for (std::uint32_t ii = i > 0 ? i - 1 : 0; ii <= std::min(cx - 1, i + 1); ++ii)
-          if (const std::size_t d = lat_.cell(ii, jj); lat_.cell_rank[d] == INVALID_ID)
-            if (const std::size_t k = index(d); cell_label[k] == INVALID_ID) {
-              cell_label[k] = label;
-              stack.push_back(k);
-            }
+      const std::uint32_t i0 = i > 0 ? i - 1 : 0, i1 = std::min(cx - 1, i + 1);
+      for (std::uint32_t jj = j > 0 ? j - 1 : 0; jj <= std::min(cy - 1, j + 1); ++jj) {
+        std::size_t k = 0; // in `cells`, at or before the next incomplete neighbour
+        if (dense.empty())
+          k = static_cast<std::size_t>(
+              std::lower_bound(
+                  cells.begin() + static_cast<std::ptrdiff_t>(row_first[jj]),
+                  cells.begin() + static_cast<std::ptrdiff_t>(row_first[jj + 1]),
+                  lat_.cell(i0, jj)) -
+              cells.begin());
+        for (std::uint32_t ii = i0; ii <= i1; ++ii) {
+          const std::size_t d = lat_.cell(ii, jj);
+          if (lat_.cell_rank[d] != INVALID_ID)
+            continue;
+          if (dense.empty()) {
+            while (cells[k] < d)
+              ++k;
+          } else {
+            k = dense[d];
+          }
+          if (cell_label[k] == INVALID_ID) {
+            cell_label[k] = label;
+            stack.push_back(k);
+          }
+        }
+      }
     }
   }
   std::sort(corners.begin(), corners.end());
