@@ -175,13 +175,23 @@ struct Lattice {
   Point2 point(std::size_t p) const { return {xs[p % nx], ys[p / nx]}; }
 };
 
+/// Where the y value's id changes in the input: (first input index, y id).
+using YRuns = std::vector<std::pair<std::size_t, std::uint32_t>>;
+
 /// Pass 1 of readLattice: the distinct x and y values of the finite points, which
 /// are counted (finite) and the others (dropped). False, early, when the points are
 /// scattered (more lattice positions than LATTICE_FILL_FACTOR per point) or a
-/// coordinate is beyond the ordinary path's range.
+/// coordinate is beyond the ordinary path's range. Also each point's x id in code
+/// (INVALID_ID when dropped) and, while they stay few (rows in order, as rasters
+/// are read), the runs of equal y id: pass 2 then reads these instead of the input.
 bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
-                         ValueTable& yt, std::size_t& finite, std::size_t& dropped)
+                         ValueTable& yt, std::size_t& finite, std::size_t& dropped,
+                         std::vector<std::uint32_t>& code, YRuns& y_runs, bool& runs_ok)
 {
+  code.reserve(n); // appended: scattered input stops early, touching little
+  y_runs.clear();
+  runs_ok = true;
+  const std::size_t max_runs = n / 64 + 16;
   double last_x = std::nan(""), last_y = std::nan("");
   std::uint32_t id_x = 0, id_y = 0;
   const std::size_t limit = LATTICE_FILL_FACTOR * n;
@@ -199,6 +209,7 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
     const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
       ++dropped;
+      code.push_back(INVALID_ID);
       continue;
     }
     if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE)
@@ -211,8 +222,18 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
     }
     if (!(y == last_y)) {
       last_y = y;
+      const std::uint32_t before = id_y;
       grew = lookup(yt, y, id_y) || grew;
+      if (runs_ok && (y_runs.empty() || id_y != before)) {
+        if (y_runs.size() < max_runs) {
+          y_runs.emplace_back(k, id_y);
+        } else { // not in rows: pass 2 reads the input again
+          runs_ok = false;
+          YRuns().swap(y_runs);
+        }
+      }
     }
+    code.push_back(id_x);
     if (grew &&
         static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size()) >
             limit)
@@ -229,7 +250,10 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   Diagnostics& diag = result.diagnostics;
   ValueTable xt, yt;
   std::size_t finite = 0, dropped = 0;
-  if (!distinctCoordinates(xyz, n, xt, yt, finite, dropped))
+  std::vector<std::uint32_t>& code = result.input_to_vertex;
+  YRuns y_runs;
+  bool runs_ok = false;
+  if (!distinctCoordinates(xyz, n, xt, yt, finite, dropped, code, y_runs, runs_ok))
     return false;
   const std::size_t positions =
       static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size());
@@ -248,47 +272,58 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
 
   // Pass 2: the position of every point (in input_to_vertex for now) and the
   // representative input point of every position.
-  std::vector<std::uint32_t>& code = result.input_to_vertex;
-  code.resize(n);
   std::vector<std::uint32_t>& slot = lat.vertex_at;
   slot.assign(positions, INVALID_ID);
-  // Sorted ranks, predicted from the last one (rows may come top down).
-  const auto rankOf = [](ValueTable& table, const std::vector<std::uint32_t>& rank,
-                         const std::vector<double>& sorted, double v,
-                         std::uint32_t& r) {
-    if (r + 1 < sorted.size() && sorted[r + 1] == v)
-      ++r;
-    else if (r > 0 && sorted[r - 1] == v)
-      --r;
-    else
-      r = rank[table.idOf(v)];
-  };
   std::size_t merged = 0;
-  std::uint32_t r_x = 0, r_y = 0;
-  double last_x = std::nan(""), last_y = std::nan("");
-  for (std::size_t k = 0; k < n; ++k) {
-    const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
-      code[k] = INVALID_ID;
-      continue;
-    }
-    if (!(x == last_x)) {
-      last_x = x;
-      rankOf(xt, rank_x, lat.xs, x, r_x);
-    }
-    if (!(y == last_y)) {
-      last_y = y;
-      rankOf(yt, rank_y, lat.ys, y, r_y);
-    }
-    const auto p = static_cast<std::uint32_t>(lat.position(r_x, r_y));
-    code[k] = p;
+  const auto place = [&](std::size_t k, std::uint32_t p) {
     std::uint32_t& s = slot[p];
     if (s == INVALID_ID) {
       s = static_cast<std::uint32_t>(k);
     } else {
       ++merged;
-      if (replaces(options.duplicate_rule, h, xyz[3 * static_cast<std::size_t>(s) + 2]))
+      if (replaces(options.duplicate_rule, xyz[3 * k + 2],
+                   xyz[3 * static_cast<std::size_t>(s) + 2]))
         s = static_cast<std::uint32_t>(k);
+    }
+  };
+  if (runs_ok) { // from pass 1's x ids and y runs, not the input
+    for (std::size_t r = 0; r < y_runs.size(); ++r) {
+      const std::size_t end = r + 1 < y_runs.size() ? y_runs[r + 1].first : n;
+      const std::size_t row = lat.position(0, rank_y[y_runs[r].second]);
+      for (std::size_t k = y_runs[r].first; k < end; ++k)
+        if (std::uint32_t& c = code[k]; c != INVALID_ID) {
+          c = static_cast<std::uint32_t>(row + rank_x[c]);
+          place(k, c);
+        }
+    }
+  } else { // from the input again
+    // Sorted ranks, predicted from the last one (rows may come top down).
+    const auto rankOf = [](ValueTable& table, const std::vector<std::uint32_t>& rank,
+                           const std::vector<double>& sorted, double v,
+                           std::uint32_t& r) {
+      if (r + 1 < sorted.size() && sorted[r + 1] == v)
+        ++r;
+      else if (r > 0 && sorted[r - 1] == v)
+        --r;
+      else
+        r = rank[table.idOf(v)];
+    };
+    std::uint32_t r_x = 0, r_y = 0;
+    double last_x = std::nan(""), last_y = std::nan("");
+    for (std::size_t k = 0; k < n; ++k) {
+      if (code[k] == INVALID_ID) // dropped by pass 1
+        continue;
+      const double x = xyz[3 * k], y = xyz[3 * k + 1];
+      if (!(x == last_x)) {
+        last_x = x;
+        rankOf(xt, rank_x, lat.xs, x, r_x);
+      }
+      if (!(y == last_y)) {
+        last_y = y;
+        rankOf(yt, rank_y, lat.ys, y, r_y);
+      }
+      code[k] = static_cast<std::uint32_t>(lat.position(r_x, r_y));
+      place(k, code[k]);
     }
   }
   // Vertex ids in lattice order, in place, with their positions and heights; then
