@@ -275,6 +275,7 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   std::vector<std::uint32_t>& slot = lat.vertex_at;
   slot.assign(positions, INVALID_ID);
   std::size_t merged = 0;
+  bool zero_replaced = false; // a representative replaced at x or y == 0 (+-0.0)
   const auto place = [&](std::size_t k, std::uint32_t p) {
     std::uint32_t& s = slot[p];
     if (s == INVALID_ID) {
@@ -282,8 +283,10 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
     } else {
       ++merged;
       if (replaces(options.duplicate_rule, xyz[3 * k + 2],
-                   xyz[3 * static_cast<std::size_t>(s) + 2]))
+                   xyz[3 * static_cast<std::size_t>(s) + 2])) {
         s = static_cast<std::uint32_t>(k);
+        zero_replaced = zero_replaced || xyz[3 * k] == 0.0 || xyz[3 * k + 1] == 0.0;
+      }
     }
   };
   if (runs_ok) { // from pass 1's x ids and y runs, not the input
@@ -360,6 +363,16 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   for (std::uint32_t& c : code)
     if (c != INVALID_ID)
       c = slot[c];
+  if (zero_replaced) {
+    // As mergeDuplicates: a position's XY is its first input point's, whose -0.0 or
+    // +0.0 may differ from the representative's (the tiled path rebuilds vertices so).
+    std::vector<bool> placed(nv, false);
+    for (std::size_t k = 0; k < n; ++k)
+      if (const std::uint32_t v = code[k]; v != INVALID_ID && !placed[v]) {
+        placed[v] = true;
+        mesh.xy[v] = {xyz[3 * k], xyz[3 * k + 1]};
+      }
+  }
 
   if (options.duplicate_rule == DuplicateRule::MEAN_Z && merged > 0) {
     // As vertexHeights (vts_pipeline.cpp): sums in input order.

@@ -88,6 +88,10 @@ void expectSameAsOrdinary(const std::vector<double>& xyz, VtsOptions options = {
     ASSERT_EQ(vf == INVALID_ID, vs == INVALID_ID) << "input " << k;
     if (vf != INVALID_ID) {
       ASSERT_EQ(f.mesh.xy[vf], s.mesh.xy[vs]) << "input " << k;
+      // Bit for bit: -0.0 == +0.0, but the written files (and the tiled path's
+      // rebuilt vertices) tell them apart.
+      ASSERT_EQ(std::signbit(f.mesh.xy[vf].x), std::signbit(s.mesh.xy[vs].x)) << k;
+      ASSERT_EQ(std::signbit(f.mesh.xy[vf].y), std::signbit(s.mesh.xy[vs].y)) << k;
       ASSERT_EQ(f.source_index[vf], s.source_index[vs]) << "input " << k;
     }
   }

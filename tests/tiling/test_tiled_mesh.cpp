@@ -678,35 +678,42 @@ TEST_F(TiledMeshTest, TileResultsHoldTrianglesAndThePointsStayUntilTheWrite)
 // order, -0.0 beside +0.0), with the duplicates spread over the input.
 TEST_F(TiledMeshTest, EveryDuplicateRuleGivesTheInMemoryBytes)
 {
-  std::vector<double> xyz;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> jitter(-0.3, 0.3), height(-2.0, 2.0);
-  for (int y = -12; y <= 12; ++y)
-    for (int x = -12; x <= 12; ++x) {
-      const double px = x == 0 ? (y % 2 == 0 ? 0.0 : -0.0) : x + jitter(rng);
-      xyz.insert(xyz.end(), {px, y + jitter(rng), height(rng)});
+  // Jittered, then an exact raster (the lattice fast path, in memory and in every
+  // tile): -0.0 and +0.0 at the same XY keep the first input's sign on both paths.
+  for (const bool raster : {false, true}) {
+    SCOPED_TRACE(raster ? "raster" : "jittered");
+    std::vector<double> xyz;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> jitter(-0.3, 0.3), height(-2.0, 2.0);
+    for (int y = -12; y <= 12; ++y)
+      for (int x = -12; x <= 12; ++x) {
+        const double jx = raster ? 0.0 : jitter(rng), jy = raster ? 0.0 : jitter(rng);
+        const double px = x == 0 ? (y % 2 == 0 ? 0.0 : -0.0) : x + jx;
+        xyz.insert(xyz.end(), {px, y + jy, height(rng)});
+      }
+    const std::size_t n = xyz.size() / 3;
+    for (std::size_t k = 0; k < n; k += 3) { // 1 to 3 more points at the same XY
+      for (std::size_t d = 0; d <= k % 3; ++d) {
+        const double z = d == 1 ? xyz[3 * k + 2] : height(rng);        // some equal z
+        const double x = xyz[3 * k] == 0.0 ? -xyz[3 * k] : xyz[3 * k]; // the other zero
+        xyz.insert(xyz.end(), {x, xyz[3 * k + 1], d == 2 ? -0.0 : z});
+      }
     }
-  const std::size_t n = xyz.size() / 3;
-  for (std::size_t k = 0; k < n; k += 3) { // 1 to 3 more points at the same XY
-    for (std::size_t d = 0; d <= k % 3; ++d) {
-      const double z = d == 1 ? xyz[3 * k + 2] : height(rng);        // some equal z
-      const double x = xyz[3 * k] == 0.0 ? -xyz[3 * k] : xyz[3 * k]; // the other zero
-      xyz.insert(xyz.end(), {x, xyz[3 * k + 1], d == 2 ? -0.0 : z});
-    }
-  }
-  for (DuplicateRule rule : {DuplicateRule::LOWEST_Z, DuplicateRule::HIGHEST_Z,
-                             DuplicateRule::MEAN_Z, DuplicateRule::FIRST}) {
-    SCOPED_TRACE(duplicateRuleName(rule));
-    VtsOptions vts;
-    vts.duplicate_rule = rule;
-    const std::string reference = (root_ / "m.ply").string();
-    ASSERT_TRUE(writeInMemory(xyz, reference, nullptr, vts).ok());
-    for (int block_level : {3, 5}) {
-      TiledMeshReport report;
-      const std::string path = (root_ / "t.ply").string();
-      ASSERT_TRUE(writeTiled(xyz, path, 2, block_level, report, vts).ok());
-      EXPECT_TRUE(slurp(path) == slurp(reference))
-          << "block level " << block_level << ": differs from the in-memory file";
+    for (DuplicateRule rule : {DuplicateRule::LOWEST_Z, DuplicateRule::HIGHEST_Z,
+                               DuplicateRule::MEAN_Z, DuplicateRule::FIRST}) {
+      SCOPED_TRACE(duplicateRuleName(rule));
+      VtsOptions vts;
+      vts.duplicate_rule = rule;
+      const std::string reference = (root_ / "m.ply").string();
+      ASSERT_TRUE(writeInMemory(xyz, reference, nullptr, vts).ok());
+      for (int block_level : {3, 5}) {
+        TiledMeshReport report;
+        const std::string path = (root_ / "t.ply").string();
+        const Status s = writeTiled(xyz, path, 2, block_level, report, vts);
+        ASSERT_TRUE(s.ok()) << s.toString();
+        EXPECT_TRUE(slurp(path) == slurp(reference))
+            << "block level " << block_level << ": differs from the in-memory file";
+      }
     }
   }
 }
