@@ -40,7 +40,6 @@ namespace {
 
 /// A result file's header: vertex count, triangle count, all float-exact, checksum.
 constexpr std::size_t HEADER_WORDS = 4;
-constexpr long HEADER_BYTES = HEADER_WORDS * sizeof(std::uint64_t);
 
 using FilePtr = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
 
@@ -122,12 +121,14 @@ TileResultsMesh::TileResultsMesh(const TileResultFiles& files,
                                  std::vector<std::uint32_t> tiles)
     : files_(files)
     , tiles_(std::move(tiles))
+    , released_(tiles_.size(), 0)
 {}
 
 Status TileResultsMesh::scan()
 {
   nv_ = nt_ = 0;
   exact_ = true;
+  vertices_.clear();
   for (std::uint32_t t : tiles_) {
     FilePtr file(nullptr, &std::fclose);
     std::uint64_t header[HEADER_WORDS];
@@ -136,14 +137,13 @@ Status TileResultsMesh::scan()
     nv_ += header[0];
     nt_ += header[1];
     exact_ = exact_ && header[2] != 0;
+    vertices_.push_back({header[0], header[3]});
   }
   return Status::success();
 }
 
 Status TileResultsMesh::checkNotReleased(std::size_t k, std::uint8_t bit) const
 {
-  if (release_ && released_.size() != tiles_.size())
-    released_.assign(tiles_.size(), 0);
   if (release_ && (released_[k] & bit) != 0)
     return Status::error(StatusCode::INTERNAL_ERROR,
                          "tile " + std::to_string(tiles_[k]) +
@@ -153,17 +153,16 @@ Status TileResultsMesh::checkNotReleased(std::size_t k, std::uint8_t bit) const
 
 Status TileResultsMesh::forEachVertex(const VertexVisit& visit) const
 {
+  if (vertices_.size() != tiles_.size())
+    return Status::error(StatusCode::INTERNAL_ERROR,
+                         "the tile results' vertices read before their headers");
   std::vector<double> xyz;
   for (std::size_t k = 0; k < tiles_.size(); ++k) {
     const std::uint32_t t = tiles_[k];
     if (Status s = checkNotReleased(k, 1); !s.ok())
       return s;
-    FilePtr file(nullptr, &std::fclose);
-    std::uint64_t header[HEADER_WORDS];
-    if (Status s = openResult(resultPath(files_.folder, t), file, header); !s.ok())
-      return s;
-    file.reset();
-    if (Status s = files_.readVertices(t, header[0], header[3], xyz); !s.ok())
+    if (Status s = files_.readVertices(t, vertices_[k][0], vertices_[k][1], xyz);
+        !s.ok())
       return s;
     for (std::size_t v = 0; v < xyz.size(); v += 3)
       visit(xyz[v], xyz[v + 1], xyz[v + 2], false);

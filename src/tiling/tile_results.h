@@ -52,7 +52,8 @@ struct TileResultFiles {
 class TileResultsMesh : public MeshSource {
  public:
   TileResultsMesh(const TileResultFiles& files, std::vector<std::uint32_t> tiles);
-  /// Reads every header: counts and float-exactness.
+  /// Reads every header once: counts, float-exactness and the vertices' checksums
+  /// (kept for forEachVertex, which then opens no result file).
   Status scan();
   /// The last reader: each tile's points go back to the file system once its
   /// vertices have been read (the point file removed), its result file once its
@@ -77,6 +78,7 @@ class TileResultsMesh : public MeshSource {
   std::uint64_t nv_ = 0, nt_ = 0;
   bool exact_ = true;
   bool release_ = false;
+  std::vector<std::array<std::uint64_t, 2>> vertices_; ///< per tile: count, checksum
   mutable std::vector<std::uint8_t>
       released_; ///< per tile: bit 0 vertices, 1 triangles
 };
