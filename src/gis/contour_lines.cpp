@@ -311,7 +311,8 @@ Status collectSegments(const MeshStream& mesh, const MappedVertices& vertices,
     if (count)
       segments.reserve(static_cast<std::size_t>(crossings));
     else if (segments.size() != crossings)
-      return Status::error(StatusCode::INTERNAL_ERROR,
+      // The tiled mesh is read from files twice: a file changed under us.
+      return Status::error(StatusCode::IO_ERROR,
                            "contours: the mesh changed between two reads");
   }
   vertices.dropPages();

@@ -1,3 +1,4 @@
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/stopwatch.h>
 #include <pcl_vts/ground_tiles.h>
 
@@ -11,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <system_error>
 #include <thread>
 
 namespace pcl_vts {
@@ -223,8 +225,7 @@ namespace {
 /// Worker threads of the pre-pass (options.threads; 0 = every hardware thread).
 unsigned workerCount(const GroundTilesOptions& options)
 {
-  return options.threads != 0 ? options.threads
-                              : std::max(1u, std::thread::hardware_concurrency());
+  return options.threads != 0 ? options.threads : allCores();
 }
 
 void reportProgress(const GroundTilesOptions& options, const char* phase,
@@ -445,7 +446,8 @@ void takeTasks(std::size_t count, std::size_t threads,
   std::condition_variable changed;
   std::size_t running = 0; // workers still taking tasks (under mutex)
   std::size_t taken = 0;   // the highest task taken here (progress)
-  const auto work = [&] {
+  // inline: the calling thread takes the tasks itself and reports between them.
+  const auto work = [&](bool inline_run) {
     std::vector<double> scratch;
     for (std::size_t t; !failed && (t = next_task()) < count;) {
       {
@@ -454,22 +456,30 @@ void takeTasks(std::size_t count, std::size_t threads,
       }
       if (!task(t, scratch))
         failed = true;
-      if (threads <= 1)
+      if (inline_run)
         report(taken);
     }
     const std::lock_guard<std::mutex> lock(mutex);
     --running;
     changed.notify_all();
   };
-  if (threads <= 1) {
+  std::vector<std::thread> pool;
+  if (threads > 1) {
+    running = threads;
+    try {
+      for (std::size_t w = 0; w < threads; ++w)
+        pool.emplace_back(work, false);
+    } catch (const std::system_error&) {
+      // A thread limit: the threads that started take every task (none: see below).
+      const std::lock_guard<std::mutex> lock(mutex);
+      running -= threads - pool.size();
+    }
+  }
+  if (pool.empty()) {
     running = 1;
-    work();
+    work(true);
     return;
   }
-  running = threads;
-  std::vector<std::thread> pool;
-  for (std::size_t w = 0; w < threads; ++w)
-    pool.emplace_back(work);
   {
     std::unique_lock<std::mutex> lock(mutex);
     while (running > 0) {

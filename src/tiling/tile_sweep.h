@@ -6,6 +6,7 @@
 #include "tile_results.h"
 
 #include <pcl_vts/core/mesh_arrays.h>
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/status.h>
 #include <pcl_vts/tiling/job_comm.h>
 
@@ -15,7 +16,6 @@
 #include <functional>
 #include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace pcl_vts {
@@ -117,12 +117,9 @@ struct SweepTeam {
         return;
       }
     };
-    std::vector<std::thread> pool;
-    for (unsigned w = 1; w < std::min<std::size_t>(workers, tiles); ++w)
-      pool.emplace_back(work);
-    work();
-    for (std::thread& thread : pool)
-      thread.join();
+    runTeam(static_cast<unsigned>(
+                std::max<std::size_t>(1, std::min<std::size_t>(workers, tiles))),
+            [&](unsigned) { work(); });
     return agree(comm, failure);
   }
 };

@@ -12,6 +12,7 @@
 #include "tiled_trim.h"
 
 #include <pcl_vts/core/atomic_file.h>
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/stopwatch.h>
 #include <pcl_vts/tiling/tiled_mesh.h>
 
@@ -274,12 +275,7 @@ Status meshTiles(Job& job, const BlockStore& store)
       job.progress("meshing", furthest, job.occupied_tiles.size());
     }
   };
-  std::vector<std::thread> pool;
-  for (unsigned w = 1; w < workers; ++w)
-    pool.emplace_back(work);
-  work();
-  for (std::thread& thread : pool)
-    thread.join();
+  runTeam(workers, [&](unsigned) { work(); });
   if (Status s = agree(job.comm, failure); !s.ok())
     return s;
   job.comm.sum(sums);
@@ -484,9 +480,7 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   Job job(options.prepare ? prepared : inputs, options, comm, report);
   job.rank = comm.rank();
   job.ranks = comm.size();
-  job.workers = options.threads != 0
-                    ? options.threads
-                    : std::max(1u, std::thread::hardware_concurrency());
+  job.workers = options.threads != 0 ? options.threads : allCores();
   job.folder = folder;
 
   Stopwatch watch;

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace pcl_vts {
@@ -18,17 +20,44 @@ inline unsigned allCores()
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
+namespace detail {
+
+/// runTeam with the thread start given: start(w, task) returns a started
+/// std::thread or throws std::system_error (tests inject a failing one).
+template <typename Work, typename Start>
+void runTeamWith(unsigned workers, const Work& work, const Start& start)
+{
+  std::vector<std::thread> team;
+  unsigned started = 1;
+  try {
+    for (; started < workers; ++started) {
+      const unsigned w = started;
+      team.push_back(start(w, [&work, w] { work(w); }));
+    }
+  } catch (const std::system_error&) {
+    // No thread left to start (a process or memory limit): the workers that did not
+    // start run on the calling thread below. Every caller's workers are independent
+    // (they take tasks from counters or own a chunk), so only the time changes.
+  }
+  work(0u);
+  for (unsigned w = started; w < workers; ++w)
+    work(w);
+  for (std::thread& t : team)
+    t.join();
+}
+
+} // namespace detail
+
 /// Runs work(w) for w = 0 .. workers - 1, each on its own thread (worker 0 on the
-/// calling one), and returns when all are done. workers 0 counts as 1.
+/// calling one), and returns when all are done. workers 0 counts as 1. A worker whose
+/// thread cannot start runs on the calling thread after worker 0, so work(w) must not
+/// wait for another worker.
 template <typename Work>
 void runTeam(unsigned workers, const Work& work)
 {
-  std::vector<std::thread> team;
-  for (unsigned w = 1; w < workers; ++w)
-    team.emplace_back([&work, w] { work(w); });
-  work(0u);
-  for (std::thread& t : team)
-    t.join();
+  detail::runTeamWith(workers, work, [](unsigned, auto&& task) {
+    return std::thread(std::forward<decltype(task)>(task));
+  });
 }
 
 /// Splits [0, n) into one contiguous chunk per thread, at most `threads` (0 counts
