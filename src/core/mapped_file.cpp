@@ -24,36 +24,45 @@ void MappedFile::dropPages() const
     ::madvise(const_cast<std::uint8_t*>(data_), size_, MADV_DONTNEED);
 }
 
+void dropMappedPages(const void* begin, const void* end)
+{
+  const std::uintptr_t page = 4096;
+  const auto first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) & ~(page - 1);
+  const auto last = reinterpret_cast<std::uintptr_t>(end) & ~(page - 1);
+  if (begin != nullptr && last > first)
+    ::madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+}
+
 Status MappedFile::open(const std::string& path)
+{
+  close();
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    return Status::error(StatusCode::IO_ERROR,
+                         "'" + path + "': cannot open: " + std::strerror(errno));
+  Status s = open(fd, path);
+  ::close(fd);
+  return s;
+}
+
+Status MappedFile::open(int fd, const std::string& path)
 {
   close();
   const auto fail = [&](const std::string& what) {
     return Status::error(StatusCode::IO_ERROR, "'" + path + "': " + what);
   };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0)
-    return fail(std::string("cannot open: ") + std::strerror(errno));
   struct stat st {};
-  if (::fstat(fd, &st) != 0) {
-    const int err = errno;
-    ::close(fd);
-    return fail(std::string("cannot stat: ") + std::strerror(err));
-  }
-  if (!S_ISREG(st.st_mode)) {
-    ::close(fd);
+  if (::fstat(fd, &st) != 0)
+    return fail(std::string("cannot stat: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode))
     return fail("not a regular file");
-  }
   size_ = static_cast<std::size_t>(st.st_size);
-  if (size_ == 0) {
-    ::close(fd);
+  if (size_ == 0)
     return Status::success();
-  }
   void* map = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
-  const int err = errno;
-  ::close(fd);
   if (map == MAP_FAILED) {
     size_ = 0;
-    return fail(std::string("cannot map: ") + std::strerror(err));
+    return fail(std::string("cannot map: ") + std::strerror(errno));
   }
   data_ = static_cast<const std::uint8_t*>(map);
   return Status::success();

@@ -19,7 +19,6 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -526,19 +525,30 @@ std::string headerOfOnePoint(const std::string& header)
   return out;
 }
 
+/// Maps the file open on fd; the size must still be the one the header was checked
+/// against (the body is read through the mapping).
+Status mapWhole(const std::string& path, int fd, std::uint64_t file_size,
+                MappedFile& map)
+{
+  if (Status s = map.open(fd, path); !s.ok())
+    return s;
+  if (map.size() != file_size)
+    return ioError(path, "the file changed while it was read");
+  return Status::success();
+}
+
 /// Lets PCL unpack an LZF-compressed body (whole: its columns are stored one after
 /// the other).
 Status readCompressedBody(const std::string& path, int fd, std::uint64_t file_size,
                           const HeaderScan& scan, int pcd_version,
                           pcl::PCLPointCloud2& cloud)
 {
-  void* map = ::mmap(nullptr, file_size, PROT_READ, MAP_PRIVATE, fd, 0);
-  if (map == MAP_FAILED)
-    return ioError(path, std::string("cannot map the file: ") + std::strerror(errno));
+  MappedFile map;
+  if (Status s = mapWhole(path, fd, file_size, map); !s.ok())
+    return s;
   const int rc = pcl::PCDReader().readBodyBinary(
-      static_cast<const unsigned char*>(map), cloud, pcd_version, true,
-      static_cast<unsigned int>(scan.data_idx));
-  ::munmap(map, file_size);
+      map.data(), cloud, pcd_version, true, static_cast<unsigned int>(scan.data_idx));
+  map.close();
   if (rc != 0)
     return ioError(path, "corrupt: PCL could not unpack the binary body");
   if (cloud.data.size() != scan.points * scan.point_step)
@@ -665,16 +675,15 @@ Status readPcdCloudImpl(const std::string& path, std::vector<double>& xyz,
       status = output.finish(xyz, nullptr, delivered);
   } else if (scan.format == DataFormat::BINARY) {
     // Straight from the mapped file, its pages dropped behind the reader.
-    void* map = ::mmap(nullptr, file_size, PROT_READ, MAP_PRIVATE, fd, 0);
-    if (map == MAP_FAILED)
-      return ioError(path, std::string("cannot map the file: ") + std::strerror(errno));
-    const auto* body = static_cast<const std::uint8_t*>(map) + scan.data_idx;
+    MappedFile map;
+    if (Status s = mapWhole(path, fd, file_size, map); !s.ok())
+      return s;
+    const std::uint8_t* body = map.data() + scan.data_idx;
     output.begin(body);
     status = readRecords(body, scan.points, scan.point_step, cloud.fields, axis, info,
                          xyz, output);
     if (status.ok())
       status = output.finish(xyz, body + scan.points * scan.point_step, delivered);
-    ::munmap(map, file_size);
   } else {
     cloud.data.resize(static_cast<std::size_t>(scan.points * scan.point_step));
     status = readCompressedBody(path, fd, file_size, scan, pcd_version, cloud);

@@ -13,7 +13,6 @@
 #include <functional>
 #include <new>
 #include <string>
-#include <sys/mman.h>
 #include <vector>
 
 namespace pcl_vts {
@@ -76,12 +75,7 @@ class PointOutput {
     const Status s =
         xyz.empty() ? Status::success() : (*sink_)(xyz.data(), xyz.size() / 3);
     xyz.clear();
-    const std::uintptr_t page = 4096;
-    const auto end = reinterpret_cast<std::uintptr_t>(consumed) & ~(page - 1);
-    const auto start =
-        (reinterpret_cast<std::uintptr_t>(released_) + page - 1) & ~(page - 1);
-    if (released_ && end > start)
-      ::madvise(reinterpret_cast<void*>(start), end - start, MADV_DONTNEED);
+    dropMappedPages(released_, consumed);
     released_ = static_cast<const std::uint8_t*>(consumed);
     return s;
   }

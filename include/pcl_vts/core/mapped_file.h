@@ -23,6 +23,9 @@ class PCL_VTS_CORE_EXPORT MappedFile {
   /// Maps path (unmapping what was mapped); IO_ERROR "'path': cannot open: <reason>"
   /// (or "not a regular file", "cannot map: <reason>").
   Status open(const std::string& path);
+  /// Maps the regular file open on fd (the caller keeps and closes fd); errors name
+  /// `path` as open does.
+  Status open(int fd, const std::string& path);
   /// Unmaps: data() nullptr, size() 0.
   void close();
   /// Drops the pages read so far from memory (read back from the file when touched).
@@ -35,5 +38,9 @@ class PCL_VTS_CORE_EXPORT MappedFile {
   const std::uint8_t* data_ = nullptr;
   std::size_t size_ = 0;
 };
+
+/// Drops from memory the whole pages of a read-only mapping inside [begin, end) (a
+/// parser's consumed prefix); they are read back from the file if touched again.
+PCL_VTS_CORE_EXPORT void dropMappedPages(const void* begin, const void* end);
 
 } // namespace pcl_vts
