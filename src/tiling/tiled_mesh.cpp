@@ -53,8 +53,9 @@ struct Job {
   TileFrame frame;
   Rect box;
   TileLevels levels;
-  std::string folder;      ///< the temporary folder every rank writes into
-  TileResultFiles results; ///< the tile results there, vertices from the points
+  /// The tile results in the temporary folder every rank writes into (its `folder`),
+  /// vertices from the points.
+  TileResultFiles results;
   std::vector<std::uint64_t> first_vertex;
   std::vector<std::uint32_t> occupied_tiles;
   std::vector<std::uint32_t> meshed_here; ///< indices into occupied_tiles
@@ -257,7 +258,7 @@ Status meshTiles(Job& job, const BlockStore& store)
       const std::uint32_t t = job.occupied_tiles[static_cast<std::size_t>(k)];
       Status s = triangulateTile(context, t, flags, tile);
       if (s.ok())
-        s = writeTileResult(resultPath(job.folder, t), tile);
+        s = writeTileResult(resultPath(job.results.folder, t), tile);
       const std::lock_guard<std::mutex> lock(mutex);
       if (!s.ok()) {
         if (failure.ok())
@@ -403,7 +404,7 @@ Status writeOutput(Job& job, const std::string& output, MeshFileFormat format,
       status = writeMesh(output, final_mesh, write_options, &job.report.written);
     if (status.ok() && job.options.after_write) {
       job.progress("writing products", 0, 0);
-      status = job.options.after_write(final_mesh, job.folder);
+      status = job.options.after_write(final_mesh, job.results.folder);
     }
   }
   status = agree(job.comm, status);
@@ -481,7 +482,7 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   job.rank = comm.rank();
   job.ranks = comm.size();
   job.workers = options.threads != 0 ? options.threads : allCores();
-  job.folder = folder;
+  job.results.folder = folder;
 
   Stopwatch watch;
   if (Status s = scan(job); !s.ok())
@@ -500,7 +501,7 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   const std::size_t tiles = std::size_t{1} << (2 * job.levels.tile);
   const std::size_t buffer_points = std::clamp<std::size_t>(
       static_cast<std::size_t>(options.memory_limit / 8 / (tiles * 24)), 64, 16384);
-  BlockStore store(job.folder, job.frame, job.levels.tile, job.levels.block,
+  BlockStore store(job.results.folder, job.frame, job.levels.tile, job.levels.block,
                    buffer_points, job.rank, job.ranks);
   if (!(status = bucket(job, store)).ok())
     return failed(status); // bucket() tells the store's failures from the inputs'
@@ -510,7 +511,6 @@ Status runTiledMesh(const PointInputs& inputs, const TiledMeshOptions& options,
   report.seconds_bucket = watch.seconds();
   if (!(status = number(job, store)).ok())
     return failed(status);
-  job.results.folder = job.folder;
   job.results.store = &store;
   job.results.frame = &job.frame;
   job.results.rule = options.vts.duplicate_rule;
