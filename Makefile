@@ -51,7 +51,8 @@ bench-threads: configure
 
 # docs/scaling.md §5 table: synthetic LiDAR tiles (tools/bench/make_lidar_tiles.cpp)
 # meshed in memory and tiled under SCALE_LIMIT; SCALE_N points (space-separated list).
-# Needs about 110 B/point of disk in SCALE_WORK.
+# Needs about 110 B/point of disk in SCALE_WORK; POINT_FORMAT=0 writes 20-byte LAS
+# points instead of 28 (run_scale.sh).
 SCALE_N ?= 10000000
 SCALE_LIMIT ?= 2G
 SCALE_WORK ?= $(BUILD_DIR)/scale

@@ -141,9 +141,11 @@ int main(int argc, char** argv)
   }
   const std::string out = argv[1];
   const std::uint64_t total = std::strtoull(argv[2], nullptr, 10);
-  const int side = argc > 3 ? std::atoi(argv[3])
-                            : std::max(1, static_cast<int>(std::lround(std::sqrt(
-                                              static_cast<double>(total) / 4e6))));
+  // TILES_PER_SIDE 0 or absent: about 4e6 points a tile.
+  const int side_arg = argc > 3 ? std::atoi(argv[3]) : 0;
+  const int side = side_arg != 0 ? side_arg
+                                 : std::max(1, static_cast<int>(std::lround(std::sqrt(
+                                                   static_cast<double>(total) / 4e6))));
   const std::uint64_t seed = argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 1;
   const int format = argc > 5 ? std::atoi(argv[5]) : 1;
   if (total == 0 || side <= 0 || (format != 0 && format != 1)) {

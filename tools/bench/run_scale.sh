@@ -5,19 +5,22 @@
 # Usage: run_scale.sh BUILD_DIR WORK_DIR LIMIT N...   (e.g. build /tmp/scale 2G 10000000)
 # POST: the post-pass options (default "--no-trim --no-fill", the triangulation alone;
 # POST="" runs the default pipeline, trim and fill).
-# Disk: about 28 B/point of LAS input, 24 B/point of temporary files, 60 B/point of mesh.
+# POINT_FORMAT: the LAS point format of the generated tiles, 1 (default, 28 B a point)
+# or 0 (20 B a point, no GPS time: what fits this disk at 1e9).
+# Disk: 20-28 B/point of LAS input, 24 B/point of temporary files, 60 B/point of mesh.
 set -euo pipefail
 build=$1 work=$2 limit=$3
 read -r -a post <<< "${POST---no-trim --no-fill}"
+format=${POINT_FORMAT:-1}
 shift 3
 mkdir -p "$work"
 echo "| points | path | wall (s) | Mpoints/min | peak RSS (MiB) | temp (MiB) | same bytes |"
 echo "|---:|---|---:|---:|---:|---:|---|"
 for n in "$@"; do
-  data="$work/tiles_$n"
+  data="$work/tiles_${n}_format$format"
   if [ ! -d "$data" ]; then
     mkdir -p "$data"
-    "$build/tools/bench/make_lidar_tiles" "$data" "$n" >/dev/null
+    "$build/tools/bench/make_lidar_tiles" "$data" "$n" 0 1 "$format" >/dev/null
   fi
   run() { # label, output, extra options...
     local label=$1 out=$2
