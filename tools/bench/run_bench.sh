@@ -88,20 +88,30 @@ run_json() {
 # field JSON KEY: a value of a one-line JSON object ("" when absent).
 field() { sed -nE "s/.*\"$2\":\"?([^,\"}]*).*/\1/p" <<<"$1"; }
 
+# time_mesher PLY COMMAND...: runs pcd_to_mesh under /usr/bin/time, its summary in
+# $tmp/summary; sets the caller's `wall` (s) and `peak` (KiB). Returns 1 when the
+# command failed (logged, PLY removed).
+time_mesher() {
+  local ply=$1
+  shift
+  commands+=("/usr/bin/time -f '%e %M' -o TIME $*")
+  if ! /usr/bin/time -f "%e %M" -o "$tmp/time" "$@" >"$tmp/summary" 2>&1; then
+    log "FAILED: $*: $(tail -1 "$tmp/summary")"
+    rm -f "$ply"
+    return 1
+  fi
+  read -r wall peak < <(tail -1 "$tmp/time")
+}
+
 # run_e2e ID N FILE [pcd_to_mesh options]: the whole pipeline, single thread, then an
 # independent exact check of its output up to BENCH_VERIFY_MAX_N points.
 run_e2e() {
   local id=$1 n=$2 file=$3 ply="$tmp/out.ply" verdict times wall peak
   shift 3
-  local cmd=("$mesher" "$file" "$ply" --no-trim --no-fill --threads 1 "$@")
-  commands+=("/usr/bin/time -f '%e %M' -o TIME ${cmd[*]}")
-  if ! /usr/bin/time -f "%e %M" -o "$tmp/time" "${cmd[@]}" >"$tmp/summary" 2>&1; then
-    log "FAILED: ${cmd[*]}: $(tail -1 "$tmp/summary")"
+  if ! time_mesher "$ply" "$mesher" "$file" "$ply" --no-trim --no-fill --threads 1 "$@"; then
     e2e[$id]="failed"
-    rm -f "$ply"
     return 0
   fi
-  read -r wall peak < <(tail -1 "$tmp/time")
   # "time (ms)  read R, grid G, hull H, triangulate T, trim -, fill -, write W, total S"
   times=$(sed -nE 's/.*time \(ms\) +read ([0-9.]+), grid ([0-9.]+), hull ([0-9.]+), triangulate ([0-9.]+), trim [0-9.]+, fill [0-9.]+, write ([0-9.]+), .*total ([0-9.]+).*/\1 \2 \3 \4 \5 \6/p' "$tmp/summary")
   local meshing
@@ -124,15 +134,10 @@ run_e2e() {
 run_default() {
   local id=$1 file=$3 ply="$tmp/out.ply" times holes wall peak
   shift 3
-  local cmd=("$mesher" "$file" "$ply" --threads 1 "$@")
-  commands+=("/usr/bin/time -f '%e %M' -o TIME ${cmd[*]}")
-  if ! /usr/bin/time -f "%e %M" -o "$tmp/time" "${cmd[@]}" >"$tmp/summary" 2>&1; then
-    log "FAILED: ${cmd[*]}: $(tail -1 "$tmp/summary")"
+  if ! time_mesher "$ply" "$mesher" "$file" "$ply" --threads 1 "$@"; then
     dflt[$id]="failed"
-    rm -f "$ply"
     return 0
   fi
-  read -r wall peak < <(tail -1 "$tmp/time")
   times=$(sed -nE 's/.*time \(ms\) +read ([0-9.]+), grid ([0-9.]+), hull ([0-9.]+), triangulate ([0-9.]+), trim ([0-9.]+), fill ([0-9.]+), write ([0-9.]+), .*total ([0-9.]+).*/\1 \2 \3 \4 \5 \6 \7 \8/p' "$tmp/summary")
   holes=$(sed -nE 's/^ +holes +([0-9]+) found, ([0-9]+) filled.*/\1 \2/p' "$tmp/summary")
   dflt[$id]="$wall $peak ${times:-? ? ? ? ? ? ? ?} ${holes:-? ?}"
