@@ -605,6 +605,7 @@ class Fringe {
     std::vector<std::array<VertexId, 3>> found;
     std::size_t rounds = 0;
     std::size_t points = 0; ///< in S in the last round
+    std::size_t cells = 0;  ///< incomplete cells in it
     SearchStats stats;
     Status status;
   };
@@ -619,6 +620,9 @@ class Fringe {
                : INVALID_ID;
   }
   void solve(Piece& piece) const;
+  /// A piece that is one missing position with its eight neighbours present (a
+  /// NODATA cell or a dropout): its six triangles without a search; false otherwise.
+  bool solveGap(Piece& piece) const;
   /// One round with S = the piece's I, by testing every triple (small pieces); false
   /// when a candidate fails its disk check (the rounds then start over with the ring).
   bool solveSmall(Piece& piece) const;
@@ -703,6 +707,7 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
     while (!stack.empty()) {
       const std::size_t c = cells[stack.back()];
       stack.pop_back();
+      ++pieces[label].cells;
       const auto i = static_cast<std::uint32_t>(c % cx),
                  j = static_cast<std::uint32_t>(c / cx);
       for (const std::size_t q : {lat_.position(i, j), lat_.position(i + 1, j),
@@ -852,8 +857,50 @@ bool Fringe::solveSmall(Piece& piece) const
   return true;
 }
 
+bool Fringe::solveGap(Piece& piece) const
+{
+  // The piece is the 2 x 2 cells around a missing position m, its I the eight
+  // neighbours of m (own is sorted: the row below, the two beside m, the row above).
+  const std::vector<std::size_t>& o = piece.own;
+  if (piece.cells != 4 || o.size() != 8)
+    return false;
+  const std::size_t nx = lat_.nx, p = o[0];
+  if (p % nx + 2 >= nx || o[1] != p + 1 || o[2] != p + 2 || o[3] != p + nx ||
+      o[4] != p + nx + 2 || o[5] != p + 2 * nx || o[6] != p + 2 * nx + 1 ||
+      o[7] != p + 2 * nx + 2)
+    return false;
+  // The corner triangle of each of the four cells (its three present corners) has
+  // the cell's circumcircle, the circle on the cell's diagonal: as for a complete
+  // cell, every other lattice point lies strictly outside it, and m is missing, so it
+  // is a Delaunay triangle of P. What they leave of the cells is the convex
+  // quadrilateral (W, S, E, N) of m's neighbours along the axes; the Delaunay
+  // triangles covering it have their vertices in it, so they are one of its two
+  // splits, the one the perturbed in-circle test picks.
+  const VertexId sw = lat_.vertex_at[o[0]], s = lat_.vertex_at[o[1]],
+                 se = lat_.vertex_at[o[2]], w = lat_.vertex_at[o[3]],
+                 e = lat_.vertex_at[o[4]], nw = lat_.vertex_at[o[5]],
+                 n = lat_.vertex_at[o[6]], ne = lat_.vertex_at[o[7]];
+  piece.found.push_back({sw, s, w});
+  piece.found.push_back({s, se, e});
+  piece.found.push_back({e, ne, n});
+  piece.found.push_back({w, n, nw});
+  if (incirclePerturbed(lat_.point(o[3]), lat_.point(o[1]), lat_.point(o[4]),
+                        lat_.point(o[6])) == Sign::NEGATIVE) {
+    piece.found.push_back({w, s, e}); // N outside the circle of (W, S, E)
+    piece.found.push_back({w, e, n});
+  } else {
+    piece.found.push_back({w, s, n});
+    piece.found.push_back({s, e, n});
+  }
+  piece.rounds = 1;
+  piece.points = o.size();
+  return true;
+}
+
 void Fringe::solve(Piece& piece) const
 {
+  if (solveGap(piece))
+    return;
   if (piece.own.size() <= SMALL_PIECE) {
     // pointsInDisk counts the ring as outside here: the piece's S is its I alone.
     Piece alone;

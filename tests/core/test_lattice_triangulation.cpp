@@ -172,6 +172,25 @@ TEST(LatticeTriangulation, NonUniformSpacing)
   }
 }
 
+TEST(LatticeTriangulation, IsolatedGapsOnUnevenSpacing)
+{
+  // One missing position with its eight neighbours present: its six triangles come
+  // without a search (four corner triangles, the rest split by the perturbed
+  // in-circle test: cocircular on even steps, not on random ones), next to the border
+  // too; gaps two apart in a row form larger pieces, which take the general path.
+  const std::vector<std::pair<std::vector<double>, std::vector<double>>> lattices = {
+      {uniformSteps(31, 0.0, 1.0), uniformSteps(27, 0.0, 1.0)},
+      {uniformSteps(31, 0.0, 2.0), uniformSteps(27, 5.0, 0.5)},
+      {randomSteps(31, -4.0, 7), randomSteps(27, 2.0, 8)}};
+  for (std::size_t k = 0; k < lattices.size(); ++k) {
+    SCOPED_TRACE(k);
+    const auto& [xs, ys] = lattices[k];
+    expectSameAsOrdinary(rasterPoints(xs, ys, [](int i, int j) {
+      return !((i % 4 == 1 && j % 4 == 1) || (i == 20 && j == 22));
+    }));
+  }
+}
+
 TEST(LatticeTriangulation, NodataHolesOfSeveralShapes)
 {
   const auto xs = uniformSteps(70, 0.0, 1.0), ys = uniformSteps(60, 0.0, 1.0);
