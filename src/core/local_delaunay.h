@@ -40,7 +40,17 @@ class LocalDelaunay {
   /// Calls keep(t) for every triangle of real points whose circumdisk is proven to
   /// lie inside the window's known space.
   template <typename Keep>
-  void forEachFinal(const CellGrid& grid, const CellWindow& window, Keep&& keep) const;
+  void forEachFinal(const CellGrid& grid, const CellWindow& window, Keep&& keep) const
+  {
+    forEachFinal(
+        grid, window, [](std::size_t) { return true; }, keep);
+  }
+
+  /// The same for the triangles of real points with wanted(t) only: the bound (two
+  /// divisions, three square roots) is computed for those alone.
+  template <typename Wanted, typename Keep>
+  void forEachFinal(const CellGrid& grid, const CellWindow& window, Wanted&& wanted,
+                    Keep&& keep) const;
 
   std::vector<Point2> p;
   std::vector<std::int32_t> v, adj;
@@ -59,9 +69,9 @@ class LocalDelaunay {
   std::int32_t last_ = 0;
 };
 
-template <typename Keep>
+template <typename Wanted, typename Keep>
 void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
-                                 Keep&& keep) const
+                                 Wanted&& wanted, Keep&& keep) const
 {
   const double c = grid.cell_size;
   const double inf = std::numeric_limits<double>::infinity();
@@ -71,7 +81,7 @@ void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
   const double y_lo = w.j0 == 0 ? -inf : grid.origin_y + w.j0 * c + 2 * grid.slack;
   const double y_hi = w.j1 == grid.ny ? inf : grid.origin_y + w.j1 * c - 2 * grid.slack;
   for (std::size_t t = 0; t < v.size() / 3; ++t)
-    if (v[3 * t] >= 3 && v[3 * t + 1] >= 3 && v[3 * t + 2] >= 3 &&
+    if (v[3 * t] >= 3 && v[3 * t + 1] >= 3 && v[3 * t + 2] >= 3 && wanted(t) &&
         finalTriangle(t, x_lo, x_hi, y_lo, y_hi))
       keep(t);
 }

@@ -194,7 +194,7 @@ class Growth {
     // Owned: the leftmost vertex column is in the strip (one vertex is, so none is
     // right of it).
     const bool owned = ta >= low_ && tb >= low_ && tc >= low_;
-    mesh_.owned.push_back(owned);
+    mesh_.owned.push_back(owned ? 1 : 0);
     mesh_.owned_count += owned ? 1 : 0;
     return e;
   }
@@ -313,42 +313,93 @@ class Growth {
           return Status::error(StatusCode::CAPACITY_EXCEEDED,
                                "more than " + std::to_string(MAX_STRIP_TRIANGLES) +
                                    " triangles: beyond the 32-bit halfedge ids");
-        // Kept triangles first, then their edges: twins inside the block straight
-        // from the local mesh, the others through the open lists (another block's
-        // triangle, or the search's work).
-        kept_at_.assign(dt.v.size() / 3, CLOSED);
-        kept_.clear();
-        dt.forEachFinal(grid_, window, [&](std::size_t t) {
+        addBlock(dt, window);
+      }
+    return Status::success();
+  }
+
+  /// Adds the proven triangles of one triangulated block: vertices, ownership and the
+  /// twins inside the block written in place; only the other edges go through the
+  /// open lists (another block's triangle, or the search's work). The triangles, their
+  /// order and the open lists' order are those of one addTriangle per kept triangle
+  /// followed by one linkOrOpen per edge not paired in the block.
+  void addBlock(const LocalDelaunay& dt, const CellWindow& window)
+  {
+    // Per local vertex, once: in the strip, right of its left border (the owned
+    // test), and a candidate owner (in the strip and in the block's core).
+    constexpr std::uint8_t IN_STRIP = 1, NOT_LEFT = 2, CORE_OWNER = 4;
+    const std::size_t vertices = dt.p.size();
+    vertex_flags_.resize(vertices);
+    vertex_flags_[0] = vertex_flags_[1] = vertex_flags_[2] = 0; // the super triangle
+    for (std::size_t k = 3; k < vertices; ++k) {
+      const double t = (dt.p[k].x - grid_.origin_x) * grid_.inv_cell_size;
+      const bool in = t >= low_ && t < high_;
+      vertex_flags_[k] =
+          static_cast<std::uint8_t>((in ? IN_STRIP : 0) | (t >= low_ ? NOT_LEFT : 0) |
+                                    (in && dt.in_core[k] ? CORE_OWNER : 0));
+    }
+    // Kept: the triangle's smallest strip vertex is in the core (tested before the
+    // finality bound, which is the expensive part), and the triangle is final.
+    const std::size_t local_triangles = dt.v.size() / 3;
+    kept_at_.assign(local_triangles, CLOSED);
+    kept_.clear();
+    const auto first = static_cast<HalfedgeId>(mesh_.triangles.size());
+    dt.forEachFinal(
+        grid_, window,
+        [&](std::size_t t) {
           std::size_t owner = 0;
           for (std::size_t k = 3 * t; k < 3 * t + 3; ++k) {
             const auto local = static_cast<std::size_t>(dt.v[k]);
-            if (inStrip(dt.ids[local]) && (owner == 0 || dt.ids[local] < dt.ids[owner]))
+            if ((vertex_flags_[local] & IN_STRIP) != 0 &&
+                (owner == 0 || dt.ids[local] < dt.ids[owner]))
               owner = local;
           }
-          if (owner == 0 || dt.in_core[owner] == 0)
-            return;
-          kept_at_[t] = addTriangle(dt.ids[static_cast<std::size_t>(dt.v[3 * t])],
-                                    dt.ids[static_cast<std::size_t>(dt.v[3 * t + 1])],
-                                    dt.ids[static_cast<std::size_t>(dt.v[3 * t + 2])]);
+          return owner != 0 && (vertex_flags_[owner] & CORE_OWNER) != 0;
+        },
+        [&](std::size_t t) {
+          kept_at_[t] = first + static_cast<HalfedgeId>(3 * kept_.size());
           kept_.push_back(t);
         });
-        for (const std::size_t t : kept_) {
-          const HalfedgeId f = kept_at_[t];
-          for (std::uint32_t k = 0; k < 3; ++k) {
-            const std::int32_t o = dt.adj[3 * t + k];
-            const HalfedgeId g = f + k;
-            if (o >= 0 && kept_at_[static_cast<std::size_t>(o / 3)] != CLOSED) {
-              mesh_.halfedges[g] = kept_at_[static_cast<std::size_t>(o / 3)] +
-                                   static_cast<HalfedgeId>(o % 3);
-              continue;
-            }
-            const bool from_in = inStrip(origin(g)), to_in = inStrip(target(g));
-            if (linkOrOpen(g, from_in, to_in) && (from_in || to_in))
-              pool_.push(g, grid_.row(grid_.points[origin(g)].y));
-          }
-        }
+    if (kept_.empty())
+      return;
+    const std::size_t added = kept_.size();
+    mesh_.triangles.resize(mesh_.triangles.size() + 3 * added);
+    mesh_.halfedges.resize(mesh_.halfedges.size() + 3 * added, CLOSED);
+    mesh_.owned.resize(mesh_.owned.size() + added);
+    VertexId* out = mesh_.triangles.data() + first;
+    std::uint8_t* owned = mesh_.owned.data() + first / 3;
+    for (const std::size_t t : kept_) {
+      std::uint8_t all = NOT_LEFT;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const auto local = static_cast<std::size_t>(dt.v[3 * t + k]);
+        const VertexId id = dt.ids[local];
+        *out++ = id;
+        all &= vertex_flags_[local];
+        if ((vertex_flags_[local] & IN_STRIP) != 0 && open_head_[id] == UNREACHED)
+          open_head_[id] = OPEN_LIST_END; // reached: its star will be grown
       }
-    return Status::success();
+      *owned++ = all != 0 ? 1 : 0;
+      mesh_.owned_count += all != 0 ? 1 : 0;
+    }
+    for (const std::size_t t : kept_) {
+      const HalfedgeId f = kept_at_[t];
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::int32_t o = dt.adj[3 * t + k];
+        const HalfedgeId g = f + k;
+        if (o >= 0 && kept_at_[static_cast<std::size_t>(o / 3)] != CLOSED) {
+          mesh_.halfedges[g] = kept_at_[static_cast<std::size_t>(o / 3)] +
+                               static_cast<HalfedgeId>(o % 3);
+          continue;
+        }
+        const bool from_in =
+            (vertex_flags_[static_cast<std::size_t>(dt.v[3 * t + k])] & IN_STRIP) != 0;
+        const bool to_in =
+            (vertex_flags_[static_cast<std::size_t>(dt.v[3 * t + (k + 1) % 3])] &
+             IN_STRIP) != 0;
+        if (linkOrOpen(g, from_in, to_in) && (from_in || to_in))
+          pool_.push(g, grid_.row(dt.p[static_cast<std::size_t>(dt.v[3 * t + k])].y));
+      }
+    }
   }
 
   /// Points near v sorted by floating-point distance; the exact nearest neighbour is
@@ -469,7 +520,8 @@ class Growth {
   const bool cache_blocks_;
   /// Per local triangle of the block: its first halfedge once added, or CLOSED.
   std::vector<HalfedgeId> kept_at_;
-  std::vector<std::size_t> kept_; ///< local triangles added, in order
+  std::vector<std::size_t> kept_;          ///< local triangles added, in order
+  std::vector<std::uint8_t> vertex_flags_; ///< per local vertex of the block
 };
 
 } // namespace

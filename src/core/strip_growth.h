@@ -79,7 +79,7 @@ constexpr std::size_t MAX_STRIP_TRIANGLES = OPEN_LIST_END / 3;
 struct StripMesh {
   std::vector<VertexId> triangles;   ///< 3 per triangle grown (owned or not)
   std::vector<HalfedgeId> halfedges; ///< 1 per halfedge, see above (owned only)
-  std::vector<bool> owned;           ///< 1 per triangle grown
+  std::vector<std::uint8_t> owned;   ///< 1 per triangle grown: 1 owned, 0 not
   std::size_t owned_count = 0;
 };
 
