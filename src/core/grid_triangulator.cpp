@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
+#include <mutex>
 #include <string>
 #include <tuple>
 
@@ -24,41 +26,67 @@ struct BorderRecord {
   }
 };
 
-/// Appends the owned triangles of one strip to the output, translating strip-local
-/// twins to global ids and collecting the border halfedges.
-void appendStrip(StripMesh& strip, std::vector<VertexId>& triangles,
-                 std::vector<HalfedgeId>& halfedges, std::vector<BorderRecord>& border)
+/// A strip's owned triangles, compacted in place by the worker that grew it:
+/// strip-local ids from 0 in the order grown, twins inside the strip in that numbering,
+/// INVALID_ID for the hull and for the border halfedges, which are listed in `border`
+/// (strip-local ids). `index` is the worker's buffer. Returns the number of owned
+/// triangles.
+std::size_t compactStrip(StripMesh& strip, std::vector<TriangleId>& index,
+                         std::vector<BorderRecord>& border)
 {
   const std::size_t grown = strip.owned.size();
-  const std::size_t first = triangles.size() / 3;
-  // Global triangle of each owned local one (the output grows page by page, in
-  // order, while the strips before it have been released).
-  std::vector<TriangleId> global(grown);
-  auto next = static_cast<TriangleId>(first);
+  index.resize(grown);
+  TriangleId next = 0;
   for (std::size_t t = 0; t < grown; ++t)
-    global[t] = strip.owned[t] ? next++ : INVALID_ID;
-  triangles.resize(3 * static_cast<std::size_t>(next));
-  halfedges.resize(3 * static_cast<std::size_t>(next));
-  const VertexId* local_v = strip.triangles.data();
-  const HalfedgeId* local_h = strip.halfedges.data();
+    index[t] = strip.owned[t] ? next++ : INVALID_ID;
+  // Forward in place: triangle t moves to index[t] <= t, its slots read first.
+  VertexId* v = strip.triangles.data();
+  HalfedgeId* h = strip.halfedges.data();
   for (std::size_t t = 0; t < grown; ++t) {
-    if (global[t] == INVALID_ID)
+    if (index[t] == INVALID_ID)
       continue;
-    const std::size_t out = 3 * static_cast<std::size_t>(global[t]);
+    const std::size_t out = 3 * static_cast<std::size_t>(index[t]);
+    const VertexId a[3] = {v[3 * t], v[3 * t + 1], v[3 * t + 2]};
+    const HalfedgeId e[3] = {h[3 * t], h[3 * t + 1], h[3 * t + 2]};
     for (std::size_t k = 0; k < 3; ++k) {
-      const VertexId a = local_v[3 * t + k];
-      const HalfedgeId h = local_h[3 * t + k];
-      triangles[out + k] = a;
-      if (h == detail::BORDER) {
-        const VertexId b = local_v[3 * t + (k == 2 ? 0 : k + 1)];
+      v[out + k] = a[k];
+      if (e[k] == detail::BORDER) {
+        const VertexId b = a[k == 2 ? 0 : k + 1];
         border.push_back(
-            {std::min(a, b), std::max(a, b), static_cast<HalfedgeId>(out + k)});
-        halfedges[out + k] = INVALID_ID;
+            {std::min(a[k], b), std::max(a[k], b), static_cast<HalfedgeId>(out + k)});
+        h[out + k] = INVALID_ID;
       } else {
-        halfedges[out + k] = h == detail::HULL ? INVALID_ID : 3 * global[h / 3] + h % 3;
+        h[out + k] = e[k] == detail::HULL ? INVALID_ID : 3 * index[e[k] / 3] + e[k] % 3;
       }
     }
   }
+  strip.triangles.resize(3 * static_cast<std::size_t>(next));
+  strip.halfedges.resize(3 * static_cast<std::size_t>(next));
+  strip.owned = std::vector<bool>();
+  return next;
+}
+
+/// Appends a compacted strip to the mesh and frees it: its triangles, its twins
+/// shifted, its border halfedges (global ids) added to `border`.
+void appendStrip(StripMesh& strip, const std::vector<BorderRecord>& strip_border,
+                 std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges,
+                 std::vector<BorderRecord>& border)
+{
+  const auto shift = static_cast<HalfedgeId>(halfedges.size());
+  triangles.insert(triangles.end(), strip.triangles.begin(), strip.triangles.end());
+  // Copied (insert: no zeroing first) and shifted a cache-sized chunk at a time.
+  constexpr std::size_t CHUNK = 1u << 14;
+  const HalfedgeId* local = strip.halfedges.data();
+  for (std::size_t begin = 0; begin < strip.halfedges.size(); begin += CHUNK) {
+    const std::size_t end = std::min(strip.halfedges.size(), begin + CHUNK);
+    const std::size_t at = halfedges.size();
+    halfedges.insert(halfedges.end(), local + begin, local + end);
+    for (std::size_t k = at; k < halfedges.size(); ++k)
+      if (halfedges[k] != INVALID_ID)
+        halfedges[k] += shift;
+  }
+  for (const BorderRecord& r : strip_border)
+    border.push_back({r.low, r.high, r.halfedge + shift});
   strip = StripMesh();
 }
 
@@ -83,25 +111,123 @@ Status checkTriangleCapacity(std::size_t points, std::size_t hull_vertices)
 
 namespace {
 
-/// Grows every strip of the layout (any thread, any order) into `strips`; the search
-/// statistics summed over the workers.
-Status growStrips(const CellGrid& grid, const CellPyramid& pyramid,
-                  const CellSubdivision& subdivision,
-                  const detail::HullEdges& hull_edges,
-                  const detail::StripLayout& layout, unsigned threads,
-                  bool cache_blocks, std::vector<StripMesh>& strips, SearchStats& stats)
+/// Strips merged in strip order as they are grown, so that the merge (a serial chain)
+/// runs beside the growth of the later strips and each strip is freed soon after it
+/// is grown: a worker that finishes strip s compacts it (compactStrip), then, unless
+/// another worker holds the merge, appends every strip from the first unmerged one on
+/// that is ready. The arrays depend on the layout alone, not on the thread count or
+/// the order the strips finish in.
+class StripMerge {
+ public:
+  StripMerge(std::uint32_t count, std::size_t expected,
+             std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges)
+      : strips_(count)
+      , borders_(count)
+      , results_(count)
+      , ready_(count, 0)
+      , triangles_(triangles)
+      , halfedges_(halfedges)
+  {
+    triangles_.clear();
+    halfedges_.clear();
+    triangles_.reserve(3 * expected);
+    halfedges_.reserve(3 * expected);
+  }
+
+  StripMesh& strip(std::uint32_t s) { return strips_[s]; }
+
+  /// Strip s grown with `result`; `index` is the worker's buffer.
+  void grown(std::uint32_t s, Status result, std::vector<TriangleId>& index)
+  {
+    if (result.ok())
+      compactStrip(strips_[s], index, borders_[s]);
+    results_[s] = std::move(result);
+    std::unique_lock<std::mutex> lock(mutex_);
+    ready_[s] = 1;
+    if (merging_)
+      return; // the worker merging appends s once it gets there
+    merging_ = true;
+    while (merged_ < strips_.size() && ready_[merged_] != 0) {
+      const std::uint32_t next = merged_;
+      lock.unlock();
+      if (!results_[next].ok())
+        failed_ = true;
+      if (!failed_)
+        appendStrip(strips_[next], borders_[next], triangles_, halfedges_, border_);
+      strips_[next] = StripMesh();
+      borders_[next] = std::vector<BorderRecord>();
+      // Else the strips already merged stay resident beside the output.
+      detail::releaseFreedMemory();
+      lock.lock();
+      ++merged_;
+    }
+    merging_ = false;
+  }
+
+  /// Once every strip is grown and merged: the first error in strip order, or the
+  /// border halfedges paired, each seen once from each side.
+  Status finish(std::size_t expected)
+  {
+    for (const Status& s : results_)
+      if (!s.ok())
+        return s;
+    const std::size_t owned = triangles_.size() / 3;
+    if (owned != expected)
+      return Status::error(
+          StatusCode::INTERNAL_ERROR,
+          "region growing produced " + std::to_string(owned) +
+              " triangles, expected 2n - h - 2 = " + std::to_string(expected));
+    std::sort(border_.begin(), border_.end());
+    for (std::size_t k = 0; k < border_.size(); k += 2) {
+      if (k + 1 == border_.size() || border_[k].low != border_[k + 1].low ||
+          border_[k].high != border_[k + 1].high)
+        return Status::error(StatusCode::INTERNAL_ERROR,
+                             "strip border edge " + std::to_string(border_[k].low) +
+                                 "-" + std::to_string(border_[k].high) +
+                                 " has no twin");
+      halfedges_[border_[k].halfedge] = border_[k + 1].halfedge;
+      halfedges_[border_[k + 1].halfedge] = border_[k].halfedge;
+    }
+    return Status::success();
+  }
+
+ private:
+  std::vector<StripMesh> strips_;
+  std::vector<std::vector<BorderRecord>> borders_; ///< per strip, strip-local ids
+  std::vector<Status> results_;
+  std::mutex mutex_; ///< guards ready_, merged_, merging_
+  std::vector<char> ready_;
+  std::uint32_t merged_ = 0;
+  bool merging_ = false;
+  bool failed_ = false; ///< a strip failed: nothing more is appended
+  std::vector<VertexId>& triangles_;
+  std::vector<HalfedgeId>& halfedges_;
+  std::vector<BorderRecord> border_; ///< global ids
+};
+
+/// Grows every strip of the layout (any thread, any order) and merges them; the
+/// search statistics summed over the workers.
+Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
+                          const CellSubdivision& subdivision,
+                          const detail::HullEdges& hull_edges,
+                          const detail::StripLayout& layout, unsigned threads,
+                          bool cache_blocks, std::size_t expected,
+                          std::vector<VertexId>& triangles,
+                          std::vector<HalfedgeId>& halfedges, SearchStats& stats)
 {
-  strips.assign(layout.count, StripMesh());
-  std::vector<Status> results(layout.count);
+  StripMerge merge(layout.count, expected, triangles, halfedges);
   std::vector<HalfedgeId> open_head(grid.points.size(), detail::UNREACHED);
   const unsigned workers = std::max(1u, std::min<unsigned>(threads, layout.count));
   std::vector<SearchStats> worker_stats(workers);
   std::atomic<std::uint32_t> next_strip{0};
   const auto work = [&](unsigned w) {
     MediatrixSearch search(grid, pyramid, subdivision);
+    std::vector<TriangleId> index;
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++)
-      results[s] = detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
-                                     open_head, strips[s], cache_blocks);
+      merge.grown(s,
+                  detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
+                                    open_head, merge.strip(s), cache_blocks),
+                  index);
     worker_stats[w] = search.stats();
   };
   runTeam(workers, work);
@@ -112,46 +238,7 @@ Status growStrips(const CellGrid& grid, const CellPyramid& pyramid,
     stats.cells_visited += s.cells_visited;
     stats.points_tested += s.points_tested;
   }
-  for (const Status& s : results)
-    if (!s.ok())
-      return s;
-  return Status::success();
-}
-
-/// Merges the strips in strip order (each released once appended), then pairs the
-/// border halfedges, each seen once from each side.
-Status mergeStrips(std::vector<StripMesh>& strips, std::size_t expected,
-                   std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges)
-{
-  std::size_t owned = 0;
-  for (const StripMesh& s : strips)
-    owned += s.owned_count;
-  if (owned != expected)
-    return Status::error(
-        StatusCode::INTERNAL_ERROR,
-        "region growing produced " + std::to_string(owned) +
-            " triangles, expected 2n - h - 2 = " + std::to_string(expected));
-  triangles.clear();
-  halfedges.clear();
-  triangles.reserve(3 * expected);
-  halfedges.reserve(3 * expected);
-  std::vector<BorderRecord> border;
-  for (StripMesh& s : strips) {
-    appendStrip(s, triangles, halfedges, border);
-    // Else the strips already merged stay resident beside the output.
-    detail::releaseFreedMemory();
-  }
-  std::sort(border.begin(), border.end());
-  for (std::size_t k = 0; k < border.size(); k += 2) {
-    if (k + 1 == border.size() || border[k].low != border[k + 1].low ||
-        border[k].high != border[k + 1].high)
-      return Status::error(StatusCode::INTERNAL_ERROR,
-                           "strip border edge " + std::to_string(border[k].low) + "-" +
-                               std::to_string(border[k].high) + " has no twin");
-    halfedges[border[k].halfedge] = border[k + 1].halfedge;
-    halfedges[border[k + 1].halfedge] = border[k].halfedge;
-  }
-  return Status::success();
+  return merge.finish(expected);
 }
 
 } // namespace
@@ -171,12 +258,8 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   // Strips are grown independently and merged in strip order: the arrays are the
   // same for every thread count.
   const detail::StripLayout layout = detail::stripLayoutFor(grid, strip_columns);
-  std::vector<StripMesh> strips;
-  if (Status s = growStrips(grid, pyramid, subdivision, hull_edges, layout, threads,
-                            cache_blocks, strips, stats);
-      !s.ok())
-    return s;
-  return mergeStrips(strips, 2 * n - h - 2, triangles, halfedges);
+  return growAndMergeStrips(grid, pyramid, subdivision, hull_edges, layout, threads,
+                            cache_blocks, 2 * n - h - 2, triangles, halfedges, stats);
 }
 
 } // namespace pcl_vts
