@@ -62,7 +62,7 @@ std::size_t compactStrip(StripMesh& strip, std::vector<TriangleId>& index,
   }
   strip.triangles.resize(3 * static_cast<std::size_t>(next));
   strip.halfedges.resize(3 * static_cast<std::size_t>(next));
-  strip.owned = std::vector<bool>();
+  strip.owned = std::vector<std::uint8_t>();
   return next;
 }
 
