@@ -211,7 +211,7 @@ Status BlockStore::orderTile(std::uint32_t tile)
     return ioError("write", path, err);
 
   // Per block: count, distinct XY positions, exact bounding box.
-  std::vector<Point2> xy;
+  std::vector<Point2> xy, tile_hull;
   for (std::size_t b = 0; b < tile_blocks; ++b) {
     const std::uint64_t begin = start[b], end = start[b + 1];
     const std::uint32_t block = first_block + static_cast<std::uint32_t>(b);
@@ -237,8 +237,12 @@ Status BlockStore::orderTile(std::uint32_t tile)
     block_bounds_[block] = box;
     // Only a block's hull vertices can be vertices of the global hull.
     const std::vector<Point2> block_hull = hullOfSorted(xy);
-    hull_.insert(hull_.end(), block_hull.begin(), block_hull.end());
+    tile_hull.insert(tile_hull.end(), block_hull.begin(), block_hull.end());
   }
+  tile_hull = hullOf(std::move(tile_hull));
+  // The hull of a set does not depend on the order the tiles' hulls arrive in.
+  const std::lock_guard<std::mutex> lock(hull_mutex_);
+  hull_.insert(hull_.end(), tile_hull.begin(), tile_hull.end());
   hull_ = hullOf(std::move(hull_));
   return Status::success();
 }

@@ -30,7 +30,7 @@ class BlockStore {
   Status flush();
   /// Joins tile's parts into one file ordered by block; fills the index entries
   /// (count, distinct XY positions, bounding box, offset) of its blocks. Needs memory
-  /// for one tile, twice.
+  /// for one tile, twice. Threads may order different tiles at once.
   Status orderTile(std::uint32_t tile);
   /// After each rank ordered its tiles: the index entries merged over ranks
   /// (a rank's entries are zero, +inf/-inf boxes, for tiles it did not order).
@@ -83,6 +83,7 @@ class BlockStore {
       block_start_; ///< first point of the block in its tile file
   std::vector<Rect> block_bounds_;
   std::vector<Point2> hull_;     ///< of the tiles this rank ordered, then of all
+  std::mutex hull_mutex_;        ///< orderTile's threads extend hull_ under it
   mutable std::vector<int> fds_; ///< opened on first read (under fd_mutex_)
   mutable std::mutex fd_mutex_;
 };

@@ -17,6 +17,7 @@
 #include <pcl_vts/tiling/tiled_mesh.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -179,11 +180,32 @@ Status bucket(Job& job, BlockStore& store)
     job.report.failure = TiledFailure::OTHER;
     return Status::error(StatusCode::IO_ERROR, "the input changed while it was read");
   }
-  job.progress("ordering", 0, 0);
-  const std::size_t tiles = store.tileCount();
-  for (std::size_t t = static_cast<std::size_t>(job.rank); t < tiles && status.ok();
-       t += static_cast<std::size_t>(job.ranks))
-    status = store.orderTile(static_cast<std::uint32_t>(t));
+  // This rank's tiles (rank, rank + ranks, ...), one per worker at a time: the tile
+  // size leaves each worker memory for one tile, twice.
+  const auto ranks = static_cast<std::size_t>(job.ranks);
+  const std::size_t mine =
+      (store.tileCount() + ranks - 1 - static_cast<std::size_t>(job.rank)) / ranks;
+  job.progress("ordering", 0, mine);
+  std::atomic<std::size_t> next{0};
+  std::mutex mutex;
+  std::size_t ordered = 0;
+  runTeam(static_cast<unsigned>(
+              std::max<std::size_t>(1, std::min<std::size_t>(job.workers, mine))),
+          [&](unsigned) {
+            for (std::size_t k = next++; k < mine; k = next++) {
+              const auto t = static_cast<std::uint32_t>(
+                  static_cast<std::size_t>(job.rank) + k * ranks);
+              Status s = store.orderTile(t);
+              const std::lock_guard<std::mutex> lock(mutex);
+              if (!s.ok()) {
+                if (status.ok())
+                  status = s;
+                next = mine; // the others stop after their current tile
+                return;
+              }
+              job.progress("ordering", ++ordered, mine);
+            }
+          });
   if (!(status = agree(job.comm, status)).ok()) {
     job.report.failure = status.code == StatusCode::IO_ERROR ? TiledFailure::TEMP_FOLDER
                                                              : TiledFailure::OTHER;
