@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -93,19 +94,35 @@ double medianInPlace(std::vector<double>& values)
   return *mid;
 }
 
-/// measurePointSpacing with rows indexed by Index (32 bits while they fit).
+std::uint64_t bitsOf(double value)
+{
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+} // namespace
+
+namespace detail {
+
+void VertexRows::build(const TriangleMesh& mesh)
+{
+  // A row entry per halfedge, two for a boundary one.
+  if (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max())
+    fill(mesh, start32_);
+  else
+    fill(mesh, start64_);
+}
+
 template <typename Index>
-PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_for,
-                     std::vector<double>* own_out, unsigned threads)
+void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start)
 {
   const std::size_t n = mesh.vertexCount();
   const std::size_t corners = mesh.triangles.size();
-  PointSpacing spacing;
-
-  // One-ring rows by counting sort of directed edges (both directions of a boundary
-  // edge): start[v] counts row v, then holds its end, and the scatter moves it back
-  // to its beginning. A row's order does not matter: only its medians are read.
-  std::vector<Index> start(n + 1, 0);
+  // Counting sort of directed edges (both directions of a boundary edge): start[v]
+  // counts row v, then holds its end, and the scatter moves it back to its
+  // beginning. A row's order does not matter: only its medians are read.
+  start.assign(n + 1, 0);
   for (HalfedgeId e = 0; e < corners; ++e) {
     ++start[mesh.triangles[e]];
     if (mesh.halfedges[e] == INVALID_ID) // boundary edge: seen from one side only
@@ -114,7 +131,7 @@ PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_fo
   for (std::size_t v = 1; v < n; ++v)
     start[v] += start[v - 1];
   const Index total = n > 0 ? start[n - 1] : 0;
-  std::vector<VertexId> ring(total);
+  ring.resize(total);
   for (HalfedgeId e = 0; e < corners; ++e) {
     const VertexId a = mesh.triangles[e];
     const VertexId b = mesh.triangles[nextHalfedge(e)];
@@ -123,44 +140,171 @@ PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_fo
       ring[--start[b]] = a;
   }
   start[n] = total;
+}
+
+namespace {
+
+double ownMedian(const TriangleMesh& mesh, const VertexRows& rows, std::size_t v,
+                 std::vector<double>& values)
+{
+  const std::size_t begin = rows.begin(v), end = rows.end(v);
+  const std::size_t size = end - begin;
+  if (size == 0)
+    return 0.0;
+  // Squared lengths: sqrt is monotonic and correctly rounded, so the root of the
+  // median square is the median length (a NaN takes the lengths' own path).
+  const Point2& p = mesh.xy[v];
+  if (size <= 16) {
+    double squares[16];
+    bool nan = false;
+    for (std::size_t k = 0; k < size; ++k) {
+      const Point2& q = mesh.xy[rows.ring[begin + k]];
+      const double dx = p.x - q.x, dy = p.y - q.y;
+      squares[k] = dx * dx + dy * dy;
+      nan = nan || std::isnan(squares[k]);
+    }
+    if (!nan)
+      return std::sqrt(size <= 8 ? smallMedian<8>(squares, size)
+                                 : smallMedian<16>(squares, size));
+  }
+  values.clear();
+  for (std::size_t k = begin; k < end; ++k) {
+    const Point2& q = mesh.xy[rows.ring[k]];
+    const double dx = p.x - q.x, dy = p.y - q.y;
+    values.push_back(std::sqrt(dx * dx + dy * dy)); // hypot is 5x slower
+  }
+  return medianInPlace(values);
+}
+
+} // namespace
+
+std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
+                               unsigned threads)
+{
   // Per vertex: median incident edge length. Robust to a few long edges into a
   // void (a rim vertex keeps most of its short ones) and to anisotropic sampling
   // (scan lines: the shortest edge would only see the along-line spacing).
-  // Each vertex's medians are its own slot's: ranges of vertices on any threads.
+  // Each vertex's median is its own slot's: ranges of vertices on any threads.
+  const std::size_t n = mesh.vertexCount();
   std::vector<double> own(n, 0.0);
   parallelRanges(threads, n, [&](std::size_t begin, std::size_t end) {
     std::vector<double> values; // reused across the range: no copy per vertex
-    for (std::size_t v = begin; v < end; ++v) {
-      if (start[v] == start[v + 1])
-        continue;
-      values.clear();
-      const Point2& p = mesh.xy[v];
-      for (Index k = start[v]; k < start[v + 1]; ++k) {
-        const Point2& q = mesh.xy[ring[k]];
-        const double dx = p.x - q.x, dy = p.y - q.y;
-        values.push_back(std::sqrt(dx * dx + dy * dy)); // hypot is 5x slower
-      }
-      own[v] = medianInPlace(values);
-    }
+    for (std::size_t v = begin; v < end; ++v)
+      own[v] = ownMedian(mesh, rows, v, values);
   });
-  std::vector<double> used;
-  used.reserve(n);
+  return own;
+}
+
+} // namespace detail
+
+namespace {
+
+/// The upper median of values[v] over the v that selected(v) flags (0 for none):
+/// medianInPlace's value.
+template <typename Selected>
+double upperMedianWhere(const std::vector<double>& values, const Selected& selected)
+{
+  // Exact selection by a histogram of the IEEE bits (ordered as the values for
+  // non-negative doubles): count, find the bucket holding the upper median's rank,
+  // select inside it. A NaN or a negative value takes medianInPlace's path.
+  const std::size_t n = values.size();
+  std::size_t count = 0;
+  std::uint64_t low = ~std::uint64_t{0}, high = 0;
+  bool plain = true;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!selected(v))
+      continue;
+    ++count;
+    const double x = values[v];
+    plain = plain && x >= 0.0 && !std::signbit(x);
+    const std::uint64_t bits = bitsOf(x);
+    low = std::min(low, bits);
+    high = std::max(high, bits);
+  }
+  std::vector<double> chosen;
+  if (!plain || count <= 4096) {
+    chosen.reserve(count);
+    for (std::size_t v = 0; v < n; ++v)
+      if (selected(v))
+        chosen.push_back(values[v]);
+    return medianInPlace(chosen);
+  }
+  constexpr unsigned BUCKET_BITS = 16;
+  unsigned shift = 0;
+  while (((high - low) >> shift) >= (std::uint64_t{1} << BUCKET_BITS))
+    ++shift;
+  std::vector<std::size_t> histogram(std::size_t{1} << BUCKET_BITS, 0);
   for (std::size_t v = 0; v < n; ++v)
-    if (start[v] != start[v + 1])
-      used.push_back(own[v]);
-  spacing.global_median = medianInPlace(used);
-  std::vector<double>().swap(used);
+    if (selected(v))
+      ++histogram[(bitsOf(values[v]) - low) >> shift];
+  std::size_t rank = count / 2, bucket = 0;
+  while (rank >= histogram[bucket])
+    rank -= histogram[bucket++];
+  chosen.reserve(histogram[bucket]);
+  for (std::size_t v = 0; v < n; ++v)
+    if (selected(v) && ((bitsOf(values[v]) - low) >> shift) == bucket)
+      chosen.push_back(values[v]);
+  const auto mid = chosen.begin() + static_cast<std::ptrdiff_t>(rank);
+  std::nth_element(chosen.begin(), mid, chosen.end());
+  return *mid;
+}
+
+} // namespace
+
+namespace detail {
+
+double medianOverRows(const std::vector<double>& own, const VertexRows& rows)
+{
+  return upperMedianWhere(own,
+                          [&](std::size_t v) { return rows.begin(v) != rows.end(v); });
+}
+
+double localMedian(const VertexRows& rows, const std::vector<double>& own,
+                   std::size_t v, std::vector<double>& values)
+{
+  const std::size_t begin = rows.begin(v), end = rows.end(v);
+  if (begin == end)
+    return 0.0;
+  values.assign(1, own[v]);
+  for (std::size_t k = begin; k < end; ++k)
+    values.push_back(own[rows.ring[k]]);
+  return medianInPlace(values);
+}
+
+double ringMinimum(const VertexRows& rows, const std::vector<double>& own,
+                   std::size_t v)
+{
+  const std::size_t begin = rows.begin(v), end = rows.end(v);
+  double low = own[v];
+  bool nan = std::isnan(low);
+  for (std::size_t k = begin; k < end; ++k) {
+    const double x = own[rows.ring[k]];
+    nan = nan || std::isnan(x);
+    low = std::min(low, x);
+  }
+  return nan ? std::numeric_limits<double>::quiet_NaN() : low;
+}
+
+} // namespace detail
+
+namespace {
+
+/// measurePointSpacing from the rows.
+PointSpacing measure(const TriangleMesh& mesh, const std::vector<bool>* local_for,
+                     std::vector<double>* own_out, unsigned threads)
+{
+  const std::size_t n = mesh.vertexCount();
+  PointSpacing spacing;
+  detail::VertexRows rows;
+  rows.build(mesh);
+  std::vector<double> own = detail::ownMedians(mesh, rows, threads);
+  spacing.global_median = detail::medianOverRows(own, rows);
   spacing.local.assign(n, 0.0);
   parallelRanges(threads, n, [&](std::size_t begin, std::size_t end) {
     std::vector<double> values;
-    for (std::size_t v = begin; v < end; ++v) {
-      if (start[v] == start[v + 1] || (local_for != nullptr && !(*local_for)[v]))
-        continue;
-      values.assign(1, own[v]);
-      for (Index k = start[v]; k < start[v + 1]; ++k)
-        values.push_back(own[ring[k]]);
-      spacing.local[v] = medianInPlace(values);
-    }
+    for (std::size_t v = begin; v < end; ++v)
+      if (local_for == nullptr || (*local_for)[v])
+        spacing.local[v] = detail::localMedian(rows, own, v, values);
   });
   if (own_out != nullptr)
     own_out->swap(own);
@@ -187,10 +331,7 @@ PointSpacing measurePointSpacing(const TriangleMesh& mesh,
                                  std::vector<double>* own, unsigned threads)
 {
   threads = threads > 0 ? threads : allCores();
-  // A row entry per halfedge, two for a boundary one.
-  if (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max())
-    return measure<std::uint32_t>(mesh, local_for, own, threads);
-  return measure<std::size_t>(mesh, local_for, own, threads);
+  return measure(mesh, local_for, own, threads);
 }
 
 void remeasureOwnSpacing(const TriangleMesh& mesh, const std::vector<bool>& changed,
@@ -244,21 +385,18 @@ void VertexSpacing::settle(const TriangleMesh& trimmed, unsigned threads)
   if (settled)
     return;
   remeasureOwnSpacing(trimmed, changed, own, threads);
+  std::vector<bool> has_triangle(trimmed.vertexCount(), false);
+  for (const VertexId v : trimmed.triangles)
+    has_triangle[v] = true;
   global_median = medianOverUsed(own, has_triangle);
   std::vector<bool>().swap(changed);
-  std::vector<bool>().swap(has_triangle);
   settled = true;
 }
 
 double medianOverUsed(const std::vector<double>& own,
                       const std::vector<bool>& has_triangle)
 {
-  std::vector<double> used;
-  used.reserve(own.size());
-  for (std::size_t v = 0; v < own.size(); ++v)
-    if (has_triangle[v])
-      used.push_back(own[v]);
-  return medianInPlace(used);
+  return upperMedianWhere(own, [&](std::size_t v) { return has_triangle[v]; });
 }
 
 } // namespace detail

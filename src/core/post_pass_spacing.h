@@ -16,19 +16,54 @@
 namespace pcl_vts::detail {
 
 /// What the trim hands to the fill: per vertex the median length of its edges before
-/// the trim, the vertices whose rows the trim changed and those left with triangles.
-/// settle() brings them to the trimmed mesh (own for it, and the median of own over
-/// the vertices with triangles, PointSpacing::global_median): only a fill that found
-/// holes pays for it.
+/// the trim and the vertices whose rows the trim changed. settle() brings them to the
+/// trimmed mesh (own for it, and the median of own over the vertices with triangles,
+/// PointSpacing::global_median): only a fill that found holes pays for it.
 struct VertexSpacing {
   std::vector<double> own;
   std::vector<bool> changed;
-  std::vector<bool> has_triangle;
   double global_median = 0.0;
   bool settled = false;
 
   void settle(const TriangleMesh& trimmed, unsigned threads = 1);
 };
+
+/// Each vertex's row of neighbours, measurePointSpacing's rule: the ends of the
+/// halfedges leaving it and the starts of the boundary halfedges entering it.
+class VertexRows {
+ public:
+  void build(const TriangleMesh& mesh);
+  std::size_t begin(std::size_t v) const
+  {
+    return start64_.empty() ? start32_[v] : start64_[v];
+  }
+  std::size_t end(std::size_t v) const { return begin(v + 1); }
+  std::vector<VertexId> ring;
+
+ private:
+  template <typename Index>
+  void fill(const TriangleMesh& mesh, std::vector<Index>& start);
+  std::vector<std::uint32_t> start32_; ///< while the entries fit 32 bits
+  std::vector<std::size_t> start64_;
+};
+
+/// Per vertex the median length of the edges of its row (0 for an empty row), on
+/// `threads` threads (the same figures for any value).
+std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
+                               unsigned threads);
+
+/// The upper median of own over the vertices with a non-empty row.
+double medianOverRows(const std::vector<double>& own, const VertexRows& rows);
+
+/// The median of own over v and its row (measurePointSpacing's local figure; 0 for
+/// an empty row). values: a buffer.
+double localMedian(const VertexRows& rows, const std::vector<double>& own,
+                   std::size_t v, std::vector<double>& values);
+
+/// The smallest own over v and its row, a lower bound of localMedian (NaN when one
+/// of them is NaN).
+double ringMinimum(const VertexRows& rows, const std::vector<double>& own,
+                   std::size_t v);
 
 /// measurePointSpacing, also giving each vertex's own median (own may be null), on
 /// `threads` threads (0 = all cores; the same figures for any value).

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace pcl_vts {
@@ -176,30 +177,41 @@ TriangleSize classifyTriangle(const Point2& a, const Point2& b, const Point2& c,
 
 namespace {
 
-/// Flood over oversized triangles from those on the outline (and from void seeds),
-/// each removal exposing its neighbours. Order does not matter for the set removed
-/// (the oversized triangles connected to a start), only for speed.
-void floodOversized(const TriangleMesh& mesh, const std::vector<std::uint8_t>& flags,
-                    bool open_voids, std::vector<bool>& removed)
+/// The flood's starts: the oversized triangles on the outline and, with open_voids,
+/// the void seeds.
+std::vector<TriangleId> floodStarts(const TriangleMesh& mesh,
+                                    const std::vector<std::uint8_t>& flags,
+                                    bool open_voids)
 {
+  std::vector<TriangleId> starts;
   const std::size_t count = mesh.triangleCount();
-  auto oversized = [&](TriangleId t) { return (flags[t] & OVERSIZED) != 0; };
-  std::vector<TriangleId> stack;
   for (TriangleId t = 0; t < count; ++t) {
-    if (!oversized(t))
+    if ((flags[t] & OVERSIZED) == 0)
       continue;
     const bool on_boundary = mesh.halfedges[3 * t] == INVALID_ID ||
                              mesh.halfedges[3 * t + 1] == INVALID_ID ||
                              mesh.halfedges[3 * t + 2] == INVALID_ID;
     if (on_boundary || (open_voids && (flags[t] & VOID_SEED) != 0))
-      stack.push_back(t);
+      starts.push_back(t);
   }
+  return starts;
+}
+
+/// Flood over oversized triangles from the starts, each removal exposing its
+/// neighbours. Order does not matter for the set removed (the oversized triangles
+/// connected to a start), only for speed. Appends the removed ones to `list`.
+void floodOversized(const TriangleMesh& mesh, const std::vector<std::uint8_t>& flags,
+                    std::vector<TriangleId> stack, std::vector<bool>& removed,
+                    std::vector<TriangleId>& list)
+{
+  auto oversized = [&](TriangleId t) { return (flags[t] & OVERSIZED) != 0; };
   while (!stack.empty()) {
     const TriangleId t = stack.back();
     stack.pop_back();
     if (removed[t])
       continue;
     removed[t] = true;
+    list.push_back(t);
     for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e) {
       const HalfedgeId twin = mesh.halfedges[e];
       if (twin != INVALID_ID && oversized(triangleOf(twin)) &&
@@ -215,26 +227,32 @@ void floodOversized(const TriangleMesh& mesh, const std::vector<std::uint8_t>& f
 /// restorations apply, and the vertices of restored triangles make the next round;
 /// so no vertex goes first and the result is the geometry's. Returns the number of
 /// triangles restored.
-std::size_t repairPinches(const TriangleMesh& mesh, std::vector<bool>& removed)
+std::size_t repairPinches(const TriangleMesh& mesh, const std::vector<TriangleId>& list,
+                          std::vector<bool>& removed)
 {
-  const std::size_t count = mesh.triangleCount();
-  std::vector<HalfedgeId> some_out(mesh.vertexCount(), INVALID_ID);
-  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e)
-    some_out[mesh.triangles[e]] = e;
-  std::vector<VertexId> round;
-  for (TriangleId t = 0; t < count; ++t)
-    if (removed[t])
-      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-        round.push_back(mesh.triangles[e]);
+  // The round's vertices with a halfedge leaving each (a corner of a removed or a
+  // restored triangle): a fan does not depend on where its walk starts (fanOf).
+  std::vector<std::pair<VertexId, HalfedgeId>> round;
+  for (const TriangleId t : list)
+    for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+      round.emplace_back(mesh.triangles[e], e);
   std::size_t restored_count = 0;
   std::vector<TriangleId> restore;
+  auto by_vertex = [](const std::pair<VertexId, HalfedgeId>& a,
+                      const std::pair<VertexId, HalfedgeId>& b) {
+    return a.first < b.first;
+  };
+  auto same_vertex = [](const std::pair<VertexId, HalfedgeId>& a,
+                        const std::pair<VertexId, HalfedgeId>& b) {
+    return a.first == b.first;
+  };
   while (!round.empty()) {
-    std::sort(round.begin(), round.end());
-    round.erase(std::unique(round.begin(), round.end()), round.end());
+    std::sort(round.begin(), round.end(), by_vertex);
+    round.erase(std::unique(round.begin(), round.end(), same_vertex), round.end());
     restore.clear();
-    for (const VertexId v : round) {
+    for (const auto& [v, out] : round) {
       bool closed = false;
-      const std::vector<TriangleId> fan = fanOf(mesh, some_out[v], closed);
+      const std::vector<TriangleId> fan = fanOf(mesh, out, closed);
       for (const TriangleId t : fanGapsToRestore(mesh, v, fan, closed, removed))
         restore.push_back(t);
     }
@@ -245,32 +263,83 @@ std::size_t repairPinches(const TriangleMesh& mesh, std::vector<bool>& removed)
       removed[t] = false;
       ++restored_count;
       for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-        round.push_back(mesh.triangles[e]);
+        round.emplace_back(mesh.triangles[e], e);
     }
   }
   return restored_count;
 }
 
 /// OVERSIZED / VOID_SEED per triangle, against the largest local spacing of its
-/// corners; each triangle its own slot, on any threads.
-std::vector<std::uint8_t> classifyTriangles(const TriangleMesh& mesh,
-                                            const PointSpacing& spacing,
-                                            const TrimOptions& options,
-                                            unsigned threads)
+/// corners, and the flood's starts (floodStarts' order). A triangle no larger than
+/// trim_factor times the largest ringMinimum of its corners (a lower bound of their
+/// local spacing) is not oversized, with classifyTriangle's own figures; only the
+/// others need the local medians, and those of their corners alone are computed.
+/// Each triangle its own slot, on any threads.
+std::vector<std::uint8_t>
+classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
+                  const std::vector<double>& own, const TrimOptions& options,
+                  unsigned threads, std::vector<TriangleId>& starts)
 {
+  const std::size_t n = mesh.vertexCount();
   const std::size_t count = mesh.triangleCount();
-  std::vector<std::uint8_t> flags(count, 0);
-  parallelFor(threads, count, [&](std::size_t k) {
-    const auto t = static_cast<TriangleId>(k);
-    double scale = 0.0;
+  std::vector<double> scale(n); // ringMinimum, then the local median where needed
+  parallelFor(threads, n,
+              [&](std::size_t v) { scale[v] = detail::ringMinimum(rows, own, v); });
+  auto corner = [&](TriangleId t, unsigned k) -> const Point2& {
+    return mesh.xy[mesh.triangles[3 * std::size_t{t} + k]];
+  };
+  auto largest = [&](TriangleId t) {
+    double s = 0.0;
     for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-      scale = std::max(scale, spacing.local[mesh.triangles[e]]);
-    const TriangleSize size = classifyTriangle(
-        mesh.xy[mesh.triangles[3 * t]], mesh.xy[mesh.triangles[3 * t + 1]],
-        mesh.xy[mesh.triangles[3 * t + 2]], scale, options);
+      s = std::max(s, scale[mesh.triangles[e]]);
+    return s;
+  };
+  // The triangles the bound does not clear, per range in triangle order.
+  const auto parts = static_cast<unsigned>(
+      std::min<std::size_t>(threads, std::max<std::size_t>(1, count >> 16)));
+  std::vector<std::vector<TriangleId>> unclear(parts);
+  parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const auto t = static_cast<TriangleId>(k);
+      if (classifyTriangle(corner(t, 0), corner(t, 1), corner(t, 2), largest(t),
+                           options)
+              .oversized)
+        unclear[p].push_back(t);
+    }
+  });
+  std::vector<TriangleId> hard;
+  for (const std::vector<TriangleId>& part : unclear)
+    hard.insert(hard.end(), part.begin(), part.end());
+  std::vector<std::vector<TriangleId>>().swap(unclear);
+  std::vector<VertexId> corners;
+  corners.reserve(3 * hard.size());
+  for (const TriangleId t : hard)
+    for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+      corners.push_back(mesh.triangles[e]);
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  parallelRanges(threads, corners.size(), [&](std::size_t begin, std::size_t end) {
+    std::vector<double> values;
+    for (std::size_t k = begin; k < end; ++k)
+      scale[corners[k]] = detail::localMedian(rows, own, corners[k], values);
+  });
+  std::vector<std::uint8_t> flags(count, 0);
+  parallelFor(threads, hard.size(), [&](std::size_t k) {
+    const TriangleId t = hard[k];
+    const TriangleSize size =
+        classifyTriangle(corner(t, 0), corner(t, 1), corner(t, 2), largest(t), options);
     flags[t] = static_cast<std::uint8_t>((size.oversized ? OVERSIZED : 0) |
                                          (size.void_seed ? VOID_SEED : 0));
   });
+  for (const TriangleId t : hard) {
+    if ((flags[t] & OVERSIZED) == 0)
+      continue;
+    const bool on_boundary = mesh.halfedges[3 * t] == INVALID_ID ||
+                             mesh.halfedges[3 * t + 1] == INVALID_ID ||
+                             mesh.halfedges[3 * t + 2] == INVALID_ID;
+    if (on_boundary || (options.open_voids && (flags[t] & VOID_SEED) != 0))
+      starts.push_back(t);
+  }
   return flags;
 }
 
@@ -345,8 +414,9 @@ std::size_t peelOutwardTriangles(const TriangleMesh& mesh,
                                  bool open_voids, std::vector<bool>& removed)
 {
   removed.assign(mesh.triangleCount(), false);
-  floodOversized(mesh, flags, open_voids, removed);
-  return repairPinches(mesh, removed);
+  std::vector<TriangleId> list;
+  floodOversized(mesh, flags, floodStarts(mesh, flags, open_voids), removed, list);
+  return repairPinches(mesh, list, removed);
 }
 
 Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
@@ -367,47 +437,66 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   if (mesh.halfedges.size() != mesh.triangles.size())
     return Status::error(StatusCode::INVALID_PARAMETER,
                          "halfedges must have one entry per triangle corner");
-  std::vector<double> own;
-  const PointSpacing spacing = detail::measurePointSpacing(
-      mesh, nullptr, after != nullptr ? &own : nullptr, threads);
-  result.spacing = spacing.global_median;
-  const std::vector<std::uint8_t> flags =
-      classifyTriangles(mesh, spacing, options, threads);
+  detail::VertexRows rows;
+  rows.build(mesh);
+  std::vector<double> own = detail::ownMedians(mesh, rows, threads);
+  const double global_median = detail::medianOverRows(own, rows);
+  result.spacing = global_median;
+  std::vector<TriangleId> starts;
+  std::vector<std::uint8_t> flags =
+      classifyTriangles(mesh, rows, own, options, threads, starts);
 
-  std::vector<bool> removed;
-  result.kept_to_stay_manifold =
-      peelOutwardTriangles(mesh, flags, options.open_voids, removed);
+  // The peel and the repair (peelOutwardTriangles), from the starts found.
+  std::vector<bool> removed(mesh.triangleCount(), false);
+  std::vector<TriangleId> list;
+  floodOversized(mesh, flags, std::move(starts), removed, list);
+  std::vector<std::uint8_t>().swap(flags);
+  result.kept_to_stay_manifold = repairPinches(mesh, list, removed);
   // Only a corner of a removed triangle can be left without triangles, and only its
-  // row of edges changes.
+  // row of edges changes: it is lost when no triangle of its fan stays.
   std::vector<bool> changed(mesh.vertexCount(), false);
-  for (TriangleId t = 0; t < removed.size(); ++t) {
+  std::vector<std::pair<VertexId, HalfedgeId>> corners;
+  for (const TriangleId t : list) {
     if (!removed[t])
-      continue;
+      continue; // restored by the repair
     ++result.triangles_removed;
     for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-      changed[mesh.triangles[e]] = true;
+      if (!changed[mesh.triangles[e]]) {
+        changed[mesh.triangles[e]] = true;
+        corners.emplace_back(mesh.triangles[e], e);
+      }
   }
+  // The fan from a corner holds all the vertex's triangles when its row (a triangle
+  // per halfedge leaving it, and one more entry for an open fan) says so; a vertex
+  // with several fans (not from VTS) takes the scan after the compaction.
+  bool fans_whole = true;
+  for (const auto& [v, out] : corners) {
+    bool closed = false;
+    const std::vector<TriangleId> fan = fanOf(mesh, out, closed);
+    fans_whole =
+        fans_whole && fan.size() + (closed ? 0 : 1) == rows.end(v) - rows.begin(v);
+    if (std::all_of(fan.begin(), fan.end(), [&](TriangleId t) { return removed[t]; }))
+      ++result.vertices_lost;
+  }
+  rows = detail::VertexRows{};
   if (result.triangles_removed > 0)
     compactTriangles(mesh, removed, threads);
   std::vector<bool>().swap(removed);
-
-  std::vector<bool> has_triangle;
-  if (result.triangles_removed > 0) {
-    has_triangle.assign(mesh.vertexCount(), false);
+  if (!fans_whole) {
+    std::vector<bool> has_triangle(mesh.vertexCount(), false);
     for (const VertexId v : mesh.triangles)
       has_triangle[v] = true;
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-      if (changed[v] && !has_triangle[v])
-        ++result.vertices_lost;
+    result.vertices_lost = 0;
+    for (const auto& [v, out] : corners)
+      result.vertices_lost += has_triangle[v] ? 0 : 1;
   }
+
   if (after != nullptr) {
     after->own.swap(own);
-    after->global_median = spacing.global_median;
+    after->global_median = global_median;
     after->settled = result.triangles_removed == 0; // the input's spacing holds
-    if (!after->settled) {
+    if (!after->settled)
       after->changed.swap(changed);
-      after->has_triangle.swap(has_triangle);
-    }
   }
   return Status::success();
 }
