@@ -123,7 +123,9 @@ class Growth {
       if (Status s = grow(); !s.ok())
         return s;
     }
-    for (std::uint32_t j = 0; j < grid_.ny; ++j) {
+    // Once every strip vertex is reached the scan would seed nothing: it stops (its
+    // reads of open_head_ missed the cache, row after row).
+    for (std::uint32_t j = 0; j < grid_.ny && reached_ < strip_vertices_; ++j) {
       const CellId row = grid_.cellId(0, j);
       for (VertexId v = grid_.cell_start[row + first_column_];
            v < grid_.cell_start[row + end_column_]; ++v) {
@@ -172,6 +174,7 @@ class Growth {
       vertices +=
           grid_.cell_start[row + end_column_] - grid_.cell_start[row + first_column_];
     }
+    strip_vertices_ = vertices;
     const std::size_t expected = 2 * vertices + vertices / 32 + 64;
     mesh_.triangles.reserve(3 * expected);
     mesh_.halfedges.reserve(3 * expected);
@@ -188,8 +191,10 @@ class Growth {
       mesh_.triangles.push_back(v);
       mesh_.halfedges.push_back(CLOSED);
       corner_in_strip_[k++] = t >= low_ && t < high_;
-      if (t >= low_ && t < high_ && open_head_[v] == UNREACHED)
+      if (t >= low_ && t < high_ && open_head_[v] == UNREACHED) {
         open_head_[v] = OPEN_LIST_END; // reached: its star will be grown
+        ++reached_;
+      }
     }
     // Owned: the leftmost vertex column is in the strip (one vertex is, so none is
     // right of it).
@@ -327,7 +332,7 @@ class Growth {
   {
     // Per local vertex, once: in the strip, right of its left border (the owned
     // test), and a candidate owner (in the strip and in the block's core).
-    constexpr std::uint8_t IN_STRIP = 1, NOT_LEFT = 2, CORE_OWNER = 4;
+    constexpr std::uint8_t IN_STRIP = 1, NOT_LEFT = 2, CORE_OWNER = 4, USED = 8;
     const std::size_t vertices = dt.p.size();
     vertex_flags_.resize(vertices);
     vertex_flags_[0] = vertex_flags_[1] = vertex_flags_[2] = 0; // the super triangle
@@ -375,12 +380,19 @@ class Growth {
         const VertexId id = dt.ids[local];
         *out++ = id;
         all &= vertex_flags_[local];
-        if ((vertex_flags_[local] & IN_STRIP) != 0 && open_head_[id] == UNREACHED)
-          open_head_[id] = OPEN_LIST_END; // reached: its star will be grown
+        vertex_flags_[local] |= USED;
       }
       *owned++ = all != 0 ? 1 : 0;
       mesh_.owned_count += all != 0 ? 1 : 0;
     }
+    // The strip vertices of the kept triangles are reached (their stars will be
+    // grown): tested once per vertex, not once per corner.
+    for (std::size_t k = 3; k < vertices; ++k)
+      if ((vertex_flags_[k] & (IN_STRIP | USED)) == (IN_STRIP | USED) &&
+          open_head_[dt.ids[k]] == UNREACHED) {
+        open_head_[dt.ids[k]] = OPEN_LIST_END;
+        ++reached_;
+      }
     for (const std::size_t t : kept_) {
       const HalfedgeId f = kept_at_[t];
       for (std::uint32_t k = 0; k < 3; ++k) {
@@ -522,6 +534,8 @@ class Growth {
   std::vector<HalfedgeId> kept_at_;
   std::vector<std::size_t> kept_;          ///< local triangles added, in order
   std::vector<std::uint8_t> vertex_flags_; ///< per local vertex of the block
+  std::size_t strip_vertices_ = 0;         ///< grid points in the strip's columns
+  std::size_t reached_ = 0; ///< of them, those whose open_head_ is not UNREACHED
 };
 
 } // namespace
