@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pcl_vts {
 namespace detail {
@@ -25,12 +26,37 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   for (const Point2& s : p)
     if (!std::isfinite(s.x) || !std::isfinite(s.y))
       return false;
-  v.assign({0, 1, 2});
-  adj.assign({-1, -1, -1});
-  if (stamp_.empty())
-    stamp_.resize(1);
+  // Semi-static filter bounds (predicates.h, BoxBounds): one box holds the super
+  // triangle and every point (checked as the points are gathered), a tight one the
+  // window's cells widened by one cell for the triangles of real points.
+  const double tx_lo = x0 - c, tx_hi = x1 + c, ty_lo = y0 - c, ty_hi = y1 + c;
+  const BoxBounds wide =
+      boxBounds(std::min(cx - 10.0 * d, tx_lo), std::max(cx + 10.0 * d, tx_hi),
+                std::min(cy - 10.0 * d, ty_lo), std::max(cy + 10.0 * d, ty_hi));
+  orient_bound_ = wide.orient;
+  incircle_wide_bound_ = wide.incircle;
+  incircle_tight_bound_ = boxBounds(tx_lo, tx_hi, ty_lo, ty_hi).incircle;
+  // n points make 1 + 2n triangles (each insertion replaces a cavity of m triangles
+  // by m + 2): the arrays are sized once per window, not per insertion.
+  std::size_t n = 0;
+  for (std::uint32_t j = w.j0; j < w.j1; ++j)
+    n += grid.cell_start[grid.cellId(w.i1 - 1, j) + 1] -
+         grid.cell_start[grid.cellId(w.i0, j)];
+  if (stamp_counter_ > (1u << 31)) { // before the marks wrap around
+    std::fill(stamp_.begin(), stamp_.end(), 0u);
+    stamp_counter_ = 0;
+  }
+  reserveTriangles(1 + 2 * n);
+  v[0] = 0;
+  v[1] = 1;
+  v[2] = 2;
+  adj[0] = adj[1] = adj[2] = -1;
   stamp_[0] = 0;
+  triangles_ = 1;
   last_ = 0;
+  p.reserve(3 + n);
+  if (head_.size() < 3 + n)
+    head_.resize(3 + n);
   ids.assign(3, INVALID_ID);
   in_core.assign(3, 0);
   for (std::uint32_t stride = 4; stride >= 1; stride /= 2)
@@ -49,104 +75,143 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
              ++k) {
           ids.push_back(k);
           in_core.push_back(inside);
-          p.push_back(grid.points[k]);
+          const Point2& q = grid.points[k];
+          if (!(q.x >= tx_lo && q.x <= tx_hi && q.y >= ty_lo && q.y <= ty_hi))
+            outsideBox(q, cx, cy, d);
+          p.push_back(q);
           insert(static_cast<std::int32_t>(p.size() - 1));
         }
       }
     }
+  v.resize(3 * triangles_);
+  adj.resize(3 * triangles_);
   return true;
+}
+
+void LocalDelaunay::reserveTriangles(std::size_t count)
+{
+  v.resize(3 * count);
+  adj.resize(3 * count);
+  if (stamp_.size() < count)
+    stamp_.resize(count, 0);
+  if (bad_.size() < count)
+    bad_.resize(count);
+  if (boundary_.size() < 3 * count)
+    boundary_.resize(3 * count);
+}
+
+void LocalDelaunay::outsideBox(const Point2& q, double cx, double cy, double d)
+{
+  // Not expected (points lie within the slack of their cells); sound anyway: the
+  // tight bound no longer applies, the wide one only while q is inside its box.
+  const double inf = std::numeric_limits<double>::infinity();
+  incircle_tight_bound_ = incircle_wide_bound_;
+  if (!(q.x >= cx - 10.0 * d && q.x <= cx + 10.0 * d && q.y >= cy - 10.0 * d &&
+        q.y <= cy + 10.0 * d))
+    orient_bound_ = incircle_wide_bound_ = incircle_tight_bound_ = inf;
 }
 
 void LocalDelaunay::insert(std::int32_t k)
 {
-  const Point2 q = p[static_cast<std::size_t>(k)];
-  if (head_.size() < p.size())
-    head_.resize(2 * p.size());
+  const Point2* const P = p.data();
+  const Point2 q = P[k];
+  std::int32_t* V = v.data();
+  std::int32_t* A = adj.data();
+  std::uint32_t* const S = stamp_.data();
+  std::int32_t* const bad = bad_.data();
+  std::array<std::int32_t, 3>* const boundary = boundary_.data();
+  const double orient_bound = orient_bound_;
   // Visibility walk from the last new triangle (it ends in a Delaunay mesh); the edge
-  // it came in by is not tested again.
-  std::int32_t t = last_;
-  int entry = -1;
+  // it came in by is not tested again. Halfedge ids are non-negative here: unsigned
+  // division by 3 is cheaper.
+  std::uint32_t t = static_cast<std::uint32_t>(last_);
+  std::uint32_t entry = 3;
   for (;;) {
-    int e = 0;
-    for (; e < 3; ++e) {
-      if (e == entry)
-        continue;
-      const Point2& a =
-          p[static_cast<std::size_t>(v[static_cast<std::size_t>(3 * t + e)])];
-      const Point2& b =
-          p[static_cast<std::size_t>(v[static_cast<std::size_t>(3 * t + (e + 1) % 3)])];
-      if (orient2d(a, b, q) == Sign::NEGATIVE)
-        break;
-    }
-    if (e == 3)
+    const std::int32_t* tv = V + 3 * t;
+    const Point2 &a = P[tv[0]], &b = P[tv[1]], &c = P[tv[2]];
+    std::uint32_t e;
+    if (entry != 0 && orient2dInBox(a, b, q, orient_bound) == Sign::NEGATIVE)
+      e = 0;
+    else if (entry != 1 && orient2dInBox(b, c, q, orient_bound) == Sign::NEGATIVE)
+      e = 1;
+    else if (entry != 2 && orient2dInBox(c, a, q, orient_bound) == Sign::NEGATIVE)
+      e = 2;
+    else
       break;
-    const std::int32_t o = adj[static_cast<std::size_t>(3 * t + e)];
+    const auto o = static_cast<std::uint32_t>(A[3 * t + e]);
     t = o / 3;
-    entry = o % 3;
+    entry = o - 3 * t;
   }
-  // Cavity: every triangle whose perturbed circumcircle holds q, grown from t.
+  // Cavity: every triangle whose perturbed circumcircle holds q, grown from t
+  // breadth first; its boundary edges in the order met.
   stamp_counter_ += 2;
   const std::uint32_t bad_mark = stamp_counter_, good_mark = stamp_counter_ + 1;
-  bad_.clear();
-  boundary_.clear();
-  bad_.push_back(t);
-  stamp_[static_cast<std::size_t>(t)] = bad_mark;
-  for (std::size_t i = 0; i < bad_.size(); ++i) {
-    const std::int32_t b = bad_[i];
-    for (int e = 0; e < 3; ++e) {
-      const auto h = static_cast<std::size_t>(3 * b + e);
-      const std::int32_t o = adj[h];
+  const double tight = incircle_tight_bound_, wide = incircle_wide_bound_;
+  std::size_t bad_count = 1, boundary_count = 0;
+  bad[0] = static_cast<std::int32_t>(t);
+  S[t] = bad_mark;
+  for (std::size_t i = 0; i < bad_count; ++i) {
+    const auto b = static_cast<std::uint32_t>(bad[i]);
+    for (std::uint32_t e = 0; e < 3; ++e) {
+      const std::uint32_t h = 3 * b + e;
+      const std::int32_t o = A[h];
       if (o >= 0) {
-        const auto n = static_cast<std::size_t>(o / 3);
-        std::uint32_t& s = stamp_[n];
+        const std::uint32_t nb = static_cast<std::uint32_t>(o) / 3;
+        std::uint32_t& s = S[nb];
         if (s == bad_mark)
           continue;
         if (s != good_mark) {
-          if (incirclePerturbed(p[static_cast<std::size_t>(v[3 * n])],
-                                p[static_cast<std::size_t>(v[3 * n + 1])],
-                                p[static_cast<std::size_t>(v[3 * n + 2])],
-                                q) == Sign::POSITIVE) {
+          const std::int32_t va = V[3 * nb], vb = V[3 * nb + 1], vc = V[3 * nb + 2];
+          const double bound = std::min(va, std::min(vb, vc)) >= 3 ? tight : wide;
+          if (incirclePerturbedInBox(P[va], P[vb], P[vc], q, bound) == Sign::POSITIVE) {
             s = bad_mark;
-            bad_.push_back(static_cast<std::int32_t>(n));
+            bad[bad_count++] = static_cast<std::int32_t>(nb);
             continue;
           }
           s = good_mark;
         }
       }
-      boundary_.push_back({v[h], v[static_cast<std::size_t>(3 * b + (e + 1) % 3)], o});
+      boundary[boundary_count++] = {V[h], V[3 * b + (e == 2 ? 0 : e + 1)], o};
     }
   }
   // The star of q over the cavity boundary: the cavity's slots first, then new ones.
-  const std::size_t first_new = v.size() / 3;
+  const std::size_t first_new = triangles_;
+  if (boundary_count > bad_count) {
+    triangles_ += boundary_count - bad_count;
+    if (3 * triangles_ > v.size()) { // only if the 1 + 2n count were wrong
+      v.resize(6 * triangles_);
+      adj.resize(6 * triangles_);
+      stamp_.resize(std::max(stamp_.size(), 2 * triangles_), 0);
+      V = v.data();
+      A = adj.data();
+    }
+    // The new triangles' stamps are older marks: below bad_mark and good_mark.
+  }
   const auto slot = [&](std::size_t j) {
-    return j < bad_.size() ? bad_[j]
-                           : static_cast<std::int32_t>(first_new + (j - bad_.size()));
+    return static_cast<std::uint32_t>(j < bad_count ? static_cast<std::size_t>(bad[j])
+                                                    : first_new + (j - bad_count));
   };
-  if (boundary_.size() > bad_.size()) {
-    const std::size_t added = boundary_.size() - bad_.size();
-    v.resize(v.size() + 3 * added);
-    adj.resize(adj.size() + 3 * added);
-    stamp_.resize(stamp_.size() + added, 0);
-  }
-  for (std::size_t j = 0; j < boundary_.size(); ++j) {
-    const auto s = static_cast<std::size_t>(slot(j));
-    const std::array<std::int32_t, 3>& edge = boundary_[j];
-    v[3 * s] = edge[0];
-    v[3 * s + 1] = edge[1];
-    v[3 * s + 2] = k;
-    adj[3 * s] = edge[2];
+  std::int32_t* const head = head_.data();
+  for (std::size_t j = 0; j < boundary_count; ++j) {
+    const std::uint32_t s = slot(j);
+    const std::array<std::int32_t, 3>& edge = boundary[j];
+    V[3 * s] = edge[0];
+    V[3 * s + 1] = edge[1];
+    V[3 * s + 2] = k;
+    A[3 * s] = edge[2];
     if (edge[2] >= 0)
-      adj[static_cast<std::size_t>(edge[2])] = static_cast<std::int32_t>(3 * s);
-    head_[static_cast<std::size_t>(edge[0])] = static_cast<std::int32_t>(s);
+      A[edge[2]] = static_cast<std::int32_t>(3 * s);
+    head[edge[0]] = static_cast<std::int32_t>(s);
   }
-  for (std::size_t j = 0; j < boundary_.size(); ++j) {
-    const std::int32_t t1 = slot(j);
-    const std::int32_t t2 =
-        head_[static_cast<std::size_t>(v[static_cast<std::size_t>(3 * t1 + 1)])];
-    adj[static_cast<std::size_t>(3 * t1 + 1)] = 3 * t2 + 2;
-    adj[static_cast<std::size_t>(3 * t2 + 2)] = 3 * t1 + 1;
+  for (std::size_t j = 0; j < boundary_count; ++j) {
+    const std::uint32_t t1 = slot(j);
+    const auto t2 = static_cast<std::uint32_t>(head[V[3 * t1 + 1]]);
+    A[3 * t1 + 1] = static_cast<std::int32_t>(3 * t2 + 2);
+    A[3 * t2 + 2] = static_cast<std::int32_t>(3 * t1 + 1);
   }
-  last_ = slot(boundary_.size() - 1);
+  last_ = static_cast<std::int32_t>(slot(boundary_count - 1));
+  if (bad_.size() < triangles_) // the next cavity's arrays (as above: not expected)
+    reserveTriangles(v.size() / 3);
 }
 
 bool LocalDelaunay::finalTriangle(std::size_t t, double x_lo, double x_hi, double y_lo,

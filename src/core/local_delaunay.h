@@ -59,6 +59,8 @@ class LocalDelaunay {
 
  private:
   void insert(std::int32_t k);
+  void outsideBox(const Point2& q, double cx, double cy, double d);
+  void reserveTriangles(std::size_t count);
   bool finalTriangle(std::size_t t, double x_lo, double x_hi, double y_lo,
                      double y_hi) const;
 
@@ -67,6 +69,8 @@ class LocalDelaunay {
   std::vector<std::int32_t> head_, bad_;
   std::vector<std::array<std::int32_t, 3>> boundary_;
   std::int32_t last_ = 0;
+  std::size_t triangles_ = 0;
+  double orient_bound_ = 0.0, incircle_wide_bound_ = 0.0, incircle_tight_bound_ = 0.0;
 };
 
 template <typename Wanted, typename Keep>

@@ -213,6 +213,16 @@ Sign incircleExact(const Point2& a, const Point2& b, const Point2& c, const Poin
   return toSign(incircleBigInt(a, b, c, d));
 }
 
+Sign orient2dOutOfLine(Point2 a, Point2 b, Point2 c)
+{
+  return orient2d(a, b, c);
+}
+
+Sign incirclePerturbedOutOfLine(Point2 a, Point2 b, Point2 c, Point2 d)
+{
+  return incirclePerturbed(a, b, c, d);
+}
+
 } // namespace detail
 
 Sign incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c,

@@ -560,5 +560,234 @@ TEST(IncirclePerturbed, SmallIntegerGridDegeneraciesMatchPerturbedLift)
   EXPECT_NE(diag_a == Sign::POSITIVE, diag_b == Sign::POSITIVE);
 }
 
+// The box filters (detail::boxBounds, orient2dInBox, incirclePerturbedInBox, used by
+// the cache blocks' Bowyer-Watson) must return exactly what orient2d and
+// incirclePerturbed return for every point inside the box. Each family below is
+// checked against them with the tightest box of its points (the smallest bound, the
+// hardest case), and is shown to be adversarial: the plain determinant (the naive
+// formula, the same expression) gets some signs wrong there.
+struct BoxCheck {
+  int tested = 0;
+  int plain_wrong = 0; ///< answers of the naive formula that differ
+};
+
+detail::BoxBounds tightBox(const std::vector<Point2>& points)
+{
+  double x_lo = points[0].x, x_hi = x_lo, y_lo = points[0].y, y_hi = y_lo;
+  for (const Point2& q : points) {
+    x_lo = std::min(x_lo, q.x);
+    x_hi = std::max(x_hi, q.x);
+    y_lo = std::min(y_lo, q.y);
+    y_hi = std::max(y_hi, q.y);
+  }
+  return detail::boxBounds(x_lo, x_hi, y_lo, y_hi);
+}
+
+void checkOrientInBox(const std::vector<std::array<Point2, 3>>& triples, BoxCheck& out)
+{
+  std::vector<Point2> all;
+  for (const auto& t : triples)
+    all.insert(all.end(), t.begin(), t.end());
+  const detail::BoxBounds box = tightBox(all);
+  for (const auto& t0 : triples)
+    for (int r = 0; r < 3; ++r) { // each rotation: another pivot, other roundings
+      const std::array<Point2, 3> t = {t0[r], t0[(r + 1) % 3], t0[(r + 2) % 3]};
+      const Sign expected = orient2d(t[0], t[1], t[2]);
+      EXPECT_EQ(
+          detail::orient2dInBox(t[0], t[1], t[2], tightBox({t[0], t[1], t[2]}).orient),
+          expected);
+      EXPECT_EQ(detail::orient2dInBox(t[0], t[1], t[2], box.orient), expected)
+          << "a=(" << t[0].x << "," << t[0].y << ") b=(" << t[1].x << "," << t[1].y
+          << ") c=(" << t[2].x << "," << t[2].y << ")";
+      EXPECT_EQ(expected, orientRational(t[0], t[1], t[2]));
+      out.plain_wrong += naiveOrient(t[0], t[1], t[2]) != expected;
+      ++out.tested;
+    }
+}
+
+void checkIncircleInBox(const std::vector<std::array<Point2, 4>>& quads, BoxCheck& out)
+{
+  std::vector<Point2> all;
+  for (const auto& q : quads)
+    all.insert(all.end(), q.begin(), q.end());
+  const detail::BoxBounds box = tightBox(all);
+  for (const auto& q : quads) {
+    const Sign expected = incirclePerturbed(q[0], q[1], q[2], q[3]);
+    EXPECT_EQ(detail::incirclePerturbedInBox(
+                  q[0], q[1], q[2], q[3], tightBox({q[0], q[1], q[2], q[3]}).incircle),
+              expected);
+    EXPECT_EQ(detail::incirclePerturbedInBox(q[0], q[1], q[2], q[3], box.incircle),
+              expected)
+        << "a=(" << q[0].x << "," << q[0].y << ") b=(" << q[1].x << "," << q[1].y
+        << ") c=(" << q[2].x << "," << q[2].y << ") d=(" << q[3].x << "," << q[3].y
+        << ")";
+    const Sign exact = incircleRational(q[0], q[1], q[2], q[3]);
+    if (exact != Sign::ZERO) {
+      EXPECT_EQ(expected, exact);
+    }
+    out.plain_wrong += naiveIncircle(q[0], q[1], q[2], q[3]) != expected;
+    ++out.tested;
+  }
+}
+
+TEST(BoxFilters, OrientEqualsOrient2dNearLines)
+{
+  BoxCheck check;
+  // Shewchuk's ulp grid near a line, as is and at UTM-like magnitudes (2^19 ~ 5e5).
+  checkOrientInBox(nearLineTriples({0.5, 0.5}, {12.0, 12.0}, {24.0, 24.0}), check);
+  std::vector<std::array<Point2, 3>> utm;
+  for (const auto& t : nearLineTriples({0.5, 0.5}, {12.0, 12.0}, {24.0, 24.0}))
+    utm.push_back({Point2{t[0].x + 5.0e5, t[0].y + 5.0e6},
+                   Point2{t[1].x + 5.0e5, t[1].y + 5.0e6},
+                   Point2{t[2].x + 5.0e5, t[2].y + 5.0e6}});
+  checkOrientInBox(utm, check);
+  // Collinear and nearly collinear points of a 1e-3 m grid at UTM offsets: the
+  // spacing is not a dyadic number, so the rows are only nearly straight.
+  for (const double ox : {5.0e5, 5.0e6}) {
+    std::vector<std::array<Point2, 3>> rows;
+    const auto at = [&](int i, int j) {
+      return Point2{ox + 1e-3 * i, 5.0e6 + 1e-3 * j};
+    };
+    for (int i = 0; i < 30; ++i)
+      for (int j = 0; j < 30; ++j) {
+        rows.push_back({at(i, j), at(i + 1, j), at(i + 7, j)});
+        rows.push_back({at(i, j), at(i, j + 3), at(i, j + 11)});
+        rows.push_back({at(i, j), at(i + 2, j + 2), at(i + 5, j + 5)});
+        rows.push_back({at(i, j), at(i + 1, j + 2), at(i + 3, j + 6)});
+      }
+    checkOrientInBox(rows, check);
+  }
+  // One ulp^2 off a line at UTM magnitudes (as in ExactNearALineAtUtmMagnitudes): the
+  // differences are exact, the products' rounding is far above the determinant.
+  const double U = 0x1p-30;
+  const Point2 b = {5.0e5, 5.4e6};
+  std::mt19937_64 rng(15);
+  std::uniform_int_distribution<long long> step(1LL << 29, 1LL << 31);
+  std::vector<std::array<Point2, 3>> ulp;
+  while (ulp.size() < 1000) {
+    const long long p = step(rng), q = step(rng);
+    long long x = 0, y = 0;
+    if (extendedGcd(p, q, x, y) != 1)
+      continue;
+    const Point2 c = {b.x + static_cast<double>(3 * p) * U,
+                      b.y + static_cast<double>(3 * q) * U};
+    for (long long j = -2; j <= 2; ++j)
+      ulp.push_back({Point2{b.x + static_cast<double>(-y + j * p) * U,
+                            b.y + static_cast<double>(x + j * q) * U},
+                     b, c});
+  }
+  checkOrientInBox(ulp, check);
+  // Near lines of 10 m to 10 km from points near the origin: the differences are
+  // rounded, and the naive sign flips with |det| up to about half the bound.
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<std::array<Point2, 3>> mixed;
+  for (int k = 0; k < 3000; ++k) {
+    const Point2 s = {2 * unit(rng) - 1, 2 * unit(rng) - 1};
+    const double length = std::pow(10.0, 1 + 3 * unit(rng)), angle = 6.28 * unit(rng);
+    const Point2 e = {s.x + length * std::cos(angle), s.y + length * std::sin(angle)};
+    const double t = unit(rng);
+    const Point2 m = {stepUlps(s.x + t * (e.x - s.x), k % 5 - 2),
+                      s.y + t * (e.y - s.y)};
+    mixed.push_back({m, s, e});
+  }
+  const int wrong_before = check.plain_wrong;
+  checkOrientInBox(mixed, check);
+  EXPECT_GT(check.plain_wrong - wrong_before, 100);
+  EXPECT_GT(check.plain_wrong, 100); // the families are adversarial
+  EXPECT_GT(check.tested, 10000);
+}
+
+TEST(BoxFilters, IncircleEqualsIncirclePerturbedNearCircles)
+{
+  BoxCheck check;
+  // Exactly cocircular lattice points at UTM magnitudes (the perturbation decides)
+  // and d one ulp off the circle.
+  const std::vector<double> xy =
+      test::latticeCircle(5LL * 13 * 17 * 29 * 37 * 41 * 53 * 61);
+  const double U = 0x1p-30;
+  const auto at = [&](std::size_t i) {
+    return Point2{5.0e5 + 2049.0 * xy[2 * i] * U, 5.4e6 + 2049.0 * xy[2 * i + 1] * U};
+  };
+  std::mt19937_64 rng(13);
+  std::uniform_int_distribution<std::size_t> pick(0, xy.size() / 2 - 1);
+  std::vector<std::array<Point2, 4>> quads;
+  while (quads.size() < 900) {
+    const std::size_t i = pick(rng), j = pick(rng), l = pick(rng), m = pick(rng);
+    if (i == j || i == l || i == m || j == l || j == m || l == m)
+      continue;
+    const Point2 d = at(m);
+    quads.push_back({at(i), at(j), at(l), d});
+    quads.push_back({at(i), at(j), at(l), Point2{stepUlps(d.x, 1), d.y}});
+    quads.push_back({at(i), at(j), at(l), Point2{d.x, stepUlps(d.y, -1)}});
+  }
+  checkIncircleInBox(quads, check);
+  // A 1e-3 m grid at UTM offsets: unit squares (nearly cocircular after rounding),
+  // and every small quadruple of a 4 x 4 patch.
+  for (const double ox : {5.0e5, 5.0e6}) {
+    const auto g = [&](int i, int j) {
+      return Point2{ox + 1e-3 * i, 5.0e6 + 1e-3 * j};
+    };
+    std::vector<std::array<Point2, 4>> grid;
+    for (int i = 0; i < 20; ++i)
+      for (int j = 0; j < 20; ++j) {
+        grid.push_back({g(i, j), g(i + 1, j), g(i + 1, j + 1), g(i, j + 1)});
+        grid.push_back({g(i, j), g(i + 2, j), g(i + 2, j + 1), g(i, j + 1)});
+        grid.push_back({g(i, j), g(i + 3, j + 1), g(i + 2, j + 4), g(i - 1, j + 3)});
+      }
+    std::uniform_int_distribution<int> small(0, 3);
+    for (int k = 0; k < 3000; ++k)
+      grid.push_back({g(small(rng), small(rng)), g(small(rng), small(rng)),
+                      g(small(rng), small(rng)), g(small(rng), small(rng))});
+    checkIncircleInBox(grid, check);
+  }
+  // Near a circle in ulp steps (Shewchuk-style), small coordinates.
+  std::vector<std::array<Point2, 4>> near;
+  for (int k = 0; k < 6; ++k) {
+    const auto on = [&](double t) {
+      return Point2{0.7 + 1.3 * std::cos(t), 1.3 * std::sin(t)};
+    };
+    const Point2 a = on(0.2 * k), b = on(2.0), c = on(4.0), d0 = on(5.5);
+    for (int i = -8; i <= 8; ++i)
+      for (int j = -8; j <= 8; ++j)
+        near.push_back({a, b, c, Point2{stepUlps(d0.x, i), stepUlps(d0.y, j)}});
+  }
+  checkIncircleInBox(near, check);
+  EXPECT_GT(check.plain_wrong, 100);
+  EXPECT_GT(check.tested, 10000);
+}
+
+TEST(BoxFilters, WideBoxesAndSmallIntegerGrids)
+{
+  // A super triangle 10 window widths away from small triangles (the cache blocks'
+  // wide box), and exactly cocircular small integer points (ties everywhere).
+  BoxCheck check;
+  std::vector<std::array<Point2, 4>> quads;
+  std::vector<std::array<Point2, 3>> triples;
+  const Point2 s0{-300.0, -300.0}, s1{330.0, -300.0}, s2{15.0, 330.0};
+  std::mt19937_64 rng(14);
+  std::uniform_int_distribution<int> cell(0, 30);
+  for (int k = 0; k < 4000; ++k) {
+    const Point2 a{static_cast<double>(cell(rng)), static_cast<double>(cell(rng))};
+    const Point2 b{a.x + 1, a.y}, c{a.x + 1, a.y + 1}, d{a.x, a.y + 1};
+    quads.push_back({a, b, c, d});
+    quads.push_back({s0, b, c, d});
+    quads.push_back({s0, s1, c, d});
+    quads.push_back({s0, s1, s2, d});
+    triples.push_back({a, c, Point2{a.x + 2, a.y + 2}});
+    triples.push_back({s0, a, c});
+  }
+  checkIncircleInBox(quads, check);
+  checkOrientInBox(triples, check);
+  EXPECT_EQ(check.tested, 4 * 4000 + 3 * 2 * 4000); // triples in 3 rotations
+  // A box too wide for a finite bound certifies nothing; the answers stay exact.
+  const double big = std::numeric_limits<double>::max();
+  const detail::BoxBounds huge = detail::boxBounds(-big, big, -big, big);
+  EXPECT_FALSE(std::isfinite(huge.incircle));
+  const Point2 a{0, 0}, b{1, 0}, c{1, 1}, d{0, 1};
+  EXPECT_EQ(detail::incirclePerturbedInBox(a, b, c, d, huge.incircle),
+            incirclePerturbed(a, b, c, d));
+  EXPECT_EQ(detail::orient2dInBox(a, b, c, huge.orient), Sign::POSITIVE);
+}
+
 } // namespace
 } // namespace pcl_vts

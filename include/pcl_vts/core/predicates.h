@@ -105,4 +105,94 @@ inline Sign incirclePerturbed(const Point2& a, const Point2& b, const Point2& c,
   return s != Sign::ZERO ? s : incirclePerturbedTie(a, b, c, d);
 }
 
+namespace detail {
+/// Semi-static filters for many tests among points of one known box (the cache blocks'
+/// Bowyer-Watson, src/core/local_delaunay.cpp): the error bound is computed once per
+/// box instead of per call, so a call is the determinant and one comparison. The
+/// bounded predicates below return exactly what orient2d / incirclePerturbed return,
+/// for every input: where the determinant does not clear the box's bound they call
+/// them.
+///
+/// Why the bound is sound (Shewchuk, "Adaptive precision floating-point arithmetic and
+/// fast robust geometric predicates", 1997, stage A): orient2d and incircle compute
+/// det and errbound in floating point from the rounded differences (a.x - c.x, ...),
+/// and certify sign(det) when |det| > errbound (their own rounding included in the
+/// constants, UNDERFLOW_SLACK covering underflow). errbound is an expression of +
+/// and * over non-negative doubles (|products|, lifts); round-to-nearest is monotone,
+/// so evaluating the same expression, in the same order, on upper bounds of its
+/// inputs gives a double >= errbound. For points with x in [x_lo, x_hi], the real
+/// |a.x - c.x| <= x_hi - x_lo, hence the rounded |a.x - c.x| <= fl(x_hi - x_lo) = X
+/// (monotone again); likewise Y; every |product of two differences| <= fl(X * Y),
+/// every lift <= fl(fl(X * X) + fl(Y * Y)). So |det| > box bound implies |det| >
+/// errbound: the sign orient2d / incircle would return, never ZERO, and
+/// incirclePerturbed returns that same sign (its tie-break only acts on ZERO). The
+/// determinant is computed by the same expression as in orient2d / incircle. A box
+/// so wide that the bound is not finite (inf or NaN) certifies nothing: every call
+/// goes to the full predicate.
+/// orient2d and incirclePerturbed out of line, the points by value (in registers):
+/// the rare fallback of the box filters below, so that the callers' hot loops keep
+/// their points in registers.
+PCL_VTS_CORE_EXPORT Sign orient2dOutOfLine(Point2 a, Point2 b, Point2 c);
+PCL_VTS_CORE_EXPORT Sign incirclePerturbedOutOfLine(Point2 a, Point2 b, Point2 c,
+                                                    Point2 d);
+
+struct BoxBounds {
+  double orient = 0.0;   ///< for orient2dInBox
+  double incircle = 0.0; ///< for incirclePerturbedInBox
+};
+
+/// The bounds for points inside [x_lo, x_hi] x [y_lo, y_hi] (x_lo <= x_hi, y_lo <=
+/// y_hi).
+inline BoxBounds boxBounds(double x_lo, double x_hi, double y_lo, double y_hi)
+{
+  const double X = x_hi - x_lo, Y = y_hi - y_lo;
+  const double product = X * Y; // bounds every |a.x - c.x| * |b.y - c.y|
+  const double pair = product + product;
+  const double lift = X * X + Y * Y;
+  BoxBounds b;
+  b.orient = CCW_ERR_BOUND_A * pair + UNDERFLOW_SLACK;
+  const double permanent = pair * lift + pair * lift + pair * lift;
+  b.incircle =
+      ICC_ERR_BOUND_A * permanent + UNDERFLOW_SLACK * (1.0 + lift + lift + lift);
+  return b;
+}
+
+/// orient2d(a, b, c) for points inside the box of `bound` (BoxBounds::orient).
+inline Sign orient2dInBox(const Point2& a, const Point2& b, const Point2& c,
+                          double bound)
+{
+  const double detleft = (a.x - c.x) * (b.y - c.y);
+  const double detright = (a.y - c.y) * (b.x - c.x);
+  const double det = detleft - detright;
+  if (det > bound)
+    return Sign::POSITIVE;
+  if (-det > bound)
+    return Sign::NEGATIVE;
+  return orient2dOutOfLine(a, b, c);
+}
+
+/// incirclePerturbed(a, b, c, d) for points inside the box of `bound`
+/// (BoxBounds::incircle).
+inline Sign incirclePerturbedInBox(const Point2& a, const Point2& b, const Point2& c,
+                                   const Point2& d, double bound)
+{
+  const double adx = a.x - d.x, ady = a.y - d.y;
+  const double bdx = b.x - d.x, bdy = b.y - d.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+  const double cdxady = cdx * ady, adxcdy = adx * cdy;
+  const double adxbdy = adx * bdy, bdxady = bdx * ady;
+  const double alift = adx * adx + ady * ady;
+  const double blift = bdx * bdx + bdy * bdy;
+  const double clift = cdx * cdx + cdy * cdy;
+  const double det =
+      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+  if (det > bound)
+    return Sign::POSITIVE;
+  if (-det > bound)
+    return Sign::NEGATIVE;
+  return incirclePerturbedOutOfLine(a, b, c, d);
+}
+} // namespace detail
+
 } // namespace pcl_vts
