@@ -1,3 +1,5 @@
+#include "grid_internals.h"
+
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/parallel_for.h>
 
@@ -17,18 +19,13 @@ constexpr double MAX_CELLS_PER_POINT = 64.0;
 constexpr double MAX_CELLS_FLOOR = 1 << 22;
 constexpr double MAX_CELLS_ABSOLUTE = 1u << 30;
 
-/// Refines an area-based cell size for clustered data: when the points occupy only a
-/// fraction of the bounding box, the occupied cells hold many more than k points.
-/// Counting occupied cells once and shrinking the cells so that occupied cells hold
-/// about k points keeps the edge rectangles small; the total number of cells is kept
-/// below MAX_REFINED_CELLS_PER_POINT * n.
-double refineForOccupancy(const std::vector<Point2>& points, double xmin, double ymin,
-                          double width, double height, double size)
+/// Counts the cells of side `size` anchored at (xmin, ymin) that hold a point: the
+/// input of refinedCellSize.
+std::size_t countOccupiedCells(const std::vector<Point2>& points, double xmin,
+                               double ymin, double width, double height, double size)
 {
-  constexpr double MAX_REFINED_CELLS_PER_POINT = 4.0;
-  const std::size_t n = points.size();
-  const auto nx = static_cast<std::size_t>(width / size) + 1;
-  const auto ny = static_cast<std::size_t>(height / size) + 1;
+  const auto nx = detail::occupancyColumns(width, size);
+  const auto ny = detail::occupancyColumns(height, size);
   std::vector<bool> occupied(nx * ny, false);
   std::size_t count = 0;
   const double inv = 1.0 / size;
@@ -40,13 +37,7 @@ double refineForOccupancy(const std::vector<Point2>& points, double xmin, double
       ++count;
     }
   }
-  const double per_cell = static_cast<double>(n) / static_cast<double>(count);
-  if (per_cell <= 2.0 * DEFAULT_POINTS_PER_CELL)
-    return size;
-  const double refined = size * std::sqrt(DEFAULT_POINTS_PER_CELL / per_cell);
-  const double floor = std::sqrt(
-      width * height / (MAX_REFINED_CELLS_PER_POINT * static_cast<double>(n)));
-  return std::max(refined, floor);
+  return count;
 }
 
 /// Sorts slots [first, last) of a grid lexicographically (ties by input index),
@@ -95,30 +86,43 @@ double defaultCellSize(double width, double height, std::size_t n)
   return size > 0.0 ? size : 1.0;
 }
 
-Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
-                     CellGrid& grid, std::vector<std::uint32_t>& order,
-                     unsigned threads)
+namespace detail {
+
+std::size_t occupancyColumns(double extent, double size)
 {
-  const std::size_t n = points.size();
-  double xmin = std::numeric_limits<double>::infinity(), ymin = xmin;
-  double xmax = -xmin, ymax = -xmin;
-  for (const Point2& p : points) {
-    xmin = std::min(xmin, p.x);
-    xmax = std::max(xmax, p.x);
-    ymin = std::min(ymin, p.y);
-    ymax = std::max(ymax, p.y);
-  }
-  if (n == 0)
-    xmin = xmax = ymin = ymax = 0.0;
-  const double width = xmax - xmin, height = ymax - ymin;
+  return static_cast<std::size_t>(extent / size) + 1;
+}
+
+double initialCellSize(double cell_size, double width, double height, std::size_t n)
+{
   // A cell wider than the data is one cell either way: clamp, so cell indices and
   // circle bounds stay in the data's range.
   const double extent = std::max(width, height);
-  double size = cell_size > 0.0
-                    ? (extent > 0.0 ? std::min(cell_size, extent) : cell_size)
-                    : defaultCellSize(width, height, n);
-  if (cell_size == 0.0 && n > 0 && width > 0.0 && height > 0.0)
-    size = refineForOccupancy(points, xmin, ymin, width, height, size);
+  return cell_size > 0.0 ? (extent > 0.0 ? std::min(cell_size, extent) : cell_size)
+                         : defaultCellSize(width, height, n);
+}
+
+/// Refines an area-based cell size for clustered data: when the points occupy only a
+/// fraction of the bounding box, the occupied cells hold many more than k points.
+/// Shrinking the cells so that occupied cells hold about k points keeps the edge
+/// rectangles small; the total number of cells is kept below
+/// MAX_REFINED_CELLS_PER_POINT * n.
+double refinedCellSize(double width, double height, std::size_t n, double size,
+                       std::size_t occupied)
+{
+  constexpr double MAX_REFINED_CELLS_PER_POINT = 4.0;
+  const double per_cell = static_cast<double>(n) / static_cast<double>(occupied);
+  if (per_cell <= 2.0 * DEFAULT_POINTS_PER_CELL)
+    return size;
+  const double refined = size * std::sqrt(DEFAULT_POINTS_PER_CELL / per_cell);
+  const double floor = std::sqrt(
+      width * height / (MAX_REFINED_CELLS_PER_POINT * static_cast<double>(n)));
+  return std::max(refined, floor);
+}
+
+Status setGridGeometry(double xmin, double ymin, double width, double height,
+                       std::size_t n, double size, CellGrid& grid)
+{
   const double nx = std::floor(width / size) + 1.0;
   const double ny = std::floor(height / size) + 1.0;
   const double limit =
@@ -141,6 +145,35 @@ Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
   // of the largest magnitude involved.
   grid.slack =
       8.0 * EPS * (std::fabs(xmin) + std::fabs(ymin) + width + height + 2.0 * size);
+  return Status::success();
+}
+
+} // namespace detail
+
+Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
+                     CellGrid& grid, std::vector<std::uint32_t>& order,
+                     unsigned threads)
+{
+  const std::size_t n = points.size();
+  double xmin = std::numeric_limits<double>::infinity(), ymin = xmin;
+  double xmax = -xmin, ymax = -xmin;
+  for (const Point2& p : points) {
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.y);
+    ymax = std::max(ymax, p.y);
+  }
+  if (n == 0)
+    xmin = xmax = ymin = ymax = 0.0;
+  const double width = xmax - xmin, height = ymax - ymin;
+  double size = detail::initialCellSize(cell_size, width, height, n);
+  if (cell_size == 0.0 && n > 0 && width > 0.0 && height > 0.0)
+    size = detail::refinedCellSize(
+        width, height, n, size,
+        countOccupiedCells(points, xmin, ymin, width, height, size));
+  if (Status s = detail::setGridGeometry(xmin, ymin, width, height, n, size, grid);
+      !s.ok())
+    return s;
 
   // Counting sort by cell.
   std::vector<CellId> cell_of(n);

@@ -1,10 +1,8 @@
 #include "lattice_triangulation.h"
 #include "release_memory.h"
 
-#include <pcl_vts/core/cell_grid.h>
-#include <pcl_vts/core/cell_pyramid.h>
-#include <pcl_vts/core/cell_subdivision.h>
 #include <pcl_vts/core/convex_hull.h>
+#include <pcl_vts/core/grid_stage.h>
 #include <pcl_vts/core/grid_triangulator.h>
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/core/parallel_for.h>
@@ -16,61 +14,6 @@
 
 namespace pcl_vts {
 namespace {
-
-// Beyond this magnitude the search's floating-point disk bounds would overflow.
-constexpr double MAX_ABS_COORDINATE = 1e60;
-// Below this extent cell sizes and circle bounds would underflow.
-constexpr double MIN_EXTENT = 1e-80;
-
-/// Drops points with a non-finite coordinate; rejects magnitudes the grid cannot hold.
-Status conditionInput(const double* xyz, std::size_t n, std::vector<Point2>& xy,
-                      std::vector<double>& z, std::vector<std::uint32_t>& source,
-                      Diagnostics& diag)
-{
-  xy.reserve(n);
-  z.reserve(n);
-  source.reserve(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
-      ++diag.non_finite_dropped;
-      continue;
-    }
-    if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE)
-      return Status::error(StatusCode::COORDINATE_RANGE,
-                           "point " + std::to_string(k) + " has XY (" + formatValue(x) +
-                               ", " + formatValue(y) + "), beyond +-" +
-                               formatValue(MAX_ABS_COORDINATE) +
-                               "; shift or rescale the coordinates");
-    xy.push_back({x, y});
-    z.push_back(h);
-    source.push_back(static_cast<std::uint32_t>(k));
-  }
-  if (xy.empty())
-    return Status::error(StatusCode::EMPTY_INPUT,
-                         n == 0 ? std::string("the input has no points")
-                                : "none of the " + std::to_string(n) +
-                                      " input points has finite x, y and z");
-  return Status::success();
-}
-
-/// Rejects an XY extent so small that cell sizes and circle bounds would underflow.
-Status checkExtent(const std::vector<Point2>& xy)
-{
-  double xmin = xy[0].x, xmax = xmin, ymin = xy[0].y, ymax = ymin;
-  for (const Point2& p : xy) {
-    xmin = std::min(xmin, p.x);
-    xmax = std::max(xmax, p.x);
-    ymin = std::min(ymin, p.y);
-    ymax = std::max(ymax, p.y);
-  }
-  const double extent = std::max(xmax - xmin, ymax - ymin);
-  if (extent > 0.0 && extent < MIN_EXTENT)
-    return Status::error(StatusCode::COORDINATE_RANGE,
-                         "the XY extent " + formatValue(extent) + " is below " +
-                             formatValue(MIN_EXTENT) + "; rescale the coordinates");
-  return Status::success();
-}
 
 /// z per vertex: the representative's input z, or the mean over its merged points.
 std::vector<double> vertexHeights(const double* xyz, std::size_t n,
@@ -159,83 +102,6 @@ Status validateOptions(const VtsOptions& options)
   return Status::success();
 }
 
-namespace {
-
-/// What the grid stage hands to the triangulation.
-struct GridStage {
-  CellGrid grid;
-  CellSubdivision subdivision;
-  CellPyramid pyramid;
-  std::vector<std::uint32_t> source; ///< input index of each vertex (grid point)
-};
-
-/// Grid stage: condition, bucket, merge duplicates, subdivide crowded cells, build the
-/// occupancy pyramid. Fills input_to_vertex (n entries) and the grid diagnostics; the
-/// intermediate arrays are released before it returns.
-Status buildGridStage(const double* xyz, std::size_t n, const VtsOptions& options,
-                      unsigned threads, GridStage& stage,
-                      std::vector<VertexId>& input_to_vertex, Diagnostics& diag)
-{
-  std::vector<Point2> xy;
-  std::vector<double> z;
-  std::vector<std::uint32_t> source;
-  if (Status s = conditionInput(xyz, n, xy, z, source, diag); !s.ok())
-    return s;
-  if (Status s = checkExtent(xy); !s.ok())
-    return s;
-  CellGrid& grid = stage.grid;
-  std::vector<std::uint32_t> order;
-  if (Status s = buildCellGrid(xy, options.cell_size, grid, order, threads); !s.ok())
-    return s;
-  std::vector<double> vz(order.size());
-  std::vector<std::uint32_t>& vsource = stage.source;
-  vsource.resize(order.size());
-  parallelFor(threads, order.size(), [&](std::size_t k) {
-    vz[k] = z[order[k]];
-    vsource[k] = source[order[k]];
-  });
-  std::vector<VertexId> slot_to_vertex;
-  diag.duplicates_merged =
-      mergeDuplicates(grid, options.duplicate_rule, vz, vsource, slot_to_vertex);
-  // Vertex heights are rebuilt from the input after the triangulation (vertexHeights),
-  // so they do not add to the peak memory.
-  std::vector<double>().swap(vz);
-  {
-    std::vector<std::uint32_t> old_slot;
-    subdivideCrowdedCells(grid, stage.subdivision, old_slot);
-    if (!old_slot.empty()) { // crowded cells were reordered: follow the points
-      std::vector<VertexId> new_id(old_slot.size());
-      std::vector<std::uint32_t> source2(old_slot.size());
-      for (std::size_t k = 0; k < old_slot.size(); ++k) {
-        new_id[old_slot[k]] = static_cast<VertexId>(k);
-        source2[k] = vsource[old_slot[k]];
-      }
-      vsource.swap(source2);
-      for (VertexId& v : slot_to_vertex)
-        v = new_id[v];
-    }
-  }
-  diag.distinct_points = grid.points.size();
-  diag.cells = grid.cellCount();
-  diag.cell_size = grid.cell_size;
-  input_to_vertex.assign(n, INVALID_ID);
-  // Each input point is one slot: distinct writes.
-  parallelFor(threads, order.size(), [&](std::size_t k) {
-    input_to_vertex[source[order[k]]] = slot_to_vertex[k];
-  });
-  { // release what is no longer needed before the triangulation allocates
-    std::vector<Point2>().swap(xy);
-    std::vector<double>().swap(z);
-    std::vector<std::uint32_t>().swap(source);
-    std::vector<std::uint32_t>().swap(order);
-    std::vector<VertexId>().swap(slot_to_vertex);
-  }
-  buildCellPyramid(grid, stage.pyramid);
-  return Status::success();
-}
-
-} // namespace
-
 Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
                       VtsResult& result)
 {
@@ -261,8 +127,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   Stopwatch watch;
   const unsigned threads = options.threads > 0 ? options.threads : allCores();
   GridStage stage;
-  if (Status s =
-          buildGridStage(xyz, n, options, threads, stage, result.input_to_vertex, diag);
+  if (Status s = buildGridStage(xyz, n, options.cell_size, options.duplicate_rule,
+                                threads, stage, result.input_to_vertex, diag);
       !s.ok())
     return s;
   const CellGrid& grid = stage.grid;

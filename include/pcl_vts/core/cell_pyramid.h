@@ -27,8 +27,10 @@ struct CellPyramid {
   }
 };
 
-/// Builds the pyramid of a grid. Linear in the number of cells.
-PCL_VTS_CORE_EXPORT void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid);
+/// Builds the pyramid of a grid. Linear in the number of cells; the same for any
+/// number of threads.
+PCL_VTS_CORE_EXPORT void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid,
+                                          unsigned threads = 1);
 
 /// An axis-aligned world rectangle.
 struct BlockRect {

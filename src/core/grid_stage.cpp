@@ -1,0 +1,595 @@
+#include "grid_internals.h"
+
+#include <pcl_vts/core/grid_stage.h>
+#include <pcl_vts/core/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bitset>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <utility>
+
+namespace pcl_vts {
+namespace {
+
+// Beyond this magnitude the search's floating-point disk bounds would overflow.
+constexpr double MAX_ABS_COORDINATE = 1e60;
+// Below this extent cell sizes and circle bounds would underflow.
+constexpr double MIN_EXTENT = 1e-80;
+// Below this many points a thread costs more than it saves (parallelRanges' rule).
+constexpr std::size_t MIN_POINTS_PER_THREAD = 1u << 16;
+// A band closes once it holds this many points or its next row would take it over
+// this many cells: its points (24 bytes each, twice) and its cell counters stay in
+// a core's cache while it is sorted. Any value gives the same grid.
+constexpr std::size_t BAND_POINTS = 1u << 15;
+constexpr std::size_t BAND_CELLS = 1u << 15;
+
+unsigned usefulThreads(unsigned threads, std::size_t n)
+{
+  return static_cast<unsigned>(std::min<std::size_t>(
+      std::max(1u, threads), std::max<std::size_t>(1, n / MIN_POINTS_PER_THREAD)));
+}
+
+/// The finite points: xyz itself, or a compacted copy when some were dropped.
+struct Input {
+  const double* xyz;
+  const std::uint32_t* source; ///< input index per point; nullptr: the identity
+  std::size_t count;
+  double x(std::size_t k) const { return xyz[3 * k]; }
+  double y(std::size_t k) const { return xyz[3 * k + 1]; }
+  std::uint32_t sourceOf(std::size_t k) const
+  {
+    return source != nullptr ? source[k] : static_cast<std::uint32_t>(k);
+  }
+};
+
+/// One chunk's share of the first pass.
+struct Scan {
+  double xmin = std::numeric_limits<double>::infinity();
+  double ymin = xmin, xmax = -xmin, ymax = -xmin;
+  std::size_t finite = 0;
+  std::size_t out_of_range = std::numeric_limits<std::size_t>::max(); ///< first one
+};
+
+/// A point on its way from the input to its cell: XY, input index and its cell
+/// counted from its band's first cell.
+struct Record {
+  double x, y;
+  std::uint32_t source, cell;
+};
+
+/// Sorts slots [first, last) of (points, record) lexicographically, ties by record
+/// (records are in input order inside a band): buildCellGrid's order inside a cell.
+void sortCell(Point2* points, std::uint32_t* source, std::uint32_t first,
+              std::uint32_t last, std::vector<std::pair<Point2, std::uint32_t>>& tmp)
+{
+  constexpr std::uint32_t INSERTION_SORT_MAX = 16;
+  const auto less = [](const Point2& p, std::uint32_t o, const Point2& q,
+                       std::uint32_t oq) {
+    return lexLess(p, q) || (p == q && o < oq);
+  };
+  if (last - first > INSERTION_SORT_MAX) {
+    tmp.clear();
+    for (std::uint32_t k = first; k < last; ++k)
+      tmp.emplace_back(points[k], source[k]);
+    std::sort(tmp.begin(), tmp.end(), [&](const auto& a, const auto& b) {
+      return less(a.first, a.second, b.first, b.second);
+    });
+    for (std::uint32_t k = first; k < last; ++k) {
+      points[k] = tmp[k - first].first;
+      source[k] = tmp[k - first].second;
+    }
+    return;
+  }
+  for (std::uint32_t k = first + 1; k < last; ++k) {
+    const Point2 p = points[k];
+    const std::uint32_t o = source[k];
+    std::uint32_t m = k;
+    for (; m > first && less(p, o, points[m - 1], source[m - 1]); --m) {
+      points[m] = points[m - 1];
+      source[m] = source[m - 1];
+    }
+    points[m] = p;
+    source[m] = o;
+  }
+}
+
+/// The band partition: bands of consecutive rows.
+struct Bands {
+  std::vector<std::uint32_t> first_row; ///< per band, then ny
+  std::vector<std::uint32_t> of_row;    ///< band of each row
+  std::vector<std::uint32_t> start;     ///< first slot per band, then the count
+  std::size_t count() const { return first_row.size() - 1; }
+};
+
+/// What one band hands back.
+struct BandResult {
+  std::uint32_t distinct = 0;
+  std::vector<SubCell> nodes; ///< its quadtrees; first_child into this vector
+  std::vector<std::pair<CellId, std::uint32_t>> roots; ///< crowded cell, its root
+};
+
+/// Per-thread buffers of the band pass.
+struct BandScratch {
+  std::vector<std::uint32_t> count;
+  std::vector<Point2> points;         ///< the band's points sorted by cell
+  std::vector<std::uint32_t> records; ///< and their records
+  std::vector<std::pair<Point2, std::uint32_t>> sort;
+  std::vector<std::uint32_t> slots, sources, new_id;
+  std::vector<Point2> moved;
+};
+
+class GridBuilder {
+ public:
+  GridBuilder(const double* xyz, DuplicateRule rule, unsigned threads, GridStage& stage,
+              std::vector<VertexId>& input_to_vertex)
+      : xyz_(xyz)
+      , rule_(rule)
+      , threads_(threads)
+      , grid_(stage.grid)
+      , stage_(stage)
+      , input_to_vertex_(input_to_vertex)
+  {}
+
+  /// Counting sort by band (stable), then each band by cell.
+  void run(const Input& in);
+
+ private:
+  void makeBands(const Input& in, unsigned chunks,
+                 std::vector<std::uint32_t>& chunk_offsets);
+  void sortBand(std::size_t b, BandScratch& scratch);
+  /// Folds the runs of equal XY of sorted slots [begin, end) of (points, records)
+  /// into the grid's slots [out, ...): the new out. assign(record, v) for each slot:
+  /// its record goes to vertex v.
+  template <typename Assign>
+  std::uint32_t mergeCell(const Point2* points, const std::uint32_t* records,
+                          std::uint32_t begin, std::uint32_t end, std::uint32_t out,
+                          const Assign& assign) const;
+  void finish();
+
+  const double* xyz_; ///< the input, for the heights of duplicates
+  DuplicateRule rule_;
+  unsigned threads_;
+  CellGrid& grid_;
+  GridStage& stage_;
+  std::vector<VertexId>& input_to_vertex_;
+  Bands bands_;
+  std::unique_ptr<Record[]> records_;
+  std::vector<BandResult> results_;
+};
+
+void GridBuilder::makeBands(const Input& in, unsigned chunks,
+                            std::vector<std::uint32_t>& chunk_offsets)
+{
+  const std::uint32_t ny = grid_.ny;
+  // Points per row, per chunk.
+  std::vector<std::uint32_t> rows(static_cast<std::size_t>(chunks) * ny, 0);
+  parallelChunks(chunks, in.count, [&](std::size_t begin, std::size_t end, unsigned t) {
+    std::uint32_t* count = &rows[static_cast<std::size_t>(t) * ny];
+    for (std::size_t k = begin; k < end; ++k)
+      ++count[grid_.row(in.y(k))];
+  });
+  // Greedy bands of consecutive rows.
+  Bands& bands = bands_;
+  bands.of_row.resize(ny);
+  bands.first_row.assign(1, 0);
+  bands.start.assign(1, 0);
+  std::size_t points = 0, total = 0;
+  const std::size_t nx = grid_.nx;
+  for (std::uint32_t r = 0; r < ny; ++r) {
+    bands.of_row[r] = static_cast<std::uint32_t>(bands.first_row.size() - 1);
+    for (unsigned t = 0; t < chunks; ++t)
+      points += rows[static_cast<std::size_t>(t) * ny + r];
+    const std::size_t band_rows = r + 1 - bands.first_row.back();
+    if (r + 1 < ny && (points >= BAND_POINTS || (band_rows + 1) * nx > BAND_CELLS)) {
+      bands.first_row.push_back(r + 1);
+      total += points;
+      bands.start.push_back(static_cast<std::uint32_t>(total));
+      points = 0;
+    }
+  }
+  bands.first_row.push_back(ny);
+  bands.start.push_back(static_cast<std::uint32_t>(total + points));
+  // Where each chunk's points of each band go: bands in order, chunks in order
+  // inside a band, so that the scatter is stable.
+  const std::size_t count = bands.count();
+  chunk_offsets.assign(static_cast<std::size_t>(chunks) * count, 0);
+  for (unsigned t = 0; t < chunks; ++t)
+    for (std::uint32_t r = 0; r < ny; ++r)
+      chunk_offsets[t * count + bands.of_row[r]] +=
+          rows[static_cast<std::size_t>(t) * ny + r];
+  for (std::size_t b = 0; b < count; ++b) {
+    std::uint32_t at = bands.start[b];
+    for (unsigned t = 0; t < chunks; ++t) {
+      const std::uint32_t here = chunk_offsets[t * count + b];
+      chunk_offsets[t * count + b] = at;
+      at += here;
+    }
+  }
+}
+
+void GridBuilder::run(const Input& in)
+{
+  const std::size_t m = in.count;
+  const unsigned chunks = usefulThreads(threads_, m);
+  std::vector<std::uint32_t> offsets;
+  makeBands(in, chunks, offsets);
+  const std::size_t band_count = bands_.count();
+  records_.reset(new Record[m]);
+  parallelChunks(chunks, m, [&](std::size_t begin, std::size_t end, unsigned t) {
+    std::uint32_t* at = &offsets[t * band_count];
+    const std::size_t nx = grid_.nx;
+    for (std::size_t k = begin; k < end; ++k) {
+      const double x = in.x(k), y = in.y(k);
+      const std::uint32_t row = grid_.row(y), band = bands_.of_row[row];
+      const auto cell =
+          static_cast<std::uint32_t>((row - bands_.first_row[band]) * nx) +
+          grid_.column(x);
+      const std::uint32_t source = in.sourceOf(k);
+      input_to_vertex_[source] = at[band]; // its record, for now
+      records_[at[band]++] = {x, y, source, cell};
+    }
+  });
+  grid_.cell_start.resize(grid_.cellCount() + 1);
+  grid_.points.resize(m);
+  stage_.source.resize(m);
+  results_.assign(band_count, BandResult{});
+  const unsigned workers =
+      static_cast<unsigned>(std::min<std::size_t>(chunks, band_count));
+  std::atomic<std::size_t> next{0};
+  runTeam(workers, [&](unsigned) {
+    BandScratch scratch;
+    for (std::size_t b = next++; b < band_count; b = next++)
+      sortBand(b, scratch);
+  });
+  finish();
+  records_.reset();
+}
+
+template <typename Assign>
+std::uint32_t GridBuilder::mergeCell(const Point2* points, const std::uint32_t* records,
+                                     std::uint32_t begin, std::uint32_t end,
+                                     std::uint32_t out, const Assign& assign) const
+{
+  const Record* all = records_.get();
+  Point2* grid_points = grid_.points.data();
+  std::uint32_t* source = stage_.source.data();
+  const auto z = [&](std::uint32_t k) {
+    return xyz_[3 * std::size_t{all[records[k]].source} + 2];
+  };
+  for (std::uint32_t k = begin; k < end;) {
+    std::uint32_t run_end = k + 1;
+    while (run_end < end && points[run_end] == points[k])
+      ++run_end;
+    // The representative, as mergeDuplicates picks it: ties to the smaller input
+    // index (records are in input order inside a band), which comes first in the run.
+    std::uint32_t best = k;
+    if (run_end - k > 1) {
+      if (rule_ == DuplicateRule::LOWEST_Z || rule_ == DuplicateRule::HIGHEST_Z) {
+        const bool lowest = rule_ == DuplicateRule::LOWEST_Z;
+        for (std::uint32_t q = k + 1; q < run_end; ++q)
+          if (lowest
+                  ? z(q) < z(best) || (z(q) == z(best) && records[q] < records[best])
+                  : z(q) > z(best) || (z(q) == z(best) && records[q] < records[best]))
+            best = q;
+      } else {
+        for (std::uint32_t q = k + 1; q < run_end; ++q)
+          if (records[q] < records[best])
+            best = q;
+      }
+    }
+    for (std::uint32_t q = k; q < run_end; ++q)
+      assign(records[q], out);
+    grid_points[out] = points[k];
+    source[out] = all[records[best]].source;
+    ++out;
+    k = run_end;
+  }
+  return out;
+}
+
+void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
+{
+  const std::uint32_t bs = bands_.start[b], be = bands_.start[b + 1];
+  const std::uint32_t r0 = bands_.first_row[b];
+  const std::size_t nx = grid_.nx;
+  const std::size_t cells = (bands_.first_row[b + 1] - r0) * nx;
+  const std::size_t c0 = r0 * nx;
+  // Counting sort of the band's records by cell, stable, into the thread's buffers
+  // (reused band after band, so they stay in cache).
+  std::vector<std::uint32_t>& count = scratch.count;
+  count.assign(cells + 1, 0);
+  Record* records = records_.get();
+  for (std::uint32_t k = bs; k < be; ++k)
+    ++count[records[k].cell + 1];
+  for (std::size_t c = 0; c < cells; ++c)
+    count[c + 1] += count[c];
+  if (scratch.points.size() < be - bs) {
+    scratch.points.resize(be - bs);
+    scratch.records.resize(be - bs);
+  }
+  Point2* points = scratch.points.data();
+  std::uint32_t* slot = scratch.records.data();
+  for (std::uint32_t k = bs; k < be; ++k) {
+    const Record& r = records[k];
+    const std::uint32_t at = count[r.cell]++;
+    points[at] = {r.x, r.y};
+    slot[at] = k;
+  }
+  // count[c] is now cell c's end. Each cell: sort, merge equal XY into the grid's
+  // slots [out, ...) (written in order), subdivide when crowded. A record's cell
+  // field takes its vertex (finish() hands it to input_to_vertex); vertex ids are
+  // slots of the band's own range for now (finish() shifts them down).
+  BandResult& result = results_[b];
+  Point2* grid_points = grid_.points.data();
+  std::uint32_t* source = stage_.source.data();
+  const auto vertex = [records](std::uint32_t record, std::uint32_t v) {
+    records[record].cell = v;
+  };
+  std::uint32_t begin = 0, out = bs;
+  for (std::size_t c = 0; c < cells; ++c) {
+    const std::uint32_t end = count[c];
+    grid_.cell_start[c0 + c] = out;
+    if (end - begin == 1) {
+      Record& r = records[slot[begin]];
+      r.cell = out;
+      grid_points[out] = points[begin];
+      source[out] = r.source;
+      ++out;
+    } else if (end - begin > 1) {
+      sortCell(points, slot, begin, end, scratch.sort);
+      const std::uint32_t first = out;
+      out = mergeCell(points, slot, begin, end, out, vertex);
+      const std::uint32_t distinct = out - first;
+      if (distinct > CROWDED_CELL_POINTS) { // its quadtree may move the vertices
+        result.roots.emplace_back(static_cast<CellId>(c0 + c),
+                                  static_cast<std::uint32_t>(result.nodes.size()));
+        scratch.slots.resize(distinct);
+        std::iota(scratch.slots.begin(), scratch.slots.end(), first);
+        const auto i = static_cast<std::uint32_t>(c % nx);
+        const auto j = static_cast<std::uint32_t>(r0 + c / nx);
+        detail::subdivideCell(grid_, i, j, grid_points, scratch.slots.data(), first,
+                              first, out, result.nodes);
+        scratch.moved.resize(distinct);
+        scratch.sources.resize(distinct);
+        scratch.new_id.resize(distinct);
+        for (std::uint32_t q = 0; q < distinct; ++q) {
+          const std::uint32_t old = scratch.slots[q] - first;
+          scratch.moved[q] = grid_points[first + old];
+          scratch.sources[q] = source[first + old];
+          scratch.new_id[old] = first + q;
+        }
+        std::copy(scratch.moved.begin(), scratch.moved.end(), grid_points + first);
+        std::copy(scratch.sources.begin(), scratch.sources.end(), source + first);
+        for (std::uint32_t q = begin; q < end; ++q)
+          records[slot[q]].cell = scratch.new_id[records[slot[q]].cell - first];
+      }
+    }
+    begin = end;
+  }
+  result.distinct = out - bs;
+}
+
+void GridBuilder::finish()
+{
+  const std::size_t band_count = bands_.count();
+  const std::size_t m = bands_.start.back();
+  // Where each band's vertices go, and how far they move down from their slots.
+  std::vector<std::uint32_t> shift(band_count);
+  std::uint32_t distinct = 0;
+  for (std::size_t b = 0; b < band_count; ++b) {
+    shift[b] = bands_.start[b] - distinct;
+    distinct += results_[b].distinct;
+  }
+  Point2* points = grid_.points.data();
+  std::uint32_t* source = stage_.source.data();
+  const std::size_t nx = grid_.nx;
+  if (distinct < m) {
+    for (std::size_t b = 0; b < band_count; ++b)
+      if (shift[b] > 0) { // moving down: in band order, nothing is overwritten early
+        const std::uint32_t from = bands_.start[b], count = results_[b].distinct;
+        std::memmove(points + from - shift[b], points + from, count * sizeof(Point2));
+        std::memmove(source + from - shift[b], source + from,
+                     count * sizeof(std::uint32_t));
+      }
+    parallelChunks(usefulThreads(threads_, grid_.cellCount()), band_count,
+                   [&](std::size_t first, std::size_t last, unsigned) {
+                     for (std::size_t b = first; b < last; ++b)
+                       for (std::size_t c = bands_.first_row[b] * nx;
+                            c < bands_.first_row[b + 1] * nx; ++c)
+                         grid_.cell_start[c] -= shift[b];
+                   });
+  }
+  // Each input point's vertex from its record (the records of a chunk of input were
+  // written to one sequential stream per band); less its band's shift: the band from
+  // a table by the record's high bits, then a few steps.
+  constexpr unsigned BUCKET_BITS = 12;
+  std::vector<std::uint32_t> band_at((m >> BUCKET_BITS) + 1);
+  for (std::size_t i = 0, b = 0; i < band_at.size(); ++i) {
+    while (b + 1 < band_count && bands_.start[b + 1] <= (i << BUCKET_BITS))
+      ++b;
+    band_at[i] = static_cast<std::uint32_t>(b);
+  }
+  const Record* records = records_.get();
+  const bool shifted = distinct < m;
+  parallelRanges(threads_, input_to_vertex_.size(),
+                 [&](std::size_t k0, std::size_t k1) {
+                   for (std::size_t k = k0; k < k1; ++k) {
+                     const std::uint32_t record = input_to_vertex_[k];
+                     if (record == INVALID_ID)
+                       continue;
+                     VertexId v = records[record].cell;
+                     if (shifted) {
+                       std::uint32_t b = band_at[record >> BUCKET_BITS];
+                       while (record >= bands_.start[b + 1])
+                         ++b;
+                       v -= shift[b];
+                     }
+                     input_to_vertex_[k] = v;
+                   }
+                 });
+  grid_.cell_start[grid_.cellCount()] = distinct;
+  grid_.points.resize(distinct);
+  stage_.source.resize(distinct);
+  // The quadtrees, in cell order as subdivideCrowdedCells numbers them.
+  CellSubdivision& sub = stage_.subdivision;
+  sub = CellSubdivision{};
+  for (std::size_t b = 0; b < band_count; ++b) {
+    const BandResult& result = results_[b];
+    if (result.roots.empty())
+      continue;
+    if (sub.root.empty())
+      sub.root.assign(grid_.cellCount(), INVALID_ID);
+    const auto base = static_cast<std::uint32_t>(sub.nodes.size());
+    for (SubCell node : result.nodes) {
+      node.begin -= shift[b];
+      node.end -= shift[b];
+      if (node.first_child != INVALID_ID)
+        node.first_child += base;
+      sub.nodes.push_back(node);
+    }
+    for (const auto& [cell, root] : result.roots)
+      sub.root[cell] = base + root;
+  }
+  results_.clear();
+}
+
+} // namespace
+
+Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
+                      DuplicateRule rule, unsigned threads, GridStage& stage,
+                      std::vector<VertexId>& input_to_vertex, Diagnostics& diag)
+{
+  stage = GridStage{};
+  input_to_vertex.clear();
+  // First pass: the finite points' bounding box, non-finite ones counted, the first
+  // coordinate out of range found. Chunks combine in order, as one loop would (a min
+  // or max tie keeps the first value: -0.0 and +0.0 stay as a serial loop has them).
+  const unsigned chunks = usefulThreads(threads, n);
+  std::vector<Scan> scans(chunks);
+  parallelChunks(chunks, n, [&](std::size_t begin, std::size_t end, unsigned t) {
+    Scan s;
+    for (std::size_t k = begin; k < end; ++k) {
+      const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h))
+        continue;
+      if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE) {
+        s.out_of_range = k;
+        break;
+      }
+      ++s.finite;
+      s.xmin = std::min(s.xmin, x);
+      s.xmax = std::max(s.xmax, x);
+      s.ymin = std::min(s.ymin, y);
+      s.ymax = std::max(s.ymax, y);
+    }
+    scans[t] = s;
+  });
+  Scan all;
+  for (const Scan& s : scans) {
+    if (s.out_of_range != std::numeric_limits<std::size_t>::max()) {
+      const std::size_t k = s.out_of_range;
+      return Status::error(
+          StatusCode::COORDINATE_RANGE,
+          "point " + std::to_string(k) + " has XY (" + formatValue(xyz[3 * k]) + ", " +
+              formatValue(xyz[3 * k + 1]) + "), beyond +-" +
+              formatValue(MAX_ABS_COORDINATE) + "; shift or rescale the coordinates");
+    }
+    all.finite += s.finite;
+    all.xmin = std::min(all.xmin, s.xmin);
+    all.xmax = std::max(all.xmax, s.xmax);
+    all.ymin = std::min(all.ymin, s.ymin);
+    all.ymax = std::max(all.ymax, s.ymax);
+  }
+  const std::size_t m = all.finite;
+  diag.non_finite_dropped = n - m;
+  if (m == 0)
+    return Status::error(StatusCode::EMPTY_INPUT,
+                         n == 0 ? std::string("the input has no points")
+                                : "none of the " + std::to_string(n) +
+                                      " input points has finite x, y and z");
+  const double width = all.xmax - all.xmin, height = all.ymax - all.ymin;
+  const double extent = std::max(width, height);
+  if (extent > 0.0 && extent < MIN_EXTENT)
+    return Status::error(StatusCode::COORDINATE_RANGE,
+                         "the XY extent " + formatValue(extent) + " is below " +
+                             formatValue(MIN_EXTENT) + "; rescale the coordinates");
+
+  // The finite points: a compacted copy only when some were dropped.
+  std::vector<double> kept_xyz;
+  std::vector<std::uint32_t> kept_source;
+  Input in{xyz, nullptr, m};
+  if (m < n) {
+    kept_xyz.resize(3 * m);
+    kept_source.resize(m);
+    std::vector<std::size_t> at(chunks, 0);
+    for (unsigned t = 1; t < chunks; ++t)
+      at[t] = at[t - 1] + scans[t - 1].finite;
+    parallelChunks(chunks, n, [&](std::size_t begin, std::size_t end, unsigned t) {
+      std::size_t out = at[t];
+      for (std::size_t k = begin; k < end; ++k) {
+        const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
+        if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h))
+          continue;
+        std::copy(xyz + 3 * k, xyz + 3 * k + 3, kept_xyz.data() + 3 * out);
+        kept_source[out++] = static_cast<std::uint32_t>(k);
+      }
+    });
+    in = Input{kept_xyz.data(), kept_source.data(), m};
+  }
+
+  // The cell size: automatic, refined by a count of the occupied cells (in parallel:
+  // one bit per cell per chunk, then or-ed), or the one asked for.
+  CellGrid& grid = stage.grid;
+  double size = detail::initialCellSize(cell_size, width, height, m);
+  if (cell_size == 0.0 && width > 0.0 && height > 0.0) {
+    const std::size_t cx = detail::occupancyColumns(width, size);
+    const std::size_t cy = detail::occupancyColumns(height, size);
+    const std::size_t words = (cx * cy + 63) / 64;
+    const unsigned parts = usefulThreads(threads, m);
+    std::vector<std::vector<std::uint64_t>> bits(parts);
+    const double inv = 1.0 / size, xmin = all.xmin, ymin = all.ymin;
+    parallelChunks(parts, m, [&](std::size_t begin, std::size_t end, unsigned t) {
+      std::vector<std::uint64_t>& mine = bits[t];
+      mine.assign(words, 0);
+      for (std::size_t k = begin; k < end; ++k) {
+        const auto i =
+            std::min(static_cast<std::size_t>((in.x(k) - xmin) * inv), cx - 1);
+        const auto j =
+            std::min(static_cast<std::size_t>((in.y(k) - ymin) * inv), cy - 1);
+        const std::size_t c = j * cx + i;
+        mine[c >> 6] |= std::uint64_t{1} << (c & 63);
+      }
+    });
+    std::size_t occupied = 0;
+    for (std::size_t w = 0; w < words; ++w) {
+      std::uint64_t word = 0;
+      for (const auto& part : bits)
+        word |= part[w];
+      occupied += std::bitset<64>(word).count();
+    }
+    bits.clear();
+    size = detail::refinedCellSize(width, height, m, size, occupied);
+  }
+  if (Status s =
+          detail::setGridGeometry(all.xmin, all.ymin, width, height, m, size, grid);
+      !s.ok())
+    return s;
+
+  input_to_vertex.assign(n, INVALID_ID);
+  GridBuilder(xyz, rule, threads, stage, input_to_vertex).run(in);
+  diag.duplicates_merged = m - grid.points.size();
+  diag.distinct_points = grid.points.size();
+  diag.cells = grid.cellCount();
+  diag.cell_size = grid.cell_size;
+  buildCellPyramid(grid, stage.pyramid, threads);
+  return Status::success();
+}
+
+} // namespace pcl_vts
