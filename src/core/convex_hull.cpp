@@ -18,7 +18,7 @@ std::vector<VertexId> extremeOctagon(const std::vector<Point2>& p,
   std::array<VertexId, 8> ext{};
   std::array<double, 8> best{};
   best.fill(-std::numeric_limits<double>::infinity());
-  const auto score = [](const Point2& q, int d) {
+  const auto score = [](const Point2& q, std::size_t d) {
     switch (d) {
     case 0:
       return -q.x;
@@ -39,7 +39,7 @@ std::vector<VertexId> extremeOctagon(const std::vector<Point2>& p,
     }
   };
   for (const VertexId v : ids)
-    for (int d = 0; d < 8; ++d) {
+    for (std::size_t d = 0; d < 8; ++d) {
       const double s = score(p[v], d);
       if (s > best[d]) {
         best[d] = s;
@@ -67,24 +67,34 @@ bool strictlyInside(const std::vector<Point2>& p, const std::vector<VertexId>& p
 
 std::vector<VertexId> gridHullCandidates(const CellGrid& grid)
 {
-  // A cell whose four cells two steps away (left, right, below, above) all hold points
-  // lies strictly inside the diamond of those points (margin: one cell), so its
-  // points can be neither hull vertices nor on hull edges.
-  const auto filled = [&grid](long i, long j) {
-    if (i < 0 || j < 0 || i >= static_cast<long>(grid.nx) ||
-        j >= static_cast<long>(grid.ny))
-      return false;
-    const CellId c =
-        grid.cellId(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+  // A cell with filled cells two or more steps away on both sides in its row (at
+  // columns i - a and i + b, a, b >= 2) and in its column (rows j - c and j + d) lies
+  // strictly inside the quadrilateral of any four points of those cells: the edge from
+  // the left point (x < i - 1, y >= j) to the lower one (i <= x < i + 1, y < j - 1)
+  // crosses x = i below y = j (the left point weighs less than 1/2 there), and so on
+  // around; so its points can be neither hull vertices nor on hull edges. Only the
+  // cells near the ends of their row or column remain: about the perimeter's cells.
+  const std::uint32_t nx = grid.nx, ny = grid.ny;
+  const auto filled = [&grid](CellId c) {
     return grid.cell_start[c + 1] > grid.cell_start[c];
   };
+  std::vector<std::uint32_t> row_first(ny, nx), row_last(ny, 0), column_first(nx, ny),
+      column_last(nx, 0);
+  for (std::uint32_t j = 0; j < ny; ++j)
+    for (std::uint32_t i = 0; i < nx; ++i)
+      if (filled(grid.cellId(i, j))) {
+        row_first[j] = std::min(row_first[j], i);
+        row_last[j] = i;
+        column_first[i] = std::min(column_first[i], j);
+        column_last[i] = j;
+      }
   std::vector<VertexId> candidates;
-  for (long j = 0; j < static_cast<long>(grid.ny); ++j)
-    for (long i = 0; i < static_cast<long>(grid.nx); ++i) {
-      if (filled(i - 2, j) && filled(i + 2, j) && filled(i, j - 2) && filled(i, j + 2))
+  for (std::uint32_t j = 0; j < ny; ++j)
+    for (std::uint32_t i = 0; i < nx; ++i) {
+      const CellId c = grid.cellId(i, j);
+      if (!filled(c) || (i >= row_first[j] + 2 && i + 2 <= row_last[j] &&
+                         j >= column_first[i] + 2 && j + 2 <= column_last[i]))
         continue;
-      const CellId c =
-          grid.cellId(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
       for (std::uint32_t k = grid.cell_start[c]; k < grid.cell_start[c + 1]; ++k)
         candidates.push_back(k);
     }
@@ -100,29 +110,34 @@ Status convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull
     return Status::error(StatusCode::TOO_FEW_POINTS,
                          "need at least 3 distinct XY positions, got " +
                              std::to_string(n));
-  // Collinear input has no hull polygon: detect it before the chain would double back.
-  VertexId lo = 0, hi = 0;
-  for (VertexId v = 1; v < n; ++v) {
-    if (lexLess(points[v], points[lo]))
-      lo = v;
-    if (lexLess(points[hi], points[v]))
-      hi = v;
-  }
-  bool has_area = false;
-  for (VertexId v = 0; v < n && !has_area; ++v)
-    has_area = orient2d(points[lo], points[hi], points[v]) != Sign::ZERO;
-  if (!has_area)
-    return Status::error(StatusCode::ALL_COLLINEAR,
-                         "all " + std::to_string(n) +
-                             " distinct XY positions lie on one line; a surface "
-                             "needs points off that line");
-
   std::vector<VertexId> all;
   if (candidate_ids == nullptr) {
     all.resize(n);
     std::iota(all.begin(), all.end(), 0u);
     candidate_ids = &all;
   }
+  // Collinear input has no hull polygon: detect it before the chain would double back.
+  // The candidates decide it: the lexicographic extremes are hull vertices, and a hull
+  // with area has a vertex off the line through them.
+  const std::vector<VertexId>& ids = *candidate_ids;
+  if (ids.empty())
+    return Status::error(StatusCode::INVALID_PARAMETER, "no hull candidates given");
+  VertexId lo = ids.front(), hi = ids.front();
+  for (const VertexId v : ids) {
+    if (lexLess(points[v], points[lo]))
+      lo = v;
+    if (lexLess(points[hi], points[v]))
+      hi = v;
+  }
+  bool has_area = false;
+  for (std::size_t k = 0; k < ids.size() && !has_area; ++k)
+    has_area = orient2d(points[lo], points[hi], points[ids[k]]) != Sign::ZERO;
+  if (!has_area)
+    return Status::error(StatusCode::ALL_COLLINEAR,
+                         "all " + std::to_string(n) +
+                             " distinct XY positions lie on one line; a surface "
+                             "needs points off that line");
+
   std::vector<VertexId> candidates;
   const std::vector<VertexId> octagon = extremeOctagon(points, *candidate_ids);
   const bool filter = octagon.size() >= 3;

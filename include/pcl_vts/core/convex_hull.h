@@ -25,8 +25,9 @@ PCL_VTS_CORE_EXPORT Status
 convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull,
            const std::vector<VertexId>* candidates = nullptr);
 
-/// Points of the grid that may lie on the hull boundary: those in cells not enclosed
-/// by filled cells two steps away in all four axis directions. Linear in the cells.
+/// Points of the grid that may lie on the hull boundary: those in cells without a
+/// filled cell two or more steps away in each of the four axis directions (in their
+/// row and column), so about the perimeter's cells. Two passes over the cells.
 PCL_VTS_CORE_EXPORT std::vector<VertexId> gridHullCandidates(const CellGrid& grid);
 
 } // namespace pcl_vts
