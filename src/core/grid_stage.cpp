@@ -138,10 +138,13 @@ class GridBuilder {
   {}
 
   /// Counting sort by band (stable), then each band by cell.
-  void run(const Input& in);
+  /// \param rows points per row per chunk of usefulThreads(threads, in.count)
+  ///        chunks, when the occupancy count already made them on this grid; else
+  ///        empty
+  void run(const Input& in, std::vector<std::uint32_t> rows);
 
  private:
-  void makeBands(const Input& in, unsigned chunks,
+  void makeBands(const Input& in, unsigned chunks, std::vector<std::uint32_t>& rows,
                  std::vector<std::uint32_t>& chunk_offsets);
   void sortBand(std::size_t b, BandScratch& scratch);
   /// Folds the runs of equal XY of sorted slots [begin, end) of (points, records)
@@ -165,16 +168,19 @@ class GridBuilder {
 };
 
 void GridBuilder::makeBands(const Input& in, unsigned chunks,
+                            std::vector<std::uint32_t>& rows,
                             std::vector<std::uint32_t>& chunk_offsets)
 {
   const std::uint32_t ny = grid_.ny;
-  // Points per row, per chunk.
-  std::vector<std::uint32_t> rows(static_cast<std::size_t>(chunks) * ny, 0);
-  parallelChunks(chunks, in.count, [&](std::size_t begin, std::size_t end, unsigned t) {
-    std::uint32_t* count = &rows[static_cast<std::size_t>(t) * ny];
-    for (std::size_t k = begin; k < end; ++k)
-      ++count[grid_.row(in.y(k))];
-  });
+  if (rows.empty()) { // points per row, per chunk
+    rows.assign(static_cast<std::size_t>(chunks) * ny, 0);
+    parallelChunks(chunks, in.count,
+                   [&](std::size_t begin, std::size_t end, unsigned t) {
+                     std::uint32_t* count = &rows[static_cast<std::size_t>(t) * ny];
+                     for (std::size_t k = begin; k < end; ++k)
+                       ++count[grid_.row(in.y(k))];
+                   });
+  }
   // Greedy bands of consecutive rows.
   Bands& bands = bands_;
   bands.of_row.resize(ny);
@@ -214,12 +220,13 @@ void GridBuilder::makeBands(const Input& in, unsigned chunks,
   }
 }
 
-void GridBuilder::run(const Input& in)
+void GridBuilder::run(const Input& in, std::vector<std::uint32_t> rows)
 {
   const std::size_t m = in.count;
   const unsigned chunks = usefulThreads(threads_, m);
   std::vector<std::uint32_t> offsets;
-  makeBands(in, chunks, offsets);
+  makeBands(in, chunks, rows, offsets);
+  std::vector<std::uint32_t>().swap(rows);
   const std::size_t band_count = bands_.count();
   records_.reset(new Record[m]);
   parallelChunks(chunks, m, [&](std::size_t begin, std::size_t end, unsigned t) {
@@ -545,19 +552,26 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
   }
 
   // The cell size: automatic, refined by a count of the occupied cells (in parallel:
-  // one bit per cell per chunk, then or-ed), or the one asked for.
+  // one bit per cell per chunk, then or-ed), or the one asked for. The count's pass
+  // also counts the points per row: the bands' histogram when the size stays (the
+  // same rows as grid.row's).
   CellGrid& grid = stage.grid;
   double size = detail::initialCellSize(cell_size, width, height, m);
+  std::vector<std::uint32_t> rows;
+  std::size_t rows_ny = 0;
   if (cell_size == 0.0 && width > 0.0 && height > 0.0) {
     const std::size_t cx = detail::occupancyColumns(width, size);
     const std::size_t cy = detail::occupancyColumns(height, size);
     const std::size_t words = (cx * cy + 63) / 64;
     const unsigned parts = usefulThreads(threads, m);
     std::vector<std::vector<std::uint64_t>> bits(parts);
+    rows.assign(parts * cy, 0);
+    rows_ny = cy;
     const double inv = 1.0 / size, xmin = all.xmin, ymin = all.ymin;
     parallelChunks(parts, m, [&](std::size_t begin, std::size_t end, unsigned t) {
       std::vector<std::uint64_t>& mine = bits[t];
       mine.assign(words, 0);
+      std::uint32_t* row_count = &rows[t * cy];
       for (std::size_t k = begin; k < end; ++k) {
         const auto i =
             std::min(static_cast<std::size_t>((in.x(k) - xmin) * inv), cx - 1);
@@ -565,6 +579,7 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
             std::min(static_cast<std::size_t>((in.y(k) - ymin) * inv), cy - 1);
         const std::size_t c = j * cx + i;
         mine[c >> 6] |= std::uint64_t{1} << (c & 63);
+        ++row_count[j];
       }
     });
     std::size_t occupied = 0;
@@ -575,15 +590,20 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
       occupied += std::bitset<64>(word).count();
     }
     bits.clear();
+    const double counted = size;
     size = detail::refinedCellSize(width, height, m, size, occupied);
+    if (size != counted)
+      std::vector<std::uint32_t>().swap(rows);
   }
   if (Status s =
           detail::setGridGeometry(all.xmin, all.ymin, width, height, m, size, grid);
       !s.ok())
     return s;
+  if (grid.ny != rows_ny)
+    std::vector<std::uint32_t>().swap(rows);
 
   input_to_vertex.assign(n, INVALID_ID);
-  GridBuilder(xyz, rule, threads, stage, input_to_vertex).run(in);
+  GridBuilder(xyz, rule, threads, stage, input_to_vertex).run(in, std::move(rows));
   diag.duplicates_merged = m - grid.points.size();
   diag.distinct_points = grid.points.size();
   diag.cells = grid.cellCount();
