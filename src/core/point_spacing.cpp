@@ -216,7 +216,7 @@ double upperMedianWhere(const std::vector<double>& values, const Selected& selec
       continue;
     ++count;
     const double x = values[v];
-    plain = plain && x >= 0.0 && !std::signbit(x);
+    plain = plain && !std::signbit(x) && !std::isnan(x);
     const std::uint64_t bits = bitsOf(x);
     low = std::min(low, bits);
     high = std::max(high, bits);
@@ -255,6 +255,11 @@ namespace detail {
 
 double medianOverRows(const std::vector<double>& own, const VertexRows& rows)
 {
+  bool all = true; // the usual case: every vertex has triangles
+  for (std::size_t v = 0; v < own.size() && all; ++v)
+    all = rows.begin(v) != rows.end(v);
+  if (all)
+    return upperMedianWhere(own, [](std::size_t) { return true; });
   return upperMedianWhere(own,
                           [&](std::size_t v) { return rows.begin(v) != rows.end(v); });
 }
@@ -384,12 +389,18 @@ void VertexSpacing::settle(const TriangleMesh& trimmed, unsigned threads)
 {
   if (settled)
     return;
-  remeasureOwnSpacing(trimmed, changed, own, threads);
-  std::vector<bool> has_triangle(trimmed.vertexCount(), false);
-  for (const VertexId v : trimmed.triangles)
-    has_triangle[v] = true;
+  std::vector<bool> has_triangle(trimmed.vertexCount(), own_settled);
+  if (own_settled) {
+    for (const VertexId v : without_triangles)
+      has_triangle[v] = false;
+  } else {
+    remeasureOwnSpacing(trimmed, changed, own, threads);
+    for (const VertexId v : trimmed.triangles)
+      has_triangle[v] = true;
+  }
   global_median = medianOverUsed(own, has_triangle);
   std::vector<bool>().swap(changed);
+  std::vector<VertexId>().swap(without_triangles);
   settled = true;
 }
 

@@ -15,13 +15,17 @@
 
 namespace pcl_vts::detail {
 
-/// What the trim hands to the fill: per vertex the median length of its edges before
-/// the trim and the vertices whose rows the trim changed. settle() brings them to the
-/// trimmed mesh (own for it, and the median of own over the vertices with triangles,
-/// PointSpacing::global_median): only a fill that found holes pays for it.
+/// What the trim hands to the fill: per vertex the median length of its edges, and
+/// either (own_settled) the vertices left without triangles, own being the trimmed
+/// mesh's already, or own before the trim and the vertices whose rows the trim
+/// changed. settle() brings them to the trimmed mesh (own for it, and the median of
+/// own over the vertices with triangles, PointSpacing::global_median): only a fill
+/// that found holes pays for it.
 struct VertexSpacing {
   std::vector<double> own;
-  std::vector<bool> changed;
+  bool own_settled = false;
+  std::vector<VertexId> without_triangles; ///< when own_settled
+  std::vector<bool> changed;               ///< when not own_settled
   double global_median = 0.0;
   bool settled = false;
 

@@ -344,26 +344,35 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
 }
 
 /// Drops the removed triangles: the survivors keep their order, twins are remapped.
-/// In place, on contiguous ranges of triangles (one per thread): a survivor only
-/// moves down, over triangles already moved or dropped. The first survivors of a
-/// range whose new place lies in an earlier range are set aside while every range
-/// moves its others within itself, then written: no range writes where another reads.
-void compactTriangles(TriangleMesh& mesh, const std::vector<bool>& removed,
+/// A survivor's new id is its id less the removed triangles before it, counted from
+/// a bit per triangle and a prefix count per 64 of them (cache-resident, unlike an
+/// id per triangle). In place, on contiguous ranges of triangles (one per thread): a
+/// survivor only moves down, over triangles already moved or dropped. The first
+/// survivors of a range whose new place lies in an earlier range are set aside while
+/// every range moves its others within itself, then written: no range writes where
+/// another reads.
+void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped,
                       unsigned threads)
 {
   const std::size_t count = mesh.triangleCount();
+  std::vector<std::uint64_t> bits((count + 63) / 64, 0);
+  for (const TriangleId t : dropped)
+    bits[t / 64] |= std::uint64_t{1} << (t % 64);
+  std::vector<std::uint32_t> before(bits.size() + 1, 0); // removed in earlier words
+  for (std::size_t w = 0; w < bits.size(); ++w)
+    before[w + 1] =
+        before[w] + static_cast<std::uint32_t>(__builtin_popcountll(bits[w]));
+  auto is_removed = [&](std::size_t t) {
+    return ((bits[t / 64] >> (t % 64)) & 1u) != 0;
+  };
+  auto new_id = [&](std::size_t t) {
+    const std::uint64_t lower = bits[t / 64] & ((std::uint64_t{1} << (t % 64)) - 1);
+    return static_cast<TriangleId>(
+        t - before[t / 64] - static_cast<std::size_t>(__builtin_popcountll(lower)));
+  };
+  const std::size_t kept = count - before.back();
   const auto parts = static_cast<unsigned>(
       std::min<std::size_t>(threads, std::max<std::size_t>(1, count >> 16)));
-  std::vector<TriangleId> new_id(count, INVALID_ID);
-  std::vector<std::size_t> first_id(parts + 1, 0); // per range: survivors before it
-  parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
-    std::size_t kept = 0;
-    for (std::size_t t = begin; t < end; ++t)
-      kept += removed[t] ? 0 : 1;
-    first_id[p + 1] = kept;
-  });
-  for (unsigned p = 0; p < parts; ++p)
-    first_id[p + 1] += first_id[p];
   struct Moved {
     TriangleId to;
     VertexId corners[3];
@@ -371,21 +380,15 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<bool>& removed,
   };
   std::vector<std::vector<Moved>> aside(parts);
   parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
-    auto next = static_cast<TriangleId>(first_id[p]);
-    for (std::size_t t = begin; t < end; ++t)
-      if (!removed[t])
-        new_id[t] = next++;
-  });
-  parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
     for (std::size_t t = begin; t < end; ++t) {
-      if (removed[t])
+      if (is_removed(t))
         continue;
-      Moved moved{new_id[t], {}, {}};
+      Moved moved{new_id(t), {}, {}};
       for (std::size_t k = 0; k < 3; ++k) {
         const HalfedgeId twin = mesh.halfedges[3 * t + k];
-        const bool open = twin == INVALID_ID || removed[triangleOf(twin)];
+        const bool open = twin == INVALID_ID || is_removed(triangleOf(twin));
         moved.corners[k] = mesh.triangles[3 * t + k];
-        moved.twins[k] = open ? INVALID_ID : 3 * new_id[triangleOf(twin)] + twin % 3;
+        moved.twins[k] = open ? INVALID_ID : 3 * new_id(triangleOf(twin)) + twin % 3;
       }
       if (moved.to < begin) {
         aside[p].push_back(moved);
@@ -403,8 +406,8 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<bool>& removed,
         mesh.triangles[3 * std::size_t{moved.to} + k] = moved.corners[k];
         mesh.halfedges[3 * std::size_t{moved.to} + k] = moved.twins[k];
       }
-  mesh.triangles.resize(3 * first_id[parts]);
-  mesh.halfedges.resize(3 * first_id[parts]);
+  mesh.triangles.resize(3 * kept);
+  mesh.halfedges.resize(3 * kept);
 }
 
 } // namespace
@@ -456,10 +459,12 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // row of edges changes: it is lost when no triangle of its fan stays.
   std::vector<bool> changed(mesh.vertexCount(), false);
   std::vector<std::pair<VertexId, HalfedgeId>> corners;
+  std::vector<TriangleId> dropped;
   for (const TriangleId t : list) {
     if (!removed[t])
       continue; // restored by the repair
     ++result.triangles_removed;
+    dropped.push_back(t);
     for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
       if (!changed[mesh.triangles[e]]) {
         changed[mesh.triangles[e]] = true;
@@ -478,9 +483,43 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
     if (std::all_of(fan.begin(), fan.end(), [&](TriangleId t) { return removed[t]; }))
       ++result.vertices_lost;
   }
+  // The fill's spacing (post_pass_spacing.h): the rows of the corners on the trimmed
+  // mesh are their fans' kept triangles (the halfedge leaving the corner, and the
+  // one entering it when the trim leaves it without twin), so their own medians are
+  // measured here, before the compaction; and the vertices without triangles after
+  // the trim are those without before and the lost ones.
+  std::vector<VertexId> without_triangles;
+  if (after != nullptr && fans_whole && result.triangles_removed > 0) {
+    std::vector<double> lengths;
+    auto length = [&](VertexId a, VertexId b) {
+      const double dx = mesh.xy[a].x - mesh.xy[b].x, dy = mesh.xy[a].y - mesh.xy[b].y;
+      return std::sqrt(dx * dx + dy * dy);
+    };
+    for (const auto& [v, out] : corners) {
+      bool closed = false;
+      lengths.clear();
+      for (const TriangleId t : fanOf(mesh, out, closed)) {
+        if (removed[t])
+          continue;
+        HalfedgeId e = 3 * t;
+        while (mesh.triangles[e] != v)
+          ++e;
+        lengths.push_back(length(v, mesh.triangles[nextHalfedge(e)]));
+        const HalfedgeId in = prevHalfedge(e), twin = mesh.halfedges[in];
+        if (twin == INVALID_ID || removed[triangleOf(twin)])
+          lengths.push_back(length(v, mesh.triangles[in]));
+      }
+      own[v] = lengths.empty() ? 0.0 : medianOf(lengths);
+      if (lengths.empty())
+        without_triangles.push_back(v);
+    }
+    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+      if (rows.begin(v) == rows.end(v))
+        without_triangles.push_back(static_cast<VertexId>(v));
+  }
   rows = detail::VertexRows{};
   if (result.triangles_removed > 0)
-    compactTriangles(mesh, removed, threads);
+    compactTriangles(mesh, dropped, threads);
   std::vector<bool>().swap(removed);
   if (!fans_whole) {
     std::vector<bool> has_triangle(mesh.vertexCount(), false);
@@ -495,7 +534,10 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
     after->own.swap(own);
     after->global_median = global_median;
     after->settled = result.triangles_removed == 0; // the input's spacing holds
-    if (!after->settled)
+    after->own_settled = fans_whole;
+    if (!after->settled && fans_whole)
+      after->without_triangles.swap(without_triangles);
+    else if (!after->settled)
       after->changed.swap(changed);
   }
   return Status::success();
