@@ -206,14 +206,16 @@ class StripMerge {
 };
 
 /// Grows every strip of the layout (any thread, any order) and merges them; the
-/// search statistics summed over the workers.
+/// search statistics summed over the workers; `grown` (when set) called before the
+/// border halfedges are paired.
 Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
                           const CellSubdivision& subdivision,
                           const detail::HullEdges& hull_edges,
                           const detail::StripLayout& layout, unsigned threads,
                           bool cache_blocks, std::size_t expected,
                           std::vector<VertexId>& triangles,
-                          std::vector<HalfedgeId>& halfedges, SearchStats& stats)
+                          std::vector<HalfedgeId>& halfedges, SearchStats& stats,
+                          const std::function<void()>& grown)
 {
   StripMerge merge(layout.count, expected, triangles, halfedges);
   std::vector<HalfedgeId> open_head(grid.points.size(), detail::UNREACHED);
@@ -238,6 +240,9 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
     stats.cells_visited += s.cells_visited;
     stats.points_tested += s.points_tested;
   }
+  std::vector<HalfedgeId>().swap(open_head);
+  if (grown)
+    grown(); // the grid is not read any more
   return merge.finish(expected);
 }
 
@@ -248,7 +253,8 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
                        const std::vector<VertexId>& hull,
                        std::vector<VertexId>& triangles,
                        std::vector<HalfedgeId>& halfedges, SearchStats& stats,
-                       unsigned threads, std::uint32_t strip_columns, bool cache_blocks)
+                       unsigned threads, std::uint32_t strip_columns, bool cache_blocks,
+                       const std::function<void()>& grown)
 {
   const std::size_t n = grid.points.size();
   const std::size_t h = hull.size();
@@ -259,7 +265,8 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   // same for every thread count.
   const detail::StripLayout layout = detail::stripLayoutFor(grid, strip_columns);
   return growAndMergeStrips(grid, pyramid, subdivision, hull_edges, layout, threads,
-                            cache_blocks, 2 * n - h - 2, triangles, halfedges, stats);
+                            cache_blocks, 2 * n - h - 2, triangles, halfedges, stats,
+                            grown);
 }
 
 } // namespace pcl_vts

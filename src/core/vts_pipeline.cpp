@@ -133,6 +133,12 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     return s;
   const CellGrid& grid = stage.grid;
   diag.seconds_grid = watch.seconds();
+  // Without merged duplicates input_to_vertex is the inverse of stage.source: dropped
+  // here and rebuilt after the triangulation, 4 bytes a point less while the strips
+  // grow.
+  const bool rebuild_input_map = diag.duplicates_merged == 0;
+  if (rebuild_input_map)
+    std::vector<VertexId>().swap(result.input_to_vertex);
 
   watch.restart();
   { // the candidates released before the triangulation allocates
@@ -148,9 +154,20 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   watch.restart();
   TriangleMesh& mesh = result.mesh;
   SearchStats stats;
-  Status grown = triangulateGrid(grid, stage.pyramid, stage.subdivision, result.hull,
-                                 mesh.triangles, mesh.halfedges, stats, threads,
-                                 options.strip_columns, options.cache_blocks);
+  // The cells, the pyramid and the subdivision are not needed once the strips are
+  // grown: released (and their pages handed back) before the border pairing, so that
+  // they do not add to the peak.
+  const auto release_grid = [&stage, &mesh] {
+    mesh.xy = std::move(stage.grid.points);
+    stage.grid = CellGrid{};
+    stage.pyramid = CellPyramid{};
+    stage.subdivision = CellSubdivision{};
+    detail::releaseFreedMemory();
+  };
+  Status grown =
+      triangulateGrid(grid, stage.pyramid, stage.subdivision, result.hull,
+                      mesh.triangles, mesh.halfedges, stats, threads,
+                      options.strip_columns, options.cache_blocks, release_grid);
   diag.seconds_triangulate = watch.seconds();
   diag.local_searches = stats.local;
   diag.widened_searches = stats.widened;
@@ -160,14 +177,14 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     result.mesh = TriangleMesh{};
     return grown;
   }
-  mesh.xy = std::move(stage.grid.points);
-  // The cells, the pyramid and the subdivision are not needed any more: released (and
-  // their pages handed back) before the heights, the last array allocated, so that
-  // they do not add to the peak.
-  stage.grid = CellGrid{};
-  stage.pyramid = CellPyramid{};
-  stage.subdivision = CellSubdivision{};
-  detail::releaseFreedMemory();
+  detail::releaseFreedMemory(); // the merge's border records
+  if (rebuild_input_map) {
+    result.input_to_vertex.assign(n, INVALID_ID);
+    const std::vector<std::uint32_t>& source = stage.source;
+    parallelFor(threads, source.size(), [&](std::size_t v) { // distinct inputs
+      result.input_to_vertex[source[v]] = static_cast<VertexId>(v);
+    });
+  }
   mesh.z = vertexHeights(xyz, n, result.input_to_vertex, stage.source,
                          options.duplicate_rule);
   result.source_index = std::move(stage.source);

@@ -13,6 +13,7 @@
 #include <pcl_vts/core/status.h>
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace pcl_vts {
@@ -41,13 +42,16 @@ PCL_VTS_CORE_EXPORT Status checkTriangleCapacity(std::size_t points,
 /// \param[in] cache_blocks add the triangles proven by block-local triangulations
 ///            first (docs/scaling.md, "Cache blocks"): the same triangles, another
 ///            order
+/// \param[in] grown when set, called once every strip is grown (and appended),
+///            before the strips' border halfedges are paired: grid, pyramid and
+///            subdivision are not read after it, so it may release them
 /// \return CAPACITY_EXCEEDED (checkTriangleCapacity), INTERNAL_ERROR if the region
 ///         growing failed to tile the hull (a bug)
-PCL_VTS_CORE_EXPORT Status
-triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
-                const CellSubdivision& subdivision, const std::vector<VertexId>& hull,
-                std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges,
-                SearchStats& stats, unsigned threads = 1,
-                std::uint32_t strip_columns = 0, bool cache_blocks = false);
+PCL_VTS_CORE_EXPORT Status triangulateGrid(
+    const CellGrid& grid, const CellPyramid& pyramid,
+    const CellSubdivision& subdivision, const std::vector<VertexId>& hull,
+    std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges,
+    SearchStats& stats, unsigned threads = 1, std::uint32_t strip_columns = 0,
+    bool cache_blocks = false, const std::function<void()>& grown = nullptr);
 
 } // namespace pcl_vts
