@@ -19,6 +19,8 @@ constexpr double GUESS_CENTRE = 0.2887;
 constexpr std::size_t GUESS_CELLS = 9;
 // The guess's circle is settled directly when it covers at most this many cells.
 constexpr std::size_t QUICK_CELLS = 16;
+// settleAlongEdge scans directly at most this many cells of the disk's row spans.
+constexpr std::size_t SPAN_CELLS = 2048;
 
 bool heapGreater(double a, double b)
 {
@@ -284,6 +286,147 @@ bool MediatrixSearch::settleInDiskCells(Query& q, const Window& done)
   return true;
 }
 
+bool MediatrixSearch::settleAlongEdge(Query& q)
+{
+  if (sub_.any())
+    return false;
+  // The band: per row j, the cells within one cell of the part of the line through
+  // a and b, from EXTEND cells and four edge lengths before a to as far after b (flat
+  // apexes along the hull often lie beyond the segment), whose y lies within a cell of
+  // rows j - 1 .. j + 1. A point within c - 2 slack of the segment lies in the band
+  // (its nearest segment point z is in the rows around its own, and its column within
+  // one of z's).
+  constexpr double EXTEND = 8.0;
+  const double c = grid_.cell_size;
+  const double ex = q.pb.x - q.pa.x, ey = q.pb.y - q.pa.y;
+  const double e = EXTEND * c / std::sqrt(ex * ex + ey * ey) + 4.0;
+  if (!(e < 64.0))
+    return false;
+  const double ya = q.pa.y - e * ey, yb = q.pb.y + e * ey;
+  const std::uint32_t jlo = grid_.row(std::min(ya, yb) - c);
+  const std::uint32_t jhi = grid_.row(std::max(ya, yb) + c);
+  if ((static_cast<std::size_t>(jhi - jlo) + 1) * 3 > SPAN_CELLS)
+    return false;
+  band_.clear();
+  std::size_t cells = 0;
+  for (std::uint32_t j = jlo; j <= jhi; ++j) {
+    const double ylo = grid_.origin_y + (j - 1.0) * c;
+    const double yhi = grid_.origin_y + (j + 2.0) * c;
+    double s0 = -e, s1 = 1.0 + e;
+    if (ey != 0.0) {
+      const double u = (ylo - q.pa.y) / ey, w = (yhi - q.pa.y) / ey;
+      s0 = std::max(s0, std::min(u, w) - 1e-9);
+      s1 = std::min(s1, std::max(u, w) + 1e-9);
+      if (s0 > s1)
+        continue;
+    } else if (q.pa.y < ylo || q.pa.y > yhi) {
+      continue;
+    }
+    const double xa = q.pa.x + s0 * ex, xb = q.pa.x + s1 * ex;
+    const Window span{grid_.column(std::min(xa, xb) - c),
+                      grid_.column(std::max(xa, xb) + c), j, j};
+    cells += span.i1 - span.i0 + 1;
+    if (cells > SPAN_CELLS)
+      return false;
+    band_.push_back(span);
+  }
+  // The guess: the smallest circumcentre offset (as in guessThirdPoint) in the band.
+  const double mx = 0.5 * (q.pa.x + q.pb.x), my = 0.5 * (q.pa.y + q.pb.y);
+  const double nx = q.pa.y - q.pb.y, ny = q.pb.x - q.pa.x;
+  const double quarter = 0.25 * (nx * nx + ny * ny);
+  VertexId guess = INVALID_ID;
+  double best_num = 1.0, best_den = 0.0; // t = +infinity
+  for (const Window& span : band_) {
+    const CellId row = grid_.cellId(0, span.j0);
+    for (std::uint32_t k = grid_.cell_start[row + span.i0];
+         k < grid_.cell_start[row + span.i1 + 1]; ++k) {
+      const double px = grid_.points[k].x - mx, py = grid_.points[k].y - my;
+      const double den = px * nx + py * ny;
+      const double num = px * px + py * py - quarter;
+      if (den > 0.0 && num * best_den < best_num * den && k != q.a && k != q.b) {
+        guess = k;
+        best_num = num;
+        best_den = den;
+      }
+    }
+  }
+  if (guess != INVALID_ID && guess != q.best &&
+      orient2d(q.pa, q.pb, grid_.points[guess]) == Sign::POSITIVE &&
+      (q.best == INVALID_ID ||
+       incirclePerturbed(q.pa, q.pb, grid_.points[q.best], grid_.points[guess]) ==
+           Sign::POSITIVE)) {
+    q.best = guess;
+    q.disk_fresh = false;
+  }
+  if (q.best == INVALID_ID)
+    return false;
+  q.refreshDisk(grid_);
+  if (!q.disk.valid) {
+    // Too flat for a safe disk. When the angle at the apex p is obtuse (certified),
+    // the circle's centre is right of a->b and the part left of it is the minor
+    // segment: every better candidate lies in it, within its height s of the segment,
+    // and s <= d / (4 ta tb) (d: p's distance to the line, ta and tb = 1 - ta: where
+    // p projects along a->b and back from b, each computed from its own end so that
+    // both keep their relative accuracy). When that is under a cell the band holds
+    // it. The margins (relative 1e-6, absolute 1e-9 of the edge and the grid slack)
+    // are far beyond the rounding of these few operations.
+    const Point2 p = grid_.points[q.best];
+    const double apx = p.x - q.pa.x, apy = p.y - q.pa.y;
+    const double bpx = p.x - q.pb.x, bpy = p.y - q.pb.y;
+    const double dot = apx * bpx + apy * bpy;
+    const double l2 = ex * ex + ey * ey;
+    if (!(dot < -1e-14 * (std::fabs(apx * bpx) + std::fabs(apy * bpy))) ||
+        !(l2 > 1e-12 * c * c))
+      return false;
+    const double ta = (ex * apx + ey * apy) / l2;
+    const double tb = -(ex * bpx + ey * bpy) / l2;
+    const double cross = std::fabs(ex * apy - ey * apx) +
+                         1e-14 * (std::fabs(ex * apy) + std::fabs(ey * apx));
+    const double length = std::sqrt(l2);
+    const double height = cross / length / (4.0 * ta * tb);
+    const double reach = height * (1.0 + 1e-6) + 1e-9 * length + 4.0 * grid_.slack;
+    if (!(ta > 0.0 && tb > 0.0 && reach + 2.0 * grid_.slack <= c))
+      return false;
+    for (const Window& span : band_) {
+      const CellId row = grid_.cellId(0, span.j0);
+      testRange(grid_.cell_start[row + span.i0], grid_.cell_start[row + span.i1 + 1],
+                q);
+      stats_.cells_visited += span.i1 - span.i0;
+    }
+    return true;
+  }
+  // Certify on the safe disk: a point of it in row j has its y in the row's band
+  // [y0, y1] (the row widened by the slack), so its x within the disk's chord over the
+  // band (half-width from the band's y nearest the centre), so its column within that
+  // chord's columns widened by the slack. The squares carry the usual relative slack,
+  // far beyond their rounding.
+  const SafeDisk& d = q.disk;
+  const double r2 = d.radius * d.radius * (1.0 + SQUARED_DISTANCE_SLACK);
+  const std::uint32_t r0 = grid_.row(d.cy - d.radius - grid_.slack);
+  const std::uint32_t r1 = grid_.row(d.cy + d.radius + grid_.slack);
+  spans_.clear();
+  cells = 0;
+  for (std::uint32_t j = r0; j <= r1; ++j) {
+    const BlockRect rect = blockRect(grid_, 0, 0, j);
+    const double gap = std::max({0.0, rect.y0 - d.cy, d.cy - rect.y1});
+    const double h2 = r2 - gap * gap * (1.0 - SQUARED_DISTANCE_SLACK);
+    if (h2 < 0.0)
+      continue;
+    const double half = std::sqrt(h2) * (1.0 + SQUARED_DISTANCE_SLACK) + grid_.slack;
+    const Window span{grid_.column(d.cx - half), grid_.column(d.cx + half), j, j};
+    cells += span.i1 - span.i0 + 1;
+    if (cells > SPAN_CELLS)
+      return false;
+    spans_.push_back(span);
+  }
+  for (const Window& span : spans_) {
+    const CellId row = grid_.cellId(0, span.j0);
+    testRange(grid_.cell_start[row + span.i0], grid_.cell_start[row + span.i1 + 1], q);
+    stats_.cells_visited += span.i1 - span.i0;
+  }
+  return true;
+}
+
 VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
 {
   Query q;
@@ -300,6 +443,10 @@ VertexId MediatrixSearch::findThirdPoint(VertexId a, VertexId b)
   }
   const Window w = edgeRectangle(q);
   if (w.i0 <= w.i1 && (settleInRectangle(q, w) || settleInDiskCells(q, w))) {
+    ++stats_.local;
+    return q.best;
+  }
+  if (settleAlongEdge(q)) {
     ++stats_.local;
     return q.best;
   }

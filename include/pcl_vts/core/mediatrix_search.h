@@ -95,6 +95,12 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
   bool settleInRectangle(Query& q, const Window& w);
   /// The best circle's cells outside `done`, when they are few.
   bool settleInDiskCells(Query& q, const Window& done);
+  /// Long or flat cases (near the hull, across voids): the apex guessed among the
+  /// cells along the edge, then certified on the cells of its safe disk row by row
+  /// (the disk clipped to each row: a thin cap along the hull is a few cells per row),
+  /// or, too flat for a safe disk, on the cells along the edge when the minor segment
+  /// of its circle is thinner than a cell.
+  bool settleAlongEdge(Query& q);
   /// Best-first over the pyramid, skipping the cells of `done`.
   void widen(Query& q, const Window& done);
   /// World rectangle of a block (pyramid block or sub-cell), widened by the slack.
@@ -104,6 +110,7 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
   const CellPyramid& pyramid_;
   const CellSubdivision& sub_;
   std::vector<Block> heap_;
+  std::vector<Window> band_, spans_; ///< settleAlongEdge's row spans
   SearchStats stats_;
 };
 
