@@ -54,35 +54,46 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   stamp_[0] = 0;
   triangles_ = 1;
   last_ = 0;
-  p.reserve(3 + n);
   if (head_.size() < 3 + n)
     head_.resize(3 + n);
-  ids.assign(3, INVALID_ID);
-  in_core.assign(3, 0);
-  for (std::uint32_t stride = 4; stride >= 1; stride /= 2)
-    for (std::uint32_t j = w.j0; j < w.j1; ++j) {
-      const bool forward = ((j - w.j0) & 1u) == 0;
-      for (std::uint32_t m = 0; m < w.i1 - w.i0; ++m) {
-        const std::uint32_t i = forward ? w.i0 + m : w.i1 - 1 - m;
-        const std::uint32_t di = i - w.i0, dj = j - w.j0;
-        if (di % stride != 0 || dj % stride != 0 ||
-            (stride < 4 && di % (2 * stride) == 0 && dj % (2 * stride) == 0))
-          continue;
-        const CellId cell = grid.cellId(i, j);
-        const std::uint8_t inside =
-            i >= core.i0 && i < core.i1 && j >= core.j0 && j < core.j1 ? 1 : 0;
-        for (std::uint32_t k = grid.cell_start[cell]; k < grid.cell_start[cell + 1];
-             ++k) {
-          ids.push_back(k);
-          in_core.push_back(inside);
-          const Point2& q = grid.points[k];
-          if (!(q.x >= tx_lo && q.x <= tx_hi && q.y >= ty_lo && q.y <= ty_hi))
-            outsideBox(q, cx, cy, d);
-          p.push_back(q);
-          insert(static_cast<std::int32_t>(p.size() - 1));
+  p.resize(3 + n);
+  ids.assign(3 + n, INVALID_ID);
+  in_core.assign(3 + n, 0);
+  // Insertion order: cells at multiples of 4 from the window's corner, then of 2, then
+  // the rest, each round in snake order over the cell rows; the order depends only on
+  // the window's size, so it is listed once per size.
+  const std::uint32_t width = w.i1 - w.i0, height = w.j1 - w.j0;
+  if (width != order_width_ || height != order_height_) {
+    order_width_ = width;
+    order_height_ = height;
+    order_.clear();
+    for (std::uint32_t stride = 4; stride >= 1; stride /= 2)
+      for (std::uint32_t dj = 0; dj < height; ++dj)
+        for (std::uint32_t m = 0; m < width; ++m) {
+          const std::uint32_t di = (dj & 1u) == 0 ? m : width - 1 - m;
+          if (di % stride != 0 || dj % stride != 0 ||
+              (stride < 4 && di % (2 * stride) == 0 && dj % (2 * stride) == 0))
+            continue;
+          order_.push_back({di, dj});
         }
-      }
+  }
+  std::size_t k_local = 3;
+  for (const std::array<std::uint32_t, 2>& cell_offset : order_) {
+    const std::uint32_t i = w.i0 + cell_offset[0], j = w.j0 + cell_offset[1];
+    const CellId cell = grid.cellId(i, j);
+    const std::uint8_t inside =
+        i >= core.i0 && i < core.i1 && j >= core.j0 && j < core.j1 ? 1 : 0;
+    for (std::uint32_t k = grid.cell_start[cell]; k < grid.cell_start[cell + 1]; ++k) {
+      const Point2& q = grid.points[k];
+      if (!(q.x >= tx_lo && q.x <= tx_hi && q.y >= ty_lo && q.y <= ty_hi))
+        outsideBox(q, cx, cy, d);
+      ids[k_local] = k;
+      in_core[k_local] = inside;
+      p[k_local] = q;
+      insert(static_cast<std::int32_t>(k_local));
+      ++k_local;
     }
+  }
   v.resize(3 * triangles_);
   adj.resize(3 * triangles_);
   return true;
