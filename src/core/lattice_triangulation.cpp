@@ -686,15 +686,12 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
   }
   // Else the first incomplete cell of each row: a neighbour's bisection then runs
   // over its row's incomplete cells only (a few dozen), once per row of neighbours.
-  std::vector<std::size_t> row_first;
-  if (dense.empty()) {
-    row_first.assign(static_cast<std::size_t>(cy) + 1, cells.size());
-    for (std::size_t k = cells.size(); k-- > 0;)
-      row_first[cells[k] / cx] = k;
-    for (std::uint32_t j = cy; j-- > 0;)
-      row_first[j] = std::min(row_first[j], row_first[j + 1]);
-  }
-  std::vector<std::pair<std::size_t, std::uint32_t>> corners;
+  // (The corners below are listed row by row from them too.)
+  std::vector<std::size_t> row_first(static_cast<std::size_t>(cy) + 1, cells.size());
+  for (std::size_t k = cells.size(); k-- > 0;)
+    row_first[cells[k] / cx] = k;
+  for (std::uint32_t j = cy; j-- > 0;)
+    row_first[j] = std::min(row_first[j], row_first[j + 1]);
   std::vector<std::size_t> stack;
   for (std::size_t seed = 0; seed < cells.size(); ++seed) {
     if (cell_label[seed] != INVALID_ID)
@@ -710,10 +707,6 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
       ++pieces[label].cells;
       const auto i = static_cast<std::uint32_t>(c % cx),
                  j = static_cast<std::uint32_t>(c / cx);
-      for (const std::size_t q : {lat_.position(i, j), lat_.position(i + 1, j),
-                                  lat_.position(i, j + 1), lat_.position(i + 1, j + 1)})
-        if (lat_.present(q))
-          corners.emplace_back(q, label);
       const std::uint32_t i0 = i > 0 ? i - 1 : 0, i1 = std::min(cx - 1, i + 1);
       for (std::uint32_t jj = j > 0 ? j - 1 : 0; jj <= std::min(cy - 1, j + 1); ++jj) {
         std::size_t k = 0; // in `cells`, at or before the next incomplete neighbour
@@ -742,22 +735,45 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
       }
     }
   }
-  std::sort(corners.begin(), corners.end());
-  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-  i_.reserve(corners.size());
-  label_.reserve(corners.size());
-  for (const auto& [p, label] : corners) {
-    i_.push_back(p);
-    label_.push_back(label);
-  }
-  // S of a piece: its I and their ring.
-  for (std::size_t k = 0; k < i_.size(); ++k) {
-    pieces[label_[k]].own.push_back(i_[k]); // i_ is sorted
-    ring(i_[k], pieces[label_[k]].s);
-  }
-  for (Piece& piece : pieces) {
-    std::sort(piece.s.begin(), piece.s.end());
-    piece.s.erase(std::unique(piece.s.begin(), piece.s.end()), piece.s.end());
+  // I in position order without a sort: the present corners on lattice row j are the
+  // top corners of the incomplete cells of row j - 1 and the bottom corners of those
+  // of row j, each list in order of i; merged, equal positions once. A corner's
+  // cells all lie in one piece (they share it).
+  std::array<std::size_t, 2> at{}, end{};
+  for (std::uint32_t j = 0; j <= cy; ++j) {
+    at = {j > 0 ? row_first[j - 1] : 0, j < cy ? row_first[j] : 0};
+    end = {j > 0 ? row_first[j] : 0, j < cy ? row_first[j + 1] : 0};
+    std::array<unsigned, 2> side{}; // 0: the cell's left corner next, 1: its right
+    std::size_t last = INVALID_ID;
+    for (;;) {
+      // The next corner of each list: cell i gives i, then i + 1.
+      std::size_t best = INVALID_ID;
+      unsigned from = 0;
+      for (unsigned l = 0; l < 2; ++l)
+        if (at[l] < end[l]) {
+          const std::size_t q = cells[at[l]] % cx + side[l];
+          if (best == INVALID_ID || q < best) {
+            best = q;
+            from = l;
+          }
+        }
+      if (best == INVALID_ID)
+        break;
+      const std::uint32_t label = cell_label[at[from]];
+      if (++side[from] == 2) {
+        side[from] = 0;
+        ++at[from];
+      }
+      if (best == last)
+        continue;
+      last = best;
+      if (const std::size_t q = lat_.position(static_cast<std::uint32_t>(best), j);
+          lat_.present(q)) {
+        i_.push_back(q);
+        label_.push_back(label);
+        pieces[label].own.push_back(q); // in order
+      }
+    }
   }
 }
 
@@ -914,6 +930,11 @@ void Fringe::solve(Piece& piece) const
       return;
     }
   }
+  // S of the piece: its I and their ring.
+  for (const std::size_t p : piece.own)
+    ring(p, piece.s);
+  std::sort(piece.s.begin(), piece.s.end());
+  piece.s.erase(std::unique(piece.s.begin(), piece.s.end()), piece.s.end());
   VtsOptions inner; // the ordinary path on the piece
   inner.lattice = false;
   inner.threads = 1;
