@@ -66,35 +66,110 @@ double segmentDistance(const Point2& a, const Point2& b, const Point2& p)
   return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
 }
 
-/// Vertex neighbours (compressed rows), both directions of every edge.
-struct Adjacency {
-  std::vector<std::size_t> start;
-  std::vector<VertexId> ring;
-};
+/// Vertex neighbours, measurePointSpacing's rows (the ends of the halfedges leaving
+/// a vertex and the starts of the boundary ones entering it): compressed rows of the
+/// whole mesh, or walked around each vertex's fan from a halfedge leaving it, which
+/// costs a pass over the corners instead of a sort, and gives the same row when the
+/// fan holds every triangle of the vertex (checked against its count of triangles).
+class Neighbours {
+ public:
+  static Neighbours rows(const TriangleMesh& mesh)
+  {
+    Neighbours adj(mesh);
+    const std::size_t n = mesh.vertexCount();
+    adj.start_.assign(n + 1, 0);
+    for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
+      ++adj.start_[mesh.triangles[e] + 1];
+      if (mesh.halfedges[e] == INVALID_ID)
+        ++adj.start_[mesh.triangles[nextHalfedge(e)] + 1];
+    }
+    for (std::size_t v = 0; v < n; ++v)
+      adj.start_[v + 1] += adj.start_[v];
+    adj.ring_.resize(adj.start_[n]);
+    std::vector<std::size_t> fill(adj.start_.begin(), adj.start_.end() - 1);
+    for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
+      const VertexId a = mesh.triangles[e];
+      const VertexId b = mesh.triangles[nextHalfedge(e)];
+      adj.ring_[fill[a]++] = b;
+      if (mesh.halfedges[e] == INVALID_ID)
+        adj.ring_[fill[b]++] = a;
+    }
+    return adj;
+  }
 
-Adjacency buildAdjacency(const TriangleMesh& mesh)
-{
-  Adjacency adj;
-  const std::size_t n = mesh.vertexCount();
-  adj.start.assign(n + 1, 0);
-  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
-    ++adj.start[mesh.triangles[e] + 1];
-    if (mesh.halfedges[e] == INVALID_ID)
-      ++adj.start[mesh.triangles[nextHalfedge(e)] + 1];
+  static Neighbours fans(const TriangleMesh& mesh)
+  {
+    Neighbours adj(mesh);
+    adj.out_.assign(mesh.vertexCount(), INVALID_ID);
+    adj.triangles_.assign(mesh.vertexCount(), 0);
+    for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
+      const VertexId v = mesh.triangles[e];
+      adj.out_[v] = e;
+      adj.triangles_[v] = static_cast<std::uint8_t>(
+          std::min(MANY, static_cast<unsigned>(adj.triangles_[v]) + 1));
+    }
+    return adj;
   }
-  for (std::size_t v = 0; v < n; ++v)
-    adj.start[v + 1] += adj.start[v];
-  adj.ring.resize(adj.start[n]);
-  std::vector<std::size_t> fill(adj.start.begin(), adj.start.end() - 1);
-  for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
-    const VertexId a = mesh.triangles[e];
-    const VertexId b = mesh.triangles[nextHalfedge(e)];
-    adj.ring[fill[a]++] = b;
-    if (mesh.halfedges[e] == INVALID_ID)
-      adj.ring[fill[b]++] = a;
+
+  /// v's row in out (replaced); false when its fan does not hold all its triangles.
+  bool row(VertexId v, std::vector<VertexId>& out) const
+  {
+    out.clear();
+    if (out_.empty()) {
+      out.assign(ring_.begin() + static_cast<std::ptrdiff_t>(start_[v]),
+                 ring_.begin() + static_cast<std::ptrdiff_t>(start_[v + 1]));
+      return true;
+    }
+    const HalfedgeId first = out_[v];
+    const unsigned count = triangles_[v];
+    if (first == INVALID_ID)
+      return true;
+    if (count >= MANY)
+      return false;
+    // Back to the open end, if any.
+    HalfedgeId f = first;
+    bool closed = false;
+    for (unsigned steps = 0;; ++steps) {
+      const HalfedgeId twin = mesh_->halfedges[prevHalfedge(f)];
+      if (twin == INVALID_ID)
+        break;
+      f = twin;
+      if (f == first) {
+        closed = true;
+        break;
+      }
+      if (steps > count)
+        return false;
+    }
+    const HalfedgeId start = f;
+    unsigned walked = 0;
+    for (;;) {
+      out.push_back(mesh_->triangles[nextHalfedge(f)]);
+      if (++walked > count)
+        return false;
+      const HalfedgeId twin = mesh_->halfedges[f];
+      if (twin == INVALID_ID)
+        break;
+      f = nextHalfedge(twin);
+      if (f == start)
+        break;
+    }
+    if (!closed)
+      out.push_back(mesh_->triangles[prevHalfedge(start)]);
+    return walked == count;
   }
-  return adj;
-}
+
+ private:
+  static constexpr unsigned MANY = 255; ///< a count this large is not trusted
+  explicit Neighbours(const TriangleMesh& mesh)
+      : mesh_(&mesh)
+  {}
+  const TriangleMesh* mesh_;
+  std::vector<std::size_t> start_; ///< rows
+  std::vector<VertexId> ring_;
+  std::vector<HalfedgeId> out_;         ///< fans: a halfedge leaving each vertex
+  std::vector<std::uint8_t> triangles_; ///< fans: its triangles, up to MANY
+};
 
 /// Hexagonal lattice points of spacing h strictly inside polygon[0..size) and at
 /// least clearance from its edges, appended to polygon. The lattice is anchored at
@@ -137,26 +212,29 @@ void addLatticePoints(std::vector<Point2>& polygon, std::size_t size, double h,
 
 /// Rim vertices and rings of neighbours around them (breadth first, loop order).
 /// Its own set of seen vertices: holes are measured on several threads at once.
-std::vector<VertexId> rimRings(const Adjacency& adj, const std::vector<VertexId>& rim,
-                               std::size_t rings)
+/// false when a row could not be walked (Neighbours::row).
+bool rimRings(const Neighbours& adj, const std::vector<VertexId>& rim,
+              std::size_t rings, std::vector<VertexId>& samples)
 {
-  std::vector<VertexId> samples;
+  samples.clear();
   std::unordered_set<VertexId> seen;
   for (const VertexId v : rim)
     if (seen.insert(v).second)
       samples.push_back(v);
   std::size_t level_begin = 0;
+  std::vector<VertexId> row;
   for (std::size_t r = 0; r < rings; ++r) {
     const std::size_t level_end = samples.size();
-    for (std::size_t k = level_begin; k < level_end; ++k)
-      for (std::size_t q = adj.start[samples[k]]; q < adj.start[samples[k] + 1]; ++q) {
-        const VertexId u = adj.ring[q];
+    for (std::size_t k = level_begin; k < level_end; ++k) {
+      if (!adj.row(samples[k], row))
+        return false;
+      for (const VertexId u : row)
         if (seen.insert(u).second)
           samples.push_back(u);
-      }
+    }
     level_begin = level_end;
   }
-  return samples;
+  return true;
 }
 
 /// The samples in position order: the spline's sums then run in an order that does
@@ -205,7 +283,7 @@ class HoleFiller {
  public:
   HoleFiller(TriangleMesh& mesh, const FillOptions& options,
              const PointSpacing& spacing, double global_h,
-             std::vector<Point2> piece_probe, Adjacency adjacency, FillResult& result)
+             std::vector<Point2> piece_probe, Neighbours adjacency, FillResult& result)
       : mesh_(mesh)
       , options_(options)
       , spacing_(spacing)
@@ -279,6 +357,15 @@ class HoleFiller {
     return Status::success();
   }
 
+  /// Whether a fan could not be walked during measure(): the holes are measured
+  /// again after useRows().
+  bool unwalked() const { return unwalked_; }
+  void useRows()
+  {
+    adj_ = Neighbours::rows(mesh_);
+    unwalked_ = false;
+  }
+
   /// The patches' triangles after the mesh's; the inserted-point flags.
   void finish()
   {
@@ -330,8 +417,10 @@ class HoleFiller {
     const bool spline = options_.z_method == HoleZMethod::THIN_PLATE_SPLINE;
     std::vector<Point2> sample_xy;
     std::vector<double> sample_z;
-    std::vector<VertexId> samples =
-        rimRings(adj_, rim, spline ? options_.rim_rings : 0);
+    std::vector<VertexId> samples;
+    if (!rimRings(adj_, rim, spline ? options_.rim_rings : 0, samples))
+      unwalked_ = true; // measured again with the rows
+
     sortByPosition(mesh_, samples);
     const std::size_t stride = (samples.size() + FillOptions::MAX_SPLINE_SAMPLES - 1) /
                                FillOptions::MAX_SPLINE_SAMPLES;
@@ -395,7 +484,8 @@ class HoleFiller {
   const double global_h_;
   const std::vector<Point2> piece_probe_;
   FillResult& result_;
-  const Adjacency adj_;
+  Neighbours adj_;
+  mutable std::atomic<bool> unwalked_{false};
   const std::size_t input_vertices_;
   const std::size_t input_corners_;
   std::vector<VertexId> new_triangles_;
@@ -447,22 +537,35 @@ Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
     if (is_hole(loop))
       for (const VertexId v : loop.vertices)
         on_rim[v] = true;
-  Adjacency adjacency = buildAdjacency(mesh);
+  // With the trim's spacing, the rows are walked around the fans (no pass sorts the
+  // whole mesh's edges); a fan that does not hold all its vertex's triangles (not
+  // from VTS) takes the compressed rows.
+  Neighbours adjacency =
+      known != nullptr ? Neighbours::fans(mesh) : Neighbours::rows(mesh);
   PointSpacing spacing;
   if (known != nullptr) {
     known->settle(mesh, threads);
     // measurePointSpacing's local figure at the rims, from the known own medians
-    // and the same rows (buildAdjacency's rule is measurePointSpacing's).
+    // and the same rows.
     spacing.global_median = known->global_median;
     spacing.local.assign(mesh.vertexCount(), 0.0);
     std::vector<double> values;
-    for (VertexId v = 0; v < mesh.vertexCount(); ++v) {
-      if (!on_rim[v] || adjacency.start[v] == adjacency.start[v + 1])
-        continue;
-      values.assign(1, known->own[v]);
-      for (std::size_t k = adjacency.start[v]; k < adjacency.start[v + 1]; ++k)
-        values.push_back(known->own[adjacency.ring[k]]);
-      spacing.local[v] = medianOf(values);
+    std::vector<VertexId> row;
+    for (bool walked = false; !walked;) {
+      walked = true;
+      for (VertexId v = 0; v < mesh.vertexCount() && walked; ++v) {
+        if (!on_rim[v])
+          continue;
+        walked = adjacency.row(v, row);
+        if (row.empty())
+          continue;
+        values.assign(1, known->own[v]);
+        for (const VertexId u : row)
+          values.push_back(known->own[u]);
+        spacing.local[v] = medianOf(values);
+      }
+      if (!walked)
+        adjacency = Neighbours::rows(mesh);
     }
   } else {
     spacing = detail::measurePointSpacing(mesh, &on_rim, nullptr, threads);
@@ -483,12 +586,17 @@ Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
     if (is_hole(loop))
       holes.push_back(&loop);
   std::vector<HolePatch> patches(holes.size());
-  std::atomic<std::size_t> next{0};
-  runTeam(static_cast<unsigned>(std::min<std::size_t>(threads, holes.size())),
-          [&](unsigned) {
-            for (std::size_t k = next++; k < holes.size(); k = next++)
-              patches[k] = filler.measure(*holes[k]);
-          });
+  for (bool again = true; again;) {
+    std::atomic<std::size_t> next{0};
+    runTeam(static_cast<unsigned>(std::min<std::size_t>(threads, holes.size())),
+            [&](unsigned) {
+              for (std::size_t k = next++; k < holes.size(); k = next++)
+                patches[k] = filler.measure(*holes[k]);
+            });
+    again = filler.unwalked();
+    if (again)
+      filler.useRows();
+  }
   for (std::size_t k = 0; k < holes.size(); ++k) {
     if (Status s = filler.append(*holes[k], patches[k]); !s.ok())
       return s;

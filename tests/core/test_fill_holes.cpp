@@ -426,6 +426,54 @@ TEST(ReconstructSurface, TrimThenFillOnTheSyntheticTerrain)
             StatusCode::INVALID_PARAMETER);
 }
 
+TEST(ReconstructSurface, PinchNearAHoleTakesTheRowsOfTheWholeMesh)
+{
+  // With the trim's spacing the fill walks each vertex's fan for its neighbours; a
+  // vertex with two fans (here a corner of an annulus touched by a triangle that
+  // shares only that corner), two rings from the hole's rim, is not walked whole:
+  // the fill falls back to the rows of the whole mesh and equals fillHoles alone.
+  TriangleMesh mesh;
+  const int side = 7;
+  const auto extra = static_cast<VertexId>((side + 1) * (side + 1));
+  for (int j = 0; j <= side; ++j)
+    for (int i = 0; i <= side; ++i) {
+      const double x = i, y = j;
+      mesh.xy.push_back({x, y});
+      mesh.z.push_back(0.1 * x * x + 0.2 * y + 0.05 * x * y);
+    }
+  auto id = [](int i, int j) { return static_cast<VertexId>(j * (side + 1) + i); };
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i) {
+      if (!(i == 0 || j == 0 || i == side - 1 || j == side - 1))
+        continue;
+      mesh.triangles.insert(mesh.triangles.end(),
+                            {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      mesh.triangles.insert(mesh.triangles.end(),
+                            {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  mesh.xy.push_back({-1.0, -1.0});
+  mesh.xy.push_back({0.0, -1.0});
+  mesh.z.insert(mesh.z.end(), {7.0, 9.0});
+  // First: the walk starts from the last halfedge leaving a vertex, in the annulus.
+  mesh.triangles.insert(mesh.triangles.begin(), {id(0, 0), extra, extra + 1});
+  ASSERT_TRUE(mesh.rebuildHalfedges());
+
+  ReconstructionOptions options;
+  options.fill_options.max_hole_area = 100.0;
+  TriangleMesh together = mesh;
+  ReconstructionDiagnostics diagnostics;
+  ASSERT_TRUE(reconstructSurface(together, options, diagnostics).ok());
+  EXPECT_EQ(diagnostics.trim.triangles_removed, 0u);
+  EXPECT_EQ(diagnostics.fill.holes_filled, 1u);
+
+  TriangleMesh apart = mesh;
+  FillResult result;
+  ASSERT_TRUE(fillHoles(apart, options.fill_options, result).ok());
+  EXPECT_EQ(together.triangles, apart.triangles);
+  EXPECT_EQ(together.z, apart.z);
+  EXPECT_EQ(together.xy.size(), apart.xy.size());
+}
+
 TEST(ReconstructSurface, EqualsTrimThenFillCalledApart)
 {
   // reconstructSurface hands the trim's spacing to the fill (measured again only at
