@@ -62,13 +62,12 @@ std::size_t compactStrip(StripMesh& strip, std::vector<TriangleId>& index,
   }
   strip.triangles.resize(3 * static_cast<std::size_t>(next));
   strip.halfedges.resize(3 * static_cast<std::size_t>(next));
-  strip.owned = std::vector<std::uint8_t>();
   return next;
 }
 
-/// Appends a compacted strip to the mesh and frees it: its triangles, its twins
-/// shifted, its border halfedges (global ids) added to `border`.
-void appendStrip(StripMesh& strip, const std::vector<BorderRecord>& strip_border,
+/// Appends a compacted strip to the mesh: its triangles, its twins shifted, its
+/// border halfedges (global ids) added to `border`.
+void appendStrip(const StripMesh& strip, const std::vector<BorderRecord>& strip_border,
                  std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges,
                  std::vector<BorderRecord>& border)
 {
@@ -87,7 +86,6 @@ void appendStrip(StripMesh& strip, const std::vector<BorderRecord>& strip_border
   }
   for (const BorderRecord& r : strip_border)
     border.push_back({r.low, r.high, r.halfedge + shift});
-  strip = StripMesh();
 }
 
 } // namespace
@@ -119,12 +117,13 @@ namespace {
 /// the order the strips finish in.
 class StripMerge {
  public:
-  StripMerge(std::uint32_t count, std::size_t expected,
+  StripMerge(std::uint32_t count, unsigned workers, std::size_t expected,
              std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges)
       : strips_(count)
       , borders_(count)
       , results_(count)
       , ready_(count, 0)
+      , reuse_end_(count - std::min<std::uint32_t>(count, workers))
       , triangles_(triangles)
       , halfedges_(halfedges)
   {
@@ -134,7 +133,20 @@ class StripMerge {
     halfedges_.reserve(3 * expected);
   }
 
-  StripMesh& strip(std::uint32_t s) { return strips_[s]; }
+  /// The mesh strip s grows into: empty, on the arrays of a strip already merged
+  /// when one is free (their pages already resident: no page faults), except for the
+  /// last strip of each worker: those get arrays of their own size, so that the
+  /// merge's peak (the output nearly full) holds no spare arrays.
+  StripMesh& strip(std::uint32_t s)
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    ++taken_;
+    if (s < reuse_end_ && !spare_.empty()) {
+      strips_[s] = std::move(spare_.back());
+      spare_.pop_back();
+    }
+    return strips_[s];
+  }
 
   /// Strip s grown with `result`; `index` is the worker's buffer.
   void grown(std::uint32_t s, Status result, std::vector<TriangleId>& index)
@@ -154,14 +166,34 @@ class StripMerge {
         failed_ = true;
       if (!failed_)
         appendStrip(strips_[next], borders_[next], triangles_, halfedges_, border_);
-      strips_[next] = StripMesh();
       borders_[next] = std::vector<BorderRecord>();
+      StripMesh spare = std::move(strips_[next]);
+      strips_[next] = StripMesh();
+      spare.triangles.clear();
+      spare.halfedges.clear();
+      spare.owned.clear();
+      spare.owned_count = 0;
+      lock.lock();
+      // Kept for a strip still to be grown (its pages stay resident, so growing
+      // there faults none in); freed once every strip is taken.
+      if (taken_ < reuse_end_)
+        spare_.push_back(std::move(spare));
+      ++merged_;
+      lock.unlock();
+      spare = StripMesh();
       // Else the strips already merged stay resident beside the output.
       detail::releaseFreedMemory();
       lock.lock();
-      ++merged_;
     }
     merging_ = false;
+    if (taken_ >= reuse_end_ && !spare_.empty()) {
+      // No strip left to reuse them: the spare arrays are freed.
+      std::vector<StripMesh> spare = std::move(spare_);
+      spare_.clear();
+      lock.unlock();
+      spare.clear();
+      detail::releaseFreedMemory();
+    }
   }
 
   /// Once every strip is grown and merged: the first error in strip order, or the
@@ -195,8 +227,11 @@ class StripMerge {
   std::vector<StripMesh> strips_;
   std::vector<std::vector<BorderRecord>> borders_; ///< per strip, strip-local ids
   std::vector<Status> results_;
-  std::mutex mutex_; ///< guards ready_, merged_, merging_
+  std::mutex mutex_; ///< guards ready_, merged_, merging_, taken_, spare_
   std::vector<char> ready_;
+  const std::uint32_t reuse_end_; ///< strips from here on get arrays of their own
+  std::uint32_t taken_ = 0;       ///< strips handed to the workers
+  std::vector<StripMesh> spare_;  ///< merged strips' arrays, emptied, for reuse
   std::uint32_t merged_ = 0;
   bool merging_ = false;
   bool failed_ = false; ///< a strip failed: nothing more is appended
@@ -217,9 +252,9 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
                           std::vector<HalfedgeId>& halfedges, SearchStats& stats,
                           const std::function<void()>& grown)
 {
-  StripMerge merge(layout.count, expected, triangles, halfedges);
-  std::vector<HalfedgeId> open_head(grid.points.size(), detail::UNREACHED);
   const unsigned workers = std::max(1u, std::min<unsigned>(threads, layout.count));
+  StripMerge merge(layout.count, workers, expected, triangles, halfedges);
+  std::vector<HalfedgeId> open_head(grid.points.size(), detail::UNREACHED);
   std::vector<SearchStats> worker_stats(workers);
   std::atomic<std::uint32_t> next_strip{0};
   const auto work = [&](unsigned w) {
