@@ -138,10 +138,11 @@ class GridBuilder {
   {}
 
   /// Counting sort by band (stable), then each band by cell.
+  /// \param inputs the input's point count (input_to_vertex's size)
   /// \param rows points per row per chunk of usefulThreads(threads, in.count)
   ///        chunks, when the occupancy count already made them on this grid; else
   ///        empty
-  void run(const Input& in, std::vector<std::uint32_t> rows);
+  void run(const Input& in, std::size_t inputs, std::vector<std::uint32_t> rows);
 
  private:
   void makeBands(const Input& in, unsigned chunks, std::vector<std::uint32_t>& rows,
@@ -220,7 +221,8 @@ void GridBuilder::makeBands(const Input& in, unsigned chunks,
   }
 }
 
-void GridBuilder::run(const Input& in, std::vector<std::uint32_t> rows)
+void GridBuilder::run(const Input& in, std::size_t inputs,
+                      std::vector<std::uint32_t> rows)
 {
   const std::size_t m = in.count;
   const unsigned chunks = usefulThreads(threads_, m);
@@ -228,6 +230,19 @@ void GridBuilder::run(const Input& in, std::vector<std::uint32_t> rows)
   makeBands(in, chunks, rows, offsets);
   std::vector<std::uint32_t>().swap(rows);
   const std::size_t band_count = bands_.count();
+  // The output arrays, zero-filled (page faults and all) by up to three threads at
+  // once: the points on one, the sources, cells and input map on the others.
+  const unsigned fillers = std::min(chunks, 3u);
+  runTeam(fillers, [&](unsigned w) {
+    if (w == 0)
+      grid_.points.resize(m);
+    if (w == (fillers > 1 ? 1u : 0u)) {
+      stage_.source.resize(m);
+      grid_.cell_start.resize(grid_.cellCount() + 1);
+    }
+    if (w == fillers - 1)
+      input_to_vertex_.assign(inputs, INVALID_ID);
+  });
   records_.reset(new Record[m]);
   parallelChunks(chunks, m, [&](std::size_t begin, std::size_t end, unsigned t) {
     std::uint32_t* at = &offsets[t * band_count];
@@ -243,9 +258,6 @@ void GridBuilder::run(const Input& in, std::vector<std::uint32_t> rows)
       records_[at[band]++] = {x, y, source, cell};
     }
   });
-  grid_.cell_start.resize(grid_.cellCount() + 1);
-  grid_.points.resize(m);
-  stage_.source.resize(m);
   results_.assign(band_count, BandResult{});
   const unsigned workers =
       static_cast<unsigned>(std::min<std::size_t>(chunks, band_count));
@@ -602,8 +614,8 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
   if (grid.ny != rows_ny)
     std::vector<std::uint32_t>().swap(rows);
 
-  input_to_vertex.assign(n, INVALID_ID);
-  GridBuilder(xyz, rule, threads, stage, input_to_vertex).run(in, std::move(rows));
+  input_to_vertex.resize(n); // filled by the builder
+  GridBuilder(xyz, rule, threads, stage, input_to_vertex).run(in, n, std::move(rows));
   diag.duplicates_merged = m - grid.points.size();
   diag.distinct_points = grid.points.size();
   diag.cells = grid.cellCount();
