@@ -408,23 +408,39 @@ Status latticeHull(const Lattice& lat, std::vector<VertexId>& hull)
   const auto key = [](std::uint32_t i, std::uint32_t j) {
     return (static_cast<std::uint64_t>(i) << 32) | j;
   };
+  // Each row's first and last point, scanned from its ends (a row holds a point
+  // unless it is all NODATA), and each column's lowest and highest, rows scanned from
+  // the bottom (the top) over the columns not found yet: not every position is read.
   for (std::uint32_t j = 0; j < lat.ny; ++j) {
-    std::uint32_t first = INVALID_ID, last = INVALID_ID;
     const VertexId* row = &lat.vertex_at[lat.position(0, j)];
-    for (std::uint32_t i = 0; i < lat.nx; ++i)
-      if (row[i] != INVALID_ID) {
-        if (first == INVALID_ID)
-          first = i;
-        last = i;
-        if (low[i] == INVALID_ID)
-          low[i] = j;
-        high[i] = j;
-      }
-    if (first != INVALID_ID) {
-      keys.push_back(key(first, j));
-      keys.push_back(key(last, j));
-    }
+    std::uint32_t first = 0, last = lat.nx;
+    while (first < lat.nx && row[first] == INVALID_ID)
+      ++first;
+    if (first == lat.nx)
+      continue;
+    while (row[last - 1] == INVALID_ID)
+      --last;
+    keys.push_back(key(first, j));
+    keys.push_back(key(last - 1, j));
   }
+  const auto extremes = [&lat](std::vector<std::uint32_t>& found, bool upward) {
+    std::vector<std::uint32_t> left(lat.nx); // columns not found yet
+    for (std::uint32_t i = 0; i < lat.nx; ++i)
+      left[i] = i;
+    for (std::uint32_t r = 0; r < lat.ny && !left.empty(); ++r) {
+      const std::uint32_t j = upward ? r : lat.ny - 1 - r;
+      const VertexId* row = &lat.vertex_at[lat.position(0, j)];
+      std::size_t kept = 0;
+      for (const std::uint32_t i : left)
+        if (row[i] != INVALID_ID)
+          found[i] = j;
+        else
+          left[kept++] = i;
+      left.resize(kept);
+    }
+  };
+  extremes(low, true);
+  extremes(high, false);
   for (std::uint32_t i = 0; i < lat.nx; ++i)
     if (low[i] != INVALID_ID) {
       keys.push_back(key(i, low[i]));
