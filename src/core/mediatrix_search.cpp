@@ -21,6 +21,8 @@ constexpr std::size_t GUESS_CELLS = 9;
 constexpr std::size_t QUICK_CELLS = 16;
 // settleAlongEdge scans directly at most this many cells of the disk's row spans.
 constexpr std::size_t SPAN_CELLS = 2048;
+// settleAlongEdge's first band reaches this many cells beyond the edge's ends.
+constexpr std::uint32_t EXTEND_CELLS = 8;
 
 bool heapGreater(double a, double b)
 {
@@ -288,18 +290,37 @@ bool MediatrixSearch::settleInDiskCells(Query& q, const Window& done)
 
 bool MediatrixSearch::settleAlongEdge(Query& q)
 {
+  // The band along the edge and EXTEND_CELLS beyond its ends first; then, near the
+  // grid's border, four edge lengths beyond them (flat apexes along the hull often lie
+  // far beyond the segment).
   if (sub_.any())
     return false;
+  const double near = static_cast<double>(EXTEND_CELLS) * grid_.cell_size /
+                      std::sqrt((q.pb.x - q.pa.x) * (q.pb.x - q.pa.x) +
+                                (q.pb.y - q.pa.y) * (q.pb.y - q.pa.y));
+  if (settleInBand(q, near))
+    return true;
+  // The long band only near the grid's border, where the flat hull triangles are
+  // (inside, a failed near band is mostly an edge across a void: nothing to find).
+  const auto inside = [&](const Point2& p) {
+    const std::uint32_t i = grid_.column(p.x), j = grid_.row(p.y);
+    return i >= EXTEND_CELLS && j >= EXTEND_CELLS && i + EXTEND_CELLS < grid_.nx &&
+           j + EXTEND_CELLS < grid_.ny;
+  };
+  if (inside(q.pa) && inside(q.pb))
+    return false;
+  return settleInBand(q, near + 4.0);
+}
+
+bool MediatrixSearch::settleInBand(Query& q, double e)
+{
   // The band: per row j, the cells within one cell of the part of the line through
-  // a and b, from EXTEND cells and four edge lengths before a to as far after b (flat
-  // apexes along the hull often lie beyond the segment), whose y lies within a cell of
+  // a and b from e edge lengths before a to e after b whose y lies within a cell of
   // rows j - 1 .. j + 1. A point within c - 2 slack of the segment lies in the band
   // (its nearest segment point z is in the rows around its own, and its column within
   // one of z's).
-  constexpr double EXTEND = 8.0;
   const double c = grid_.cell_size;
   const double ex = q.pb.x - q.pa.x, ey = q.pb.y - q.pa.y;
-  const double e = EXTEND * c / std::sqrt(ex * ex + ey * ey) + 4.0;
   if (!(e < 64.0))
     return false;
   const double ya = q.pa.y - e * ey, yb = q.pb.y + e * ey;

@@ -101,6 +101,9 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
   /// or, too flat for a safe disk, on the cells along the edge when the minor segment
   /// of its circle is thinner than a cell.
   bool settleAlongEdge(Query& q);
+  /// One band of settleAlongEdge, e edge lengths beyond both ends; true when settled
+  /// (else q.best may still have improved).
+  bool settleInBand(Query& q, double e);
   /// Best-first over the pyramid, skipping the cells of `done`.
   void widen(Query& q, const Window& done);
   /// World rectangle of a block (pyramid block or sub-cell), widened by the slack.
