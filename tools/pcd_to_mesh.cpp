@@ -504,7 +504,8 @@ bool parseArgs(int argc, char** argv, CliOptions& opt, std::string& error)
 {
   opt.vts.cell_size = DEFAULT_CELL_SIZE;
   opt.vts.duplicate_rule = DEFAULT_DUPLICATES;
-  opt.vts.threads = 0; // every core
+  opt.vts.threads = 0;       // every core
+  opt.vts.input_map = false; // the mesh is written from source_index alone
   opt.load.threads = 0;
   opt.vts.reconstruction = pcl_vts::ReconstructionOptions{}; // trim and fill
   std::vector<std::string> positional;

@@ -16,6 +16,7 @@ namespace pcl_vts {
 namespace {
 
 /// z per vertex: the representative's input z, or the mean over its merged points.
+/// input_to_vertex may be empty when no duplicate was merged.
 std::vector<double> vertexHeights(const double* xyz, std::size_t n,
                                   const std::vector<VertexId>& input_to_vertex,
                                   const std::vector<std::uint32_t>& source,
@@ -26,6 +27,11 @@ std::vector<double> vertexHeights(const double* xyz, std::size_t n,
     z[v] = xyz[3 * static_cast<std::size_t>(source[v]) + 2];
   if (rule != DuplicateRule::MEAN_Z)
     return z;
+  if (input_to_vertex.empty()) { // one point a vertex: the mean's own arithmetic
+    for (double& h : z)
+      h = (0.0 + h) / 1.0; // a -0.0 height becomes +0.0 as in the sum below
+    return z;
+  }
   std::vector<std::uint32_t> count(source.size(), 0);
   std::fill(z.begin(), z.end(), 0.0);
   for (std::size_t k = 0; k < n; ++k)
@@ -120,8 +126,11 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   if (options.lattice) { // DEM rasters: no search in complete cells (section 7)
     bool handled = false;
     const Status s = triangulateLattice(xyz, n, options, result, handled);
-    if (handled)
+    if (handled) {
+      if (!options.input_map)
+        std::vector<VertexId>().swap(result.input_to_vertex);
       return s.ok() ? finishPipeline(options, result) : s;
+    }
   }
 
   Stopwatch watch;
@@ -178,7 +187,7 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     return grown;
   }
   detail::releaseFreedMemory(); // the merge's border records
-  if (rebuild_input_map) {
+  if (rebuild_input_map && options.input_map) {
     result.input_to_vertex.assign(n, INVALID_ID);
     const std::vector<std::uint32_t>& source = stage.source;
     parallelFor(threads, source.size(), [&](std::size_t v) { // distinct inputs
@@ -188,6 +197,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   mesh.z = vertexHeights(xyz, n, result.input_to_vertex, stage.source,
                          options.duplicate_rule);
   result.source_index = std::move(stage.source);
+  if (!options.input_map)
+    std::vector<VertexId>().swap(result.input_to_vertex);
   diag.triangles = mesh.triangleCount();
 
   return finishPipeline(options, result);

@@ -255,6 +255,7 @@ Status meshTiles(Job& job, const BlockStore& store)
   context.block_first_vertex = &job.first_vertex;
   context.options = job.options.vts;
   context.options.reconstruction = noPostPasses(); // they run on the whole mesh, later
+  context.options.input_map = true; // a tile's vertex order comes from it
   const unsigned all_threads = job.workers;
   const unsigned workers =
       std::max(1u, std::min<unsigned>(

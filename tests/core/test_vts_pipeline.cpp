@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -267,6 +268,52 @@ TEST(VtsPipeline, DuplicatesFollowTheRule)
     EXPECT_EQ(run.result.mesh.z[centre], 0.0);
     EXPECT_EQ(run.result.source_index[centre], 7u);
   }
+}
+
+// input_map off leaves input_to_vertex empty and every other byte of the result as
+// it was: with and without merged duplicates, under every rule, on the grid and the
+// lattice path, with -0.0 heights (the mean of one point is +0.0).
+TEST(VtsPipeline, WithoutTheInputMapTheResultIsTheSame)
+{
+  std::vector<double> scattered = test::generatePoints(Distribution::UNIFORM, 3000, 5);
+  for (std::size_t k = 0; k < scattered.size() / 3; k += 7)
+    scattered[3 * k + 2] = -0.0;
+  std::vector<double> raster; // a lattice with -0.0 heights and a missing cell
+  for (int j = 0; j < 40; ++j)
+    for (int i = 0; i < 40; ++i)
+      if (i != 17 || j != 23)
+        raster.insert(raster.end(),
+                      {double(i), double(j), (i + j) % 5 == 0 ? -0.0 : 0.5 * i});
+  const std::vector<std::pair<const char*, std::vector<double>>> inputs = {
+      {"scattered", scattered}, {"duplicates", duplicateInput()}, {"raster", raster}};
+  const auto bits = [](const std::vector<double>& v) {
+    std::vector<std::uint64_t> b(v.size());
+    std::memcpy(b.data(), v.data(), v.size() * sizeof(double));
+    return b;
+  };
+  for (const auto& [name, xyz] : inputs)
+    for (DuplicateRule rule : {DuplicateRule::LOWEST_Z, DuplicateRule::HIGHEST_Z,
+                               DuplicateRule::MEAN_Z, DuplicateRule::FIRST}) {
+      SCOPED_TRACE(std::string(name) + ", " + duplicateRuleName(rule));
+      VtsOptions options;
+      options.duplicate_rule = rule;
+      const PipelineRun with = runPipeline(xyz, options);
+      options.input_map = false;
+      const PipelineRun without = runPipeline(xyz, options);
+      ASSERT_TRUE(with.status.ok());
+      ASSERT_TRUE(without.status.ok());
+      EXPECT_EQ(with.result.input_to_vertex.size(), xyz.size() / 3);
+      EXPECT_TRUE(without.result.input_to_vertex.empty());
+      EXPECT_EQ(with.result.mesh.triangles, without.result.mesh.triangles);
+      EXPECT_EQ(with.result.mesh.halfedges, without.result.mesh.halfedges);
+      EXPECT_EQ(with.result.source_index, without.result.source_index);
+      EXPECT_EQ(with.result.hull, without.result.hull);
+      EXPECT_EQ(bits(with.result.mesh.z), bits(without.result.mesh.z));
+      ASSERT_EQ(with.result.mesh.xy.size(), without.result.mesh.xy.size());
+      EXPECT_EQ(0,
+                std::memcmp(with.result.mesh.xy.data(), without.result.mesh.xy.data(),
+                            with.result.mesh.xy.size() * sizeof(Point2)));
+    }
 }
 
 TEST(VtsPipeline, NonFinitePointsAreDroppedAndCounted)

@@ -247,6 +247,7 @@ int main(int argc, char** argv)
     options.lattice = m.method != "vts-grid";
     options.cache_blocks = m.method != "vts-search";
     options.check_output = false;
+    options.input_map = false; // as pcd_to_mesh runs it: no per-input vertex map
     options.threads = m.threads;
     const pcl_vts::Status status =
         pcl_vts::runVtsPipeline(xyz.data(), n, options, result);

@@ -13,6 +13,7 @@ Status runVtsMethod(const std::string& name, const PointSet& points, CompareMesh
 {
   VtsOptions options;
   options.threads = 1;
+  options.input_map = false; // as pcd_to_mesh
   options.reconstruction =
       name == "vts-raw" ? noPostPasses() : ReconstructionOptions{}; // trim + fill
   VtsResult result;

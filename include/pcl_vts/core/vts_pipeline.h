@@ -50,6 +50,9 @@ struct VtsOptions {
   /// Validate the output against its post-conditions (triangle count, twins, CCW)
   /// before returning; a failure is INTERNAL_ERROR. Cheap (linear).
   bool check_output = true;
+  /// Fill VtsResult::input_to_vertex (4 bytes a point). Off: it is left empty, the
+  /// rest of the result is the same; pcd_to_mesh, which does not use it, turns it off.
+  bool input_map = true;
   /// Lattice fast path: when the distinct points lie on a rectilinear lattice (DEM
   /// rasters), complete lattice cells are split without any search and only the
   /// cells near missing points go through the region growing (docs/algorithm.md,
@@ -74,7 +77,8 @@ struct VtsResult {
   /// inserted by hole filling (appended after the input's vertices).
   std::vector<std::uint32_t> source_index;
   /// Per input point: the mesh vertex that represents it (merged duplicates point to
-  /// the same vertex), or INVALID_ID for dropped (non-finite) points.
+  /// the same vertex), or INVALID_ID for dropped (non-finite) points. Empty when
+  /// VtsOptions::input_map is off.
   std::vector<VertexId> input_to_vertex;
   /// Convex hull, CCW, as mesh vertex ids (collinear boundary points included).
   std::vector<VertexId> hull;
