@@ -3,6 +3,8 @@
 // certify the sign, an exact evaluation (expansion arithmetic, or big rationals for
 // extreme magnitudes) decides. Correct for every finite double input; no init call.
 // Ties on cocircular points are broken by symbolic perturbation (docs/algorithm.md).
+// The filters' bounds assume no fused multiply-add: the core's CMake target passes
+// -ffp-contract=off to everything that links it.
 // The floating-point bounds that let a search prune safely sit beside these, in
 // error_bounds.h.
 #pragma once
