@@ -74,30 +74,92 @@ std::vector<VertexId> gridHullCandidates(const CellGrid& grid)
   // crosses x = i below y = j (the left point weighs less than 1/2 there), and so on
   // around; so its points can be neither hull vertices nor on hull edges. Only the
   // cells near the ends of their row or column remain: about the perimeter's cells.
+  // Each row's first and last filled cells are found from the row's ends, each
+  // column's from the bottom and top rows over the columns not found yet, and only the
+  // cells within one step of those ends are read: about the perimeter's cells, not
+  // every cell (the same cells, in the same row-major order, as a test of every cell).
   const std::uint32_t nx = grid.nx, ny = grid.ny;
   const auto filled = [&grid](CellId c) {
     return grid.cell_start[c + 1] > grid.cell_start[c];
   };
   std::vector<std::uint32_t> row_first(ny, nx), row_last(ny, 0), column_first(nx, ny),
       column_last(nx, 0);
-  for (std::uint32_t j = 0; j < ny; ++j)
-    for (std::uint32_t i = 0; i < nx; ++i)
-      if (filled(grid.cellId(i, j))) {
-        row_first[j] = std::min(row_first[j], i);
-        row_last[j] = i;
-        column_first[i] = std::min(column_first[i], j);
-        column_last[i] = j;
+  for (std::uint32_t j = 0; j < ny; ++j) {
+    std::uint32_t i = 0;
+    while (i < nx && !filled(grid.cellId(i, j)))
+      ++i;
+    if (i == nx)
+      continue; // an empty row
+    row_first[j] = i;
+    i = nx - 1;
+    while (!filled(grid.cellId(i, j)))
+      --i;
+    row_last[j] = i;
+  }
+  std::vector<std::uint32_t> open(nx); // columns whose end is not found yet
+  for (int from_top = 0; from_top < 2; ++from_top) {
+    std::iota(open.begin(), open.end(), 0u);
+    std::size_t left = nx;
+    for (std::uint32_t step = 0; step < ny && left > 0; ++step) {
+      const std::uint32_t j = from_top != 0 ? ny - 1 - step : step;
+      if (row_first[j] == nx)
+        continue; // an empty row
+      std::size_t kept = 0;
+      for (std::size_t k = 0; k < left; ++k) {
+        const std::uint32_t i = open[k];
+        if (!filled(grid.cellId(i, j)))
+          open[kept++] = i;
+        else
+          (from_top != 0 ? column_last : column_first)[i] = j;
       }
-  std::vector<VertexId> candidates;
+      left = kept;
+    }
+  }
+  // The columns whose first or last two rows include row j, listed per row.
+  std::vector<std::uint32_t> row_start(static_cast<std::size_t>(ny) + 1, 0);
+  const auto forEachEndRow = [&](std::uint32_t i, const auto& visit) {
+    if (column_first[i] == ny)
+      return; // an empty column
+    const std::uint32_t f = column_first[i], l = column_last[i];
+    visit(f);
+    if (f + 1 <= l)
+      visit(f + 1);
+    if (l > f + 1)
+      visit(l);
+    if (l > f + 2)
+      visit(l - 1);
+  };
+  for (std::uint32_t i = 0; i < nx; ++i)
+    forEachEndRow(i, [&](std::uint32_t j) { ++row_start[j + 1]; });
   for (std::uint32_t j = 0; j < ny; ++j)
-    for (std::uint32_t i = 0; i < nx; ++i) {
+    row_start[j + 1] += row_start[j];
+  std::vector<std::uint32_t> end_columns(row_start[ny]);
+  {
+    std::vector<std::uint32_t> at(row_start.begin(), row_start.end() - 1);
+    for (std::uint32_t i = 0; i < nx; ++i) // ascending columns in each row's list
+      forEachEndRow(i, [&](std::uint32_t j) { end_columns[at[j]++] = i; });
+  }
+  std::vector<VertexId> candidates;
+  std::vector<std::uint32_t> columns;
+  for (std::uint32_t j = 0; j < ny; ++j) {
+    if (row_first[j] == nx)
+      continue;
+    // The row's two first and two last cells, and the column ends: the row's only
+    // candidate cells (a filled cell lies between its row's and its column's ends).
+    columns.assign(end_columns.begin() + row_start[j],
+                   end_columns.begin() + row_start[j + 1]);
+    const std::uint32_t f = row_first[j], l = row_last[j];
+    for (const std::uint32_t i : {f, f + 1, l - 1, l})
+      if (i >= f && i <= l)
+        columns.push_back(i);
+    std::sort(columns.begin(), columns.end());
+    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+    for (const std::uint32_t i : columns) {
       const CellId c = grid.cellId(i, j);
-      if (!filled(c) || (i >= row_first[j] + 2 && i + 2 <= row_last[j] &&
-                         j >= column_first[i] + 2 && j + 2 <= column_last[i]))
-        continue;
       for (std::uint32_t k = grid.cell_start[c]; k < grid.cell_start[c + 1]; ++k)
         candidates.push_back(k);
     }
+  }
   return candidates;
 }
 

@@ -174,7 +174,39 @@ TEST(ConvexHull, TooFewAndCollinearAreErrors)
   EXPECT_EQ(hull, (std::vector<VertexId>{0, 1, 2}));
 }
 
-/// The hull from the grid's candidates and from every point, on distinct points.
+/// The candidates by the rule's definition, every cell tested: the filled cells
+/// within one step of their row's or their column's first or last filled cell.
+std::vector<VertexId> candidatesOfEveryCell(const CellGrid& grid)
+{
+  const std::uint32_t nx = grid.nx, ny = grid.ny;
+  const auto filled = [&grid](CellId c) {
+    return grid.cell_start[c + 1] > grid.cell_start[c];
+  };
+  std::vector<std::uint32_t> row_first(ny, nx), row_last(ny, 0), column_first(nx, ny),
+      column_last(nx, 0);
+  for (std::uint32_t j = 0; j < ny; ++j)
+    for (std::uint32_t i = 0; i < nx; ++i)
+      if (filled(grid.cellId(i, j))) {
+        row_first[j] = std::min(row_first[j], i);
+        row_last[j] = i;
+        column_first[i] = std::min(column_first[i], j);
+        column_last[i] = j;
+      }
+  std::vector<VertexId> candidates;
+  for (std::uint32_t j = 0; j < ny; ++j)
+    for (std::uint32_t i = 0; i < nx; ++i) {
+      const CellId c = grid.cellId(i, j);
+      if (!filled(c) || (i >= row_first[j] + 2 && i + 2 <= row_last[j] &&
+                         j >= column_first[i] + 2 && j + 2 <= column_last[i]))
+        continue;
+      for (std::uint32_t k = grid.cell_start[c]; k < grid.cell_start[c + 1]; ++k)
+        candidates.push_back(k);
+    }
+  return candidates;
+}
+
+/// The hull from the grid's candidates and from every point, on distinct points; the
+/// candidates those of the rule tested on every cell, in the same order.
 void expectCandidatesGiveTheSameHull(std::vector<Point2> points, double cell_size,
                                      const std::string& what)
 {
@@ -184,6 +216,7 @@ void expectCandidatesGiveTheSameHull(std::vector<Point2> points, double cell_siz
   std::vector<std::uint32_t> order;
   ASSERT_TRUE(buildCellGrid(points, cell_size, grid, order).ok()) << what;
   const std::vector<VertexId> candidates = gridHullCandidates(grid);
+  EXPECT_EQ(candidates, candidatesOfEveryCell(grid)) << what;
   std::vector<VertexId> all, filtered;
   const Status s_all = convexHull(grid.points, all);
   const Status s_filtered = convexHull(grid.points, filtered, &candidates);
@@ -225,6 +258,16 @@ TEST(ConvexHull, GridCandidatesGiveTheSameHull)
                                       "shape " + std::to_string(shape) + " cell " +
                                           std::to_string(cell));
     }
+  // Small sets on coarse cells: grids of one or a few rows or columns, columns and
+  // rows of one, two or three filled cells.
+  for (int trial = 0; trial < 120; ++trial) {
+    std::vector<Point2> points;
+    const double width = 1.0 + 4.0 * (trial % 4), height = 1.0 + 3.0 * (trial % 3);
+    while (points.size() < 3 + static_cast<std::size_t>(trial % 11))
+      points.push_back({width * unit(rng), height * unit(rng)});
+    expectCandidatesGiveTheSameHull(points, 0.4 + 0.3 * (trial % 5),
+                                    "small set " + std::to_string(trial));
+  }
   // The filter does filter: on 20000 uniform points (100 x 100 cells) about the
   // perimeter's cells are left (about 8 % of the points), not a share of the area's.
   const std::vector<double> xyz =
