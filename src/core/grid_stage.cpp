@@ -614,7 +614,6 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
   if (grid.ny != rows_ny)
     std::vector<std::uint32_t>().swap(rows);
 
-  input_to_vertex.resize(n); // filled by the builder
   GridBuilder(xyz, rule, threads, stage, input_to_vertex).run(in, n, std::move(rows));
   diag.duplicates_merged = m - grid.points.size();
   diag.distinct_points = grid.points.size();
