@@ -16,22 +16,26 @@ namespace pcl_vts {
 namespace {
 
 /// z per vertex: the representative's input z, or the mean over its merged points.
-/// input_to_vertex may be empty when no duplicate was merged.
+/// input_to_vertex may be empty when no duplicate was merged. Each vertex's z is
+/// written by one thread (the reads of the input are scattered: cache misses that
+/// threads overlap); the means over merged points are summed in input order.
 std::vector<double> vertexHeights(const double* xyz, std::size_t n,
                                   const std::vector<VertexId>& input_to_vertex,
                                   const std::vector<std::uint32_t>& source,
-                                  DuplicateRule rule)
+                                  DuplicateRule rule, unsigned threads)
 {
   std::vector<double> z(source.size());
-  for (std::size_t v = 0; v < source.size(); ++v)
-    z[v] = xyz[3 * static_cast<std::size_t>(source[v]) + 2];
-  if (rule != DuplicateRule::MEAN_Z)
+  // One point a vertex under MEAN_Z: the mean's own arithmetic, (0 + z) / 1, so that
+  // a -0.0 height becomes +0.0 as in the sum below.
+  const bool one_point_mean = rule == DuplicateRule::MEAN_Z && input_to_vertex.empty();
+  parallelRanges(threads, source.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) {
+      const double h = xyz[3 * static_cast<std::size_t>(source[v]) + 2];
+      z[v] = one_point_mean ? (0.0 + h) / 1.0 : h;
+    }
+  });
+  if (rule != DuplicateRule::MEAN_Z || input_to_vertex.empty())
     return z;
-  if (input_to_vertex.empty()) { // one point a vertex: the mean's own arithmetic
-    for (double& h : z)
-      h = (0.0 + h) / 1.0; // a -0.0 height becomes +0.0 as in the sum below
-    return z;
-  }
   std::vector<std::uint32_t> count(source.size(), 0);
   std::fill(z.begin(), z.end(), 0.0);
   for (std::size_t k = 0; k < n; ++k)
@@ -195,7 +199,7 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     });
   }
   mesh.z = vertexHeights(xyz, n, result.input_to_vertex, stage.source,
-                         options.duplicate_rule);
+                         options.duplicate_rule, threads);
   result.source_index = std::move(stage.source);
   if (!options.input_map)
     std::vector<VertexId>().swap(result.input_to_vertex);
