@@ -153,10 +153,10 @@ struct Lattice {
   std::vector<double> xs, ys; ///< sorted distinct coordinates
   std::uint32_t nx = 0, ny = 0;
   std::vector<VertexId> vertex_at; ///< nx * ny
-  /// Per cell ((nx - 1) * (ny - 1), row-major): its rank among the complete cells
-  /// of its row, INVALID_ID when a corner is missing.
-  std::vector<std::uint32_t> cell_rank;
-  std::vector<std::size_t> row_start;  ///< complete cells before each cell row
+  /// Complete cells (all four corners present; cells are row-major, (nx - 1) * (ny -
+  /// 1) of them) before each cell row. A cell's rank in its row is counted while its
+  /// row is walked: no per-cell array.
+  std::vector<std::size_t> row_start;
   std::vector<std::size_t> incomplete; ///< the other cells, sorted
 
   std::size_t position(std::uint32_t i, std::uint32_t j) const
@@ -170,8 +170,12 @@ struct Lattice {
   bool present(std::size_t p) const { return vertex_at[p] != INVALID_ID; }
   bool complete(std::uint32_t i, std::uint32_t j) const
   {
-    return cell_rank[cell(i, j)] != INVALID_ID;
+    const VertexId* low = &vertex_at[position(i, j)];
+    const VertexId* high = low + nx;
+    return low[0] != INVALID_ID && low[1] != INVALID_ID && high[0] != INVALID_ID &&
+           high[1] != INVALID_ID;
   }
+  std::size_t cellCount() const { return static_cast<std::size_t>(nx - 1) * (ny - 1); }
   Point2 point(std::size_t p) const { return {xs[p % nx], ys[p / nx]}; }
 };
 
@@ -360,9 +364,14 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
         row[i] = next++;
       }
   }
-  for (std::uint32_t& c : code)
-    if (c != INVALID_ID)
-      c = slot[c];
+  const bool mean_z = options.duplicate_rule == DuplicateRule::MEAN_Z && merged > 0;
+  if (!options.input_map && !zero_replaced && !mean_z) {
+    std::vector<std::uint32_t>().swap(code); // not wanted, nor needed below
+  } else {
+    for (std::uint32_t& c : code)
+      if (c != INVALID_ID)
+        c = slot[c];
+  }
   if (zero_replaced) {
     // As mergeDuplicates: a position's XY is its first input point's, whose -0.0 or
     // +0.0 may differ from the representative's (the tiled path rebuilds vertices so).
@@ -374,7 +383,7 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
       }
   }
 
-  if (options.duplicate_rule == DuplicateRule::MEAN_Z && merged > 0) {
+  if (mean_z) {
     // As vertexHeights (vts_pipeline.cpp): sums in input order.
     std::vector<std::uint32_t> count(nv, 0);
     std::fill(mesh.z.begin(), mesh.z.end(), 0.0);
@@ -480,11 +489,10 @@ Status latticeHull(const Lattice& lat, std::vector<VertexId>& hull)
   return Status::success();
 }
 
-/// Ranks of the complete cells per row, the row offsets, the incomplete cells.
+/// The complete cells' row offsets, the incomplete cells.
 void rankCompleteCells(Lattice& lat, unsigned threads)
 {
   const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
-  lat.cell_rank.assign(static_cast<std::size_t>(cx) * cy, INVALID_ID);
   lat.row_start.assign(static_cast<std::size_t>(cy) + 1, 0);
   std::vector<std::vector<std::size_t>> incomplete(std::max(1u, threads));
   parallelChunks(threads, cy, [&](std::size_t begin, std::size_t end, unsigned t) {
@@ -495,7 +503,7 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
       for (std::uint32_t i = 0; i < cx; ++i)
         if (below[i] != INVALID_ID && below[i + 1] != INVALID_ID &&
             above[i] != INVALID_ID && above[i + 1] != INVALID_ID)
-          lat.cell_rank[lat.cell(i, j)] = count++;
+          ++count;
         else
           incomplete[t].push_back(lat.cell(i, j));
       lat.row_start[j + 1] = count;
@@ -522,8 +530,10 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
   // faces the cell below (its C->D, halfedge 4), D->A the cell on the left (its B->C,
   // halfedge 3), B->C the cell on the right (its D->A, halfedge 2), C->D the cell
   // above (its A->B, halfedge 0); B-D is shared. The row's neighbours are read
-  // through row pointers (the ranks of the rows below and above, the vertices of the
-  // two lattice rows), with no per-cell bounds work.
+  // through row pointers (the vertices of the lattice rows j - 1 to j + 2, in cache:
+  // the neighbouring rows' walks read them too), with no per-cell bounds work; the
+  // ranks of the cells in the row and in the rows below and above are counted along
+  // the walk, with no per-cell rank array.
   // Row j's halfedges are [6 row_start[j], 6 row_start[j + 1]): one thread grows the
   // arrays row by row (no pass zeroing them first: the zeros of a row are in cache
   // when it is written), several write into arrays sized once.
@@ -532,14 +542,24 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
                                      std::vector<HalfedgeId>& my_open, bool grow) {
     const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
     for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j) {
-      const std::uint32_t* rank = &lat.cell_rank[lat.cell(0, j)];
-      const std::uint32_t* below = j > 0 ? rank - cx : nullptr;
-      const std::uint32_t* above = j + 1 < cy ? rank + cx : nullptr;
       const std::size_t base = 2 * lat.row_start[j];
       const std::size_t base_below = j > 0 ? 2 * lat.row_start[j - 1] : 0;
       const std::size_t base_above = j + 1 < cy ? 2 * lat.row_start[j + 1] : 0;
       const VertexId* low = &lat.vertex_at[lat.position(0, j)];
       const VertexId* high = low + lat.nx;
+      // The lattice rows below and above the row's two (nullptr beyond the border).
+      const VertexId* under = j > 0 ? low - lat.nx : nullptr;
+      const VertexId* over = j + 1 < cy ? high + lat.nx : nullptr;
+      // Both ends of the cell's bottom (top) edge present, at i and i + 1.
+      const auto edge = [](const VertexId* row, std::uint32_t i) {
+        return row[i] != INVALID_ID && row[i + 1] != INVALID_ID;
+      };
+      if (lat.row_start[j + 1] == lat.row_start[j])
+        continue; // no complete cell: the row adds nothing
+      // Complete cells before i in rows j - 1, j and j + 1.
+      std::uint32_t rank_below = 0, rank = 0, rank_above = 0;
+      bool bottom = edge(low, 0), top = edge(high, 0); // the edges of cell i
+      bool left = false;                               // cell i - 1 complete
       if (grow) {
         triangles.resize(6 * lat.row_start[j + 1]);
         halfedges.resize(6 * lat.row_start[j + 1]);
@@ -547,9 +567,22 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
       VertexId* tri = triangles.data();
       HalfedgeId* twin = halfedges.data();
       for (std::uint32_t i = 0; i < cx; ++i) {
-        if (rank[i] == INVALID_ID)
+        const bool complete = bottom && top;
+        const bool below = under != nullptr && bottom && edge(under, i);
+        const bool above = over != nullptr && top && edge(over, i);
+        const bool next_bottom = i + 1 < cx && edge(low, i + 1);
+        const bool next_top = i + 1 < cx && edge(high, i + 1);
+        const std::uint32_t r_below = rank_below, r = rank, r_above = rank_above;
+        rank_below += below;
+        rank += complete;
+        rank_above += above;
+        const bool was_left = left;
+        left = complete;
+        bottom = next_bottom;
+        top = next_top;
+        if (!complete)
           continue;
-        const std::size_t t0 = base + 2 * static_cast<std::size_t>(rank[i]);
+        const std::size_t t0 = base + 2 * static_cast<std::size_t>(r);
         const auto e0 = static_cast<HalfedgeId>(3 * t0);
         VertexId* const v = tri + e0;
         HalfedgeId* const h = twin + e0;
@@ -559,19 +592,17 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
         v[3] = low[i + 1];
         v[4] = high[i + 1];
         v[5] = high[i];
-        h[0] = below != nullptr && below[i] != INVALID_ID
-                   ? static_cast<HalfedgeId>(
-                         3 * (base_below + 2 * static_cast<std::size_t>(below[i])) + 4)
-                   : INVALID_ID;
+        h[0] = below ? static_cast<HalfedgeId>(
+                           3 * (base_below + 2 * static_cast<std::size_t>(r_below)) + 4)
+                     : INVALID_ID;
         h[1] = e0 + 5;
         // The complete cells of a row are ranked consecutively: the left one's
         // triangles end where this one's start, the right one's start after them.
-        h[2] = i > 0 && rank[i - 1] != INVALID_ID ? e0 - 3 : INVALID_ID;
-        h[3] = i + 1 < cx && rank[i + 1] != INVALID_ID ? e0 + 8 : INVALID_ID;
-        h[4] = above != nullptr && above[i] != INVALID_ID
-                   ? static_cast<HalfedgeId>(
-                         3 * (base_above + 2 * static_cast<std::size_t>(above[i])))
-                   : INVALID_ID;
+        h[2] = was_left ? e0 - 3 : INVALID_ID;
+        h[3] = next_bottom && next_top ? e0 + 8 : INVALID_ID;
+        h[4] = above ? static_cast<HalfedgeId>(
+                           3 * (base_above + 2 * static_cast<std::size_t>(r_above)))
+                     : INVALID_ID;
         h[5] = e0 + 1;
         for (unsigned k = 0; k < 6; ++k)
           if (h[k] == INVALID_ID)
@@ -695,8 +726,8 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
   // Index of an incomplete cell in `cells`: a table over all cells when they are
   // many (large NODATA areas), else a bisection.
   std::vector<std::uint32_t> dense;
-  if (cells.size() > lat_.cell_rank.size() / 16) {
-    dense.assign(lat_.cell_rank.size(), INVALID_ID);
+  if (cells.size() > lat_.cellCount() / 16) {
+    dense.assign(lat_.cellCount(), INVALID_ID);
     for (std::size_t k = 0; k < cells.size(); ++k)
       dense[cells[k]] = static_cast<std::uint32_t>(k);
   }
@@ -735,7 +766,7 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
               cells.begin());
         for (std::uint32_t ii = i0; ii <= i1; ++ii) {
           const std::size_t d = lat_.cell(ii, jj);
-          if (lat_.cell_rank[d] != INVALID_ID)
+          if (lat_.complete(ii, jj))
             continue;
           if (dense.empty()) {
             while (cells[k] < d)
