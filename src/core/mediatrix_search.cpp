@@ -144,38 +144,55 @@ void MediatrixSearch::widen(Query& q, const Window& done)
   const auto cmp = [](const Block& l, const Block& r) {
     return heapGreater(l.key, r.key);
   };
+  const auto outsideDisk = [&](const BlockRect& r) {
+    const double r2 = q.disk.radius * q.disk.radius * (1.0 + SQUARED_DISTANCE_SLACK);
+    return q.best != INVALID_ID && q.disk.valid &&
+           r.squaredDistance(q.disk.cx, q.disk.cy) > r2;
+  };
+  // A block enters the heap unless it lies outside the current safe disk (no point of
+  // it can beat the best) or in the closed right half-plane of a->b (certified bound):
+  // an edge across a void has a large circle, and most blocks met on its way are
+  // dropped here rather than pushed and popped.
+  const auto push = [&](Block child) {
+    const BlockRect r = blockBounds(child);
+    if (outsideDisk(r) || (!mayLieLeft(q.pa, q.pb, {r.x0, r.y0}) &&
+                           !mayLieLeft(q.pa, q.pb, {r.x1, r.y0}) &&
+                           !mayLieLeft(q.pa, q.pb, {r.x0, r.y1}) &&
+                           !mayLieLeft(q.pa, q.pb, {r.x1, r.y1})))
+      return;
+    child.rect = r;
+    child.key = r.squaredDistance(mx, my);
+    heap_.push_back(child);
+    std::push_heap(heap_.begin(), heap_.end(), cmp);
+  };
 
   heap_.clear();
+  q.refreshDisk(grid_);
   const auto top = static_cast<std::uint32_t>(pyramid_.levels.size() - 1);
-  heap_.push_back({0.0, top, 0, 0, INVALID_ID});
+  push({0.0, {}, top, 0, 0, INVALID_ID});
+  VertexId reach_of = INVALID_ID; // the best whose reach2 is known
+  double reach2 = 0.0;
   while (!heap_.empty()) {
     std::pop_heap(heap_.begin(), heap_.end(), cmp);
     const Block blk = heap_.back();
     heap_.pop_back();
 
-    const BlockRect rect = blockBounds(blk);
-    const double x0 = rect.x0, y0 = rect.y0, x1 = rect.x1, y1 = rect.y1;
     q.refreshDisk(grid_);
     if (q.best != INVALID_ID && q.disk.valid) {
       // Blocks come out nearest the edge midpoint first: once one lies beyond every
       // point of the disk, so do all the rest.
-      const double reach = std::hypot(q.disk.cx - mx, q.disk.cy - my) + q.disk.radius;
-      if (blk.key > reach * reach * (1.0 + SQUARED_DISTANCE_SLACK))
+      if (reach_of != q.best) {
+        const double reach = std::hypot(q.disk.cx - mx, q.disk.cy - my) + q.disk.radius;
+        reach2 = reach * reach * (1.0 + SQUARED_DISTANCE_SLACK);
+        reach_of = q.best;
+      }
+      if (blk.key > reach2)
         break;
-      const double r2 = q.disk.radius * q.disk.radius * (1.0 + SQUARED_DISTANCE_SLACK);
-      if (rect.squaredDistance(q.disk.cx, q.disk.cy) > r2)
+      // The disk may have shrunk since the block was pushed.
+      if (outsideDisk(blk.rect))
         continue;
     }
-    // Skip blocks lying in the closed right half-plane of a->b (certified bound).
-    if (!mayLieLeft(q.pa, q.pb, {x0, y0}) && !mayLieLeft(q.pa, q.pb, {x1, y0}) &&
-        !mayLieLeft(q.pa, q.pb, {x0, y1}) && !mayLieLeft(q.pa, q.pb, {x1, y1}))
-      continue;
 
-    const auto push = [&](Block child) {
-      child.key = blockBounds(child).squaredDistance(mx, my);
-      heap_.push_back(child);
-      std::push_heap(heap_.begin(), heap_.end(), cmp);
-    };
     if (blk.node != INVALID_ID) { // inside a crowded cell
       const SubCell& n = sub_.nodes[blk.node];
       if (n.first_child == INVALID_ID)
@@ -183,20 +200,20 @@ void MediatrixSearch::widen(Query& q, const Window& done)
       else
         for (std::uint32_t c = n.first_child; c < n.first_child + 4; ++c)
           if (sub_.nodes[c].end > sub_.nodes[c].begin)
-            push({0.0, 0, 0, 0, c});
+            push({0.0, {}, 0, 0, 0, c});
       continue;
     }
     if (blk.level == 0) {
       const CellId cell = grid_.cellId(blk.i, blk.j);
       if (sub_.any() && sub_.root[cell] != INVALID_ID)
-        push({0.0, 0, blk.i, blk.j, sub_.root[cell]});
+        push({0.0, {}, 0, blk.i, blk.j, sub_.root[cell]});
       else if (!done.contains(blk.i, blk.j))
         testCell(cell, q);
       continue;
     }
     forEachOccupiedChild(pyramid_, blk.level, blk.i, blk.j,
                          [&](std::uint32_t ci, std::uint32_t cj) {
-                           push({0.0, blk.level - 1, ci, cj, INVALID_ID});
+                           push({0.0, {}, blk.level - 1, ci, cj, INVALID_ID});
                          });
   }
 }

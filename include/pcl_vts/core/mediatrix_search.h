@@ -40,7 +40,8 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
 
  private:
   struct Block {
-    double key; ///< squared distance from the edge midpoint (lower bound)
+    double key;     ///< squared distance from the edge midpoint (lower bound)
+    BlockRect rect; ///< blockBounds, kept from the push
     std::uint32_t level;
     std::uint32_t i;
     std::uint32_t j;
