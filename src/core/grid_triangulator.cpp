@@ -66,15 +66,23 @@ std::size_t compactStrip(StripMesh& strip, std::vector<TriangleId>& index,
 }
 
 /// Appends a compacted strip to the mesh: its triangles, its twins shifted, its
-/// border halfedges (global ids) added to `border`.
+/// border halfedges (global ids) added to `border`. `release`: the strip's pages are
+/// handed back as they are copied (the strip's arrays are emptied next), so that a
+/// large strip and the output it goes to are not both resident at once.
 void appendStrip(const StripMesh& strip, const std::vector<BorderRecord>& strip_border,
-                 std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges,
-                 std::vector<BorderRecord>& border)
+                 bool release, std::vector<VertexId>& triangles,
+                 std::vector<HalfedgeId>& halfedges, std::vector<BorderRecord>& border)
 {
   const auto shift = static_cast<HalfedgeId>(halfedges.size());
-  triangles.insert(triangles.end(), strip.triangles.begin(), strip.triangles.end());
   // Copied (insert: no zeroing first) and shifted a cache-sized chunk at a time.
   constexpr std::size_t CHUNK = 1u << 14;
+  const VertexId* vertices = strip.triangles.data();
+  for (std::size_t begin = 0; begin < strip.triangles.size(); begin += CHUNK) {
+    const std::size_t end = std::min(strip.triangles.size(), begin + CHUNK);
+    triangles.insert(triangles.end(), vertices + begin, vertices + end);
+    if (release)
+      detail::releasePages(vertices + begin, vertices + end);
+  }
   const HalfedgeId* local = strip.halfedges.data();
   for (std::size_t begin = 0; begin < strip.halfedges.size(); begin += CHUNK) {
     const std::size_t end = std::min(strip.halfedges.size(), begin + CHUNK);
@@ -83,6 +91,8 @@ void appendStrip(const StripMesh& strip, const std::vector<BorderRecord>& strip_
     for (std::size_t k = at; k < halfedges.size(); ++k)
       if (halfedges[k] != INVALID_ID)
         halfedges[k] += shift;
+    if (release)
+      detail::releasePages(local + begin, local + end);
   }
   for (const BorderRecord& r : strip_border)
     border.push_back({r.low, r.high, r.halfedge + shift});
@@ -124,6 +134,7 @@ class StripMerge {
       , results_(count)
       , ready_(count, 0)
       , reuse_end_(count - std::min<std::uint32_t>(count, workers))
+      , release_above_(6 * expected / std::max<std::uint32_t>(1, count))
       , triangles_(triangles)
       , halfedges_(halfedges)
   {
@@ -161,11 +172,15 @@ class StripMerge {
     merging_ = true;
     while (merged_ < strips_.size() && ready_[merged_] != 0) {
       const std::uint32_t next = merged_;
+      // Its arrays are not reused when every strip that could is taken.
+      const bool last_use = next >= reuse_end_ || taken_ >= reuse_end_;
       lock.unlock();
       if (!results_[next].ok())
         failed_ = true;
       if (!failed_)
-        appendStrip(strips_[next], borders_[next], triangles_, halfedges_, border_);
+        appendStrip(strips_[next], borders_[next],
+                    last_use || strips_[next].triangles.size() > release_above_,
+                    triangles_, halfedges_, border_);
       borders_[next] = std::vector<BorderRecord>();
       StripMesh spare = std::move(strips_[next]);
       strips_[next] = StripMesh();
@@ -230,8 +245,12 @@ class StripMerge {
   std::mutex mutex_; ///< guards ready_, merged_, merging_, taken_, spare_
   std::vector<char> ready_;
   const std::uint32_t reuse_end_; ///< strips from here on get arrays of their own
-  std::uint32_t taken_ = 0;       ///< strips handed to the workers
-  std::vector<StripMesh> spare_;  ///< merged strips' arrays, emptied, for reuse
+  /// Strips with more vertex slots than this (twice the mean strip's) hand their
+  /// pages back as they are appended: clustered input has strips of a third of the
+  /// points, which would stay resident beside the output (and in the spare arrays).
+  const std::size_t release_above_;
+  std::uint32_t taken_ = 0;      ///< strips handed to the workers
+  std::vector<StripMesh> spare_; ///< merged strips' arrays, emptied, for reuse
   std::uint32_t merged_ = 0;
   bool merging_ = false;
   bool failed_ = false; ///< a strip failed: nothing more is appended
@@ -241,8 +260,8 @@ class StripMerge {
 };
 
 /// Grows every strip of the layout (any thread, any order) and merges them; the
-/// search statistics summed over the workers; `grown` (when set) called before the
-/// border halfedges are paired.
+/// search statistics summed over the workers; `grown` (when set) called once the last
+/// strip is grown, before it is merged.
 Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
                           const CellSubdivision& subdivision,
                           const detail::HullEdges& hull_edges,
@@ -256,15 +275,23 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
   StripMerge merge(layout.count, workers, expected, triangles, halfedges);
   std::vector<HalfedgeId> open_head(grid.points.size(), detail::UNREACHED);
   std::vector<SearchStats> worker_stats(workers);
-  std::atomic<std::uint32_t> next_strip{0};
+  std::atomic<std::uint32_t> next_strip{0}, strips_grown{0};
   const auto work = [&](unsigned w) {
     MediatrixSearch search(grid, pyramid, subdivision);
     std::vector<TriangleId> index;
-    for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++)
-      merge.grown(s,
-                  detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
-                                    open_head, merge.strip(s), cache_blocks),
-                  index);
+    for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++) {
+      Status result = detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
+                                        open_head, merge.strip(s), cache_blocks);
+      if (++strips_grown == layout.count) {
+        // No strip reads the grid or open_head any more: both released before the
+        // last strips are merged, when the output is nearly full (the peak).
+        std::vector<HalfedgeId>().swap(open_head);
+        if (grown)
+          grown();
+        detail::releaseFreedMemory();
+      }
+      merge.grown(s, std::move(result), index);
+    }
     worker_stats[w] = search.stats();
   };
   runTeam(workers, work);
@@ -275,9 +302,6 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
     stats.cells_visited += s.cells_visited;
     stats.points_tested += s.points_tested;
   }
-  std::vector<HalfedgeId>().swap(open_head);
-  if (grown)
-    grown(); // the grid is not read any more
   return merge.finish(expected);
 }
 

@@ -1,4 +1,5 @@
 #include "local_delaunay.h"
+#include "release_memory.h"
 #include "strip_growth.h"
 
 #include <pcl_vts/core/predicates.h>
@@ -179,6 +180,14 @@ class Growth {
     mesh_.triangles.reserve(3 * expected);
     mesh_.halfedges.reserve(3 * expected);
     mesh_.owned.reserve(expected);
+    // Arrays reused from a larger strip (StripMerge::strip): their resident pages
+    // beyond this strip's need are handed back, not kept beside the output.
+    releasePages(mesh_.triangles.data() + 3 * expected,
+                 mesh_.triangles.data() + mesh_.triangles.capacity());
+    releasePages(mesh_.halfedges.data() + 3 * expected,
+                 mesh_.halfedges.data() + mesh_.halfedges.capacity());
+    releasePages(mesh_.owned.data() + expected,
+                 mesh_.owned.data() + mesh_.owned.capacity());
   }
 
   HalfedgeId addTriangle(VertexId a, VertexId b, VertexId c)

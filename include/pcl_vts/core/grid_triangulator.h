@@ -42,9 +42,10 @@ PCL_VTS_CORE_EXPORT Status checkTriangleCapacity(std::size_t points,
 /// \param[in] cache_blocks add the triangles proven by block-local triangulations
 ///            first (docs/scaling.md, "Cache blocks"): the same triangles, another
 ///            order
-/// \param[in] grown when set, called once every strip is grown (and appended),
-///            before the strips' border halfedges are paired: grid, pyramid and
-///            subdivision are not read after it, so it may release them
+/// \param[in] grown when set, called once every strip is grown, before the last
+///            strips are appended to the output (its peak) and before the border
+///            halfedges are paired: grid, pyramid and subdivision are not read after
+///            it, so it may release them
 /// \return CAPACITY_EXCEEDED (checkTriangleCapacity), INTERNAL_ERROR if the region
 ///         growing failed to tile the hull (a bug)
 PCL_VTS_CORE_EXPORT Status triangulateGrid(
