@@ -21,33 +21,43 @@ unsigned rowThreads(unsigned threads, std::size_t rows, std::size_t columns)
 void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid, unsigned threads)
 {
   pyramid.levels.clear();
+  const auto shape = [](CellPyramid::Level& level, std::uint32_t nx, std::uint32_t ny) {
+    level.nx = nx;
+    level.ny = ny;
+    level.row_words = (nx + 63) / 64;
+    level.occupied.assign(static_cast<std::size_t>(level.row_words) * ny, 0);
+  };
   CellPyramid::Level base;
-  base.nx = grid.nx;
-  base.ny = grid.ny;
-  base.occupied.resize(grid.cellCount());
-  parallelRanges(threads, grid.cellCount(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t c = begin; c < end; ++c)
-      base.occupied[c] = grid.cell_start[c + 1] > grid.cell_start[c] ? 1 : 0;
-  });
+  shape(base, grid.nx, grid.ny);
+  parallelChunks(rowThreads(threads, grid.ny, grid.nx), grid.ny,
+                 [&](std::size_t j0, std::size_t j1, unsigned) {
+                   for (std::size_t j = j0; j < j1; ++j) {
+                     const std::uint32_t* start = &grid.cell_start[j * grid.nx];
+                     std::uint64_t* out = &base.occupied[j * base.row_words];
+                     for (std::uint32_t i = 0; i < grid.nx; ++i)
+                       if (start[i + 1] > start[i])
+                         out[i >> 6] |= std::uint64_t{1} << (i & 63u);
+                   }
+                 });
   pyramid.levels.push_back(std::move(base));
   while (pyramid.levels.back().nx > 1 || pyramid.levels.back().ny > 1) {
     const CellPyramid::Level& fine = pyramid.levels.back();
     CellPyramid::Level coarse;
-    coarse.nx = (fine.nx + 1) / 2;
-    coarse.ny = (fine.ny + 1) / 2;
-    coarse.occupied.resize(static_cast<std::size_t>(coarse.nx) * coarse.ny);
+    shape(coarse, (fine.nx + 1) / 2, (fine.ny + 1) / 2);
     // Row by row of the coarse level: each reads its two fine rows.
     const auto rows = [&](std::size_t j0, std::size_t j1) {
       for (std::size_t j = j0; j < j1; ++j) {
-        const std::uint8_t* row0 = &fine.occupied[2 * j * fine.nx];
-        const std::uint8_t* row1 = 2 * j + 1 < fine.ny ? row0 + fine.nx : row0;
-        std::uint8_t* out = &coarse.occupied[j * coarse.nx];
-        for (std::size_t i = 0; 2 * i + 1 < fine.nx; ++i)
-          out[i] = static_cast<std::uint8_t>(row0[2 * i] | row0[2 * i + 1] |
-                                             row1[2 * i] | row1[2 * i + 1]);
-        if (fine.nx % 2 == 1)
-          out[coarse.nx - 1] =
-              static_cast<std::uint8_t>(row0[fine.nx - 1] | row1[fine.nx - 1]);
+        const std::uint64_t* row0 = &fine.occupied[2 * j * fine.row_words];
+        const std::uint64_t* row1 = 2 * j + 1 < fine.ny ? row0 + fine.row_words : row0;
+        std::uint64_t* out = &coarse.occupied[j * coarse.row_words];
+        for (std::uint32_t i = 0; i < coarse.nx; ++i) {
+          // Fine columns 2i and 2i + 1 share a word (2i is even); bits past fine.nx
+          // are 0.
+          const std::uint32_t f = 2 * i;
+          const std::uint64_t both = (row0[f >> 6] | row1[f >> 6]) >> (f & 63u);
+          if ((both & 3u) != 0)
+            out[i >> 6] |= std::uint64_t{1} << (i & 63u);
+        }
       }
     };
     parallelChunks(rowThreads(threads, coarse.ny, coarse.nx), coarse.ny,

@@ -16,14 +16,20 @@ struct CellPyramid {
   struct Level {
     std::uint32_t nx = 0;
     std::uint32_t ny = 0;
-    std::vector<std::uint8_t> occupied; ///< nx * ny flags
+    std::uint32_t row_words = 0; ///< 64-bit words per row: (nx + 63) / 64
+    /// One bit per block, bit i % 64 of word j * row_words + i / 64 (rows padded to
+    /// whole words, so that threads building different rows share no word): a bit a
+    /// cell, not a byte, as clustered input has several empty cells a point.
+    std::vector<std::uint64_t> occupied;
   };
   std::vector<Level> levels; ///< levels[0] = cells; the last level is 1 x 1
 
   bool occupied(std::size_t level, std::uint32_t i, std::uint32_t j) const
   {
     const Level& l = levels[level];
-    return l.occupied[static_cast<std::size_t>(j) * l.nx + i] != 0;
+    return ((l.occupied[static_cast<std::size_t>(j) * l.row_words + (i >> 6)] >>
+             (i & 63u)) &
+            1u) != 0;
   }
 };
 
