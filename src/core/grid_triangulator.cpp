@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <tuple>
@@ -273,7 +274,13 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
 {
   const unsigned workers = std::max(1u, std::min<unsigned>(threads, layout.count));
   StripMerge merge(layout.count, workers, expected, triangles, halfedges);
-  std::vector<HalfedgeId> open_head(grid.points.size(), detail::UNREACHED);
+  // Allocated without a fill and filled by the workers' threads (at 1e7 points 40 MB
+  // of page faults and writes, 0.016 s on one thread).
+  const std::size_t n = grid.points.size();
+  std::unique_ptr<HalfedgeId[]> open_head(new HalfedgeId[n]);
+  parallelRanges(workers, n, [&open_head](std::size_t begin, std::size_t end) {
+    std::fill(open_head.get() + begin, open_head.get() + end, detail::UNREACHED);
+  });
   std::vector<SearchStats> worker_stats(workers);
   std::atomic<std::uint32_t> next_strip{0}, strips_grown{0};
   const auto work = [&](unsigned w) {
@@ -281,11 +288,11 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
     std::vector<TriangleId> index;
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++) {
       Status result = detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
-                                        open_head, merge.strip(s), cache_blocks);
+                                        open_head.get(), merge.strip(s), cache_blocks);
       if (++strips_grown == layout.count) {
         // No strip reads the grid or open_head any more: both released before the
         // last strips are merged, when the output is nearly full (the peak).
-        std::vector<HalfedgeId>().swap(open_head);
+        open_head.reset();
         if (grown)
           grown();
         detail::releaseFreedMemory();

@@ -96,7 +96,7 @@ class Growth {
  public:
   Growth(const CellGrid& grid, const CellPyramid& pyramid, const StripLayout& layout,
          std::uint32_t strip, const HullEdges& hull, MediatrixSearch& search,
-         std::vector<HalfedgeId>& open_head, StripMesh& mesh, bool cache_blocks)
+         HalfedgeId* open_head, StripMesh& mesh, bool cache_blocks)
       : grid_(grid)
       , pyramid_(pyramid)
       , hull_(hull)
@@ -527,7 +527,7 @@ class Growth {
   const CellPyramid& pyramid_;
   const HullEdges& hull_;
   MediatrixSearch& search_;
-  std::vector<HalfedgeId>& open_head_;
+  HalfedgeId* open_head_;
   StripMesh& mesh_;
   const std::uint32_t first_column_;
   const std::uint32_t end_column_;
@@ -580,8 +580,8 @@ StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)
 
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
-                 MediatrixSearch& search, std::vector<HalfedgeId>& open_head,
-                 StripMesh& mesh, bool cache_blocks)
+                 MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
+                 bool cache_blocks)
 {
   return Growth(grid, pyramid, layout, strip, hull, search, open_head, mesh,
                 cache_blocks)

@@ -90,8 +90,8 @@ struct StripMesh {
 /// added first (docs/scaling.md, "Cache blocks"); the same triangles, another order.
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
-                 MediatrixSearch& search, std::vector<HalfedgeId>& open_head,
-                 StripMesh& mesh, bool cache_blocks = false);
+                 MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
+                 bool cache_blocks = false);
 
 } // namespace detail
 } // namespace pcl_vts
