@@ -231,8 +231,28 @@ void GridBuilder::run(const Input& in, std::size_t inputs,
   std::vector<std::uint32_t>().swap(rows);
   const std::size_t band_count = bands_.count();
   // The output arrays, zero-filled (page faults and all) by up to three threads at
-  // once: the points on one, the sources, cells and input map on the others.
+  // once: the points on one, the sources, cells and input map on the others. The
+  // points are the largest: the others then fault in the first pages of the records
+  // (allocated without a fill, written by the scatter below), each up to the points'
+  // bytes, so that no thread waits for the points' alone.
+  records_.reset(new Record[m]);
   const unsigned fillers = std::min(chunks, 3u);
+  const std::size_t source_bytes =
+      m * sizeof(std::uint32_t) + (grid_.cellCount() + 1) * sizeof(std::uint32_t);
+  const std::size_t map_bytes = inputs * sizeof(VertexId);
+  const std::size_t points_bytes = m * sizeof(Point2);
+  const auto spare = [&](std::size_t bytes) {
+    return points_bytes > bytes ? points_bytes - bytes : 0;
+  };
+  // Filler 1's and filler 2's shares of the records' bytes (filler 1 the sources and,
+  // with two fillers, the input map too).
+  const std::size_t records_bytes = m * sizeof(Record);
+  const std::size_t share1 =
+      fillers < 2 ? 0
+                  : std::min(records_bytes,
+                             spare(source_bytes + (fillers == 2 ? map_bytes : 0)));
+  const std::size_t share2 =
+      fillers < 3 ? 0 : std::min(records_bytes - share1, spare(map_bytes));
   runTeam(fillers, [&](unsigned w) {
     if (w == 0)
       grid_.points.resize(m);
@@ -242,8 +262,14 @@ void GridBuilder::run(const Input& in, std::size_t inputs,
     }
     if (w == fillers - 1)
       input_to_vertex_.assign(inputs, INVALID_ID);
+    if (w > 0) { // a write to each page of the thread's share of the records
+      const std::size_t begin = w == 1 ? 0 : share1;
+      const std::size_t end = w == 1 ? share1 : share1 + share2;
+      constexpr std::size_t PAGE = 4096;
+      for (std::size_t at = begin; at < end; at += PAGE)
+        records_[at / sizeof(Record)].cell = 0;
+    }
   });
-  records_.reset(new Record[m]);
   parallelChunks(chunks, m, [&](std::size_t begin, std::size_t end, unsigned t) {
     std::uint32_t* at = &offsets[t * band_count];
     const std::size_t nx = grid_.nx;
