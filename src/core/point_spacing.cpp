@@ -79,6 +79,30 @@ double smallMedian(const double* values, std::size_t size)
   return a[size / 2];
 }
 
+/// The element at index 3 of six values sorted, no NaN: the 12-comparator sorting
+/// network of six values less the compare-exchanges that do not reach index 3 (the
+/// usual vertex row, six edges, takes it instead of smallMedian<8>'s 19).
+double medianOfSix(const double* values)
+{
+  double a[6];
+  std::copy(values, values + 6, a);
+  auto exchange = [&a](int lo, int hi) {
+    const double low = std::min(a[lo], a[hi]);
+    a[hi] = std::max(a[lo], a[hi]);
+    a[lo] = low;
+  };
+  exchange(0, 5);
+  exchange(1, 3);
+  exchange(2, 4);
+  exchange(1, 2);
+  exchange(3, 4);
+  exchange(0, 3);
+  exchange(2, 5);
+  exchange(2, 3);
+  exchange(4, 5);
+  return std::min(a[3], a[4]);
+}
+
 /// Upper median of values, reordering them (0 when empty).
 double medianInPlace(std::vector<double>& values)
 {
@@ -122,22 +146,37 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start)
   // Counting sort of directed edges (both directions of a boundary edge): start[v]
   // counts row v, then holds its end, and the scatter moves it back to its
   // beginning. A row's order does not matter: only its medians are read.
+  // Per triangle, its three halfedges at once (no remainder by 3 per halfedge).
   start.assign(n + 1, 0);
-  for (HalfedgeId e = 0; e < corners; ++e) {
-    ++start[mesh.triangles[e]];
-    if (mesh.halfedges[e] == INVALID_ID) // boundary edge: seen from one side only
-      ++start[mesh.triangles[nextHalfedge(e)]];
+  const VertexId* corner = mesh.triangles.data();
+  const HalfedgeId* twin = mesh.halfedges.data();
+  for (std::size_t e = 0; e + 2 < corners; e += 3) {
+    const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
+    ++start[a];
+    ++start[b];
+    ++start[c];
+    if (twin[e] == INVALID_ID) // boundary edge: seen from one side only
+      ++start[b];
+    if (twin[e + 1] == INVALID_ID)
+      ++start[c];
+    if (twin[e + 2] == INVALID_ID)
+      ++start[a];
   }
   for (std::size_t v = 1; v < n; ++v)
     start[v] += start[v - 1];
   const Index total = n > 0 ? start[n - 1] : 0;
   ring.resize(total);
-  for (HalfedgeId e = 0; e < corners; ++e) {
-    const VertexId a = mesh.triangles[e];
-    const VertexId b = mesh.triangles[nextHalfedge(e)];
+  for (std::size_t e = 0; e + 2 < corners; e += 3) {
+    const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
     ring[--start[a]] = b;
-    if (mesh.halfedges[e] == INVALID_ID)
+    if (twin[e] == INVALID_ID)
       ring[--start[b]] = a;
+    ring[--start[b]] = c;
+    if (twin[e + 1] == INVALID_ID)
+      ring[--start[c]] = b;
+    ring[--start[c]] = a;
+    if (twin[e + 2] == INVALID_ID)
+      ring[--start[a]] = c;
   }
   start[n] = total;
 }
@@ -164,8 +203,9 @@ double ownMedian(const TriangleMesh& mesh, const VertexRows& rows, std::size_t v
       nan = nan || std::isnan(squares[k]);
     }
     if (!nan)
-      return std::sqrt(size <= 8 ? smallMedian<8>(squares, size)
-                                 : smallMedian<16>(squares, size));
+      return std::sqrt(size == 6   ? medianOfSix(squares)
+                       : size <= 8 ? smallMedian<8>(squares, size)
+                                   : smallMedian<16>(squares, size));
   }
   values.clear();
   for (std::size_t k = begin; k < end; ++k) {

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -177,6 +178,15 @@ TriangleSize classifyTriangle(const Point2& a, const Point2& b, const Point2& c,
 
 namespace {
 
+/// The set bits of x (__builtin_popcountll is a call into libgcc without -mpopcnt).
+inline unsigned bitCount(std::uint64_t x)
+{
+  x -= (x >> 1) & 0x5555555555555555ull;
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return static_cast<unsigned>((x * 0x0101010101010101ull) >> 56);
+}
+
 /// The flood's starts: the oversized triangles on the outline and, with open_voids,
 /// the void seeds.
 std::vector<TriangleId> floodStarts(const TriangleMesh& mesh,
@@ -297,12 +307,42 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
   // The triangles the bound does not clear, per range in triangle order.
   const auto parts = static_cast<unsigned>(
       std::min<std::size_t>(threads, std::max<std::size_t>(1, count >> 16)));
+  // A triangle is cleared without a root or a division when its squared edges and
+  // squared circumradius (the product of the squared edges over four squared areas,
+  // the same area classifyTriangle computes) are below the squared limits by a
+  // relative margin far above their rounding errors (a few units in the last
+  // place), all figures in a range where no product overflows or loses precision;
+  // any other triangle (near the limits, tiny or huge, NaN) takes classifyTriangle.
+  const double max_edge2 = options.max_edge > 0.0
+                               ? options.max_edge * options.max_edge
+                               : std::numeric_limits<double>::infinity();
+  auto cleared = [&](TriangleId t, double corner_scale) {
+    constexpr double LOW = 1e-60, HIGH = 1e60, MARGIN = 1.0 - 1e-12;
+    auto square = [](const Point2& p, const Point2& q) {
+      const double dx = p.x - q.x, dy = p.y - q.y;
+      return dx * dx + dy * dy;
+    };
+    auto in_range = [](double x) { return x >= LOW && x <= HIGH; };
+    const Point2 &a = corner(t, 0), &b = corner(t, 1), &c = corner(t, 2);
+    const double ab = square(a, b), bc = square(b, c), ca = square(c, a);
+    const double twice_area =
+        std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+    const double limit = options.trim_factor * corner_scale;
+    if (!(in_range(ab) && in_range(bc) && in_range(ca) && in_range(twice_area) &&
+          in_range(limit)))
+      return false;
+    const double limit2 = limit * limit * MARGIN;
+    const double longest = std::max({ab, bc, ca});
+    return longest <= limit2 && longest <= max_edge2 * MARGIN &&
+           ab * bc * ca <= 4.0 * twice_area * twice_area * limit2;
+  };
   std::vector<std::vector<TriangleId>> unclear(parts);
   parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
     for (std::size_t k = begin; k < end; ++k) {
       const auto t = static_cast<TriangleId>(k);
-      if (classifyTriangle(corner(t, 0), corner(t, 1), corner(t, 2), largest(t),
-                           options)
+      const double scale_t = largest(t);
+      if (!cleared(t, scale_t) &&
+          classifyTriangle(corner(t, 0), corner(t, 1), corner(t, 2), scale_t, options)
               .oversized)
         unclear[p].push_back(t);
     }
@@ -360,15 +400,14 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
     bits[t / 64] |= std::uint64_t{1} << (t % 64);
   std::vector<std::uint32_t> before(bits.size() + 1, 0); // removed in earlier words
   for (std::size_t w = 0; w < bits.size(); ++w)
-    before[w + 1] =
-        before[w] + static_cast<std::uint32_t>(__builtin_popcountll(bits[w]));
+    before[w + 1] = before[w] + static_cast<std::uint32_t>(bitCount(bits[w]));
   auto is_removed = [&](std::size_t t) {
     return ((bits[t / 64] >> (t % 64)) & 1u) != 0;
   };
   auto new_id = [&](std::size_t t) {
     const std::uint64_t lower = bits[t / 64] & ((std::uint64_t{1} << (t % 64)) - 1);
-    return static_cast<TriangleId>(
-        t - before[t / 64] - static_cast<std::size_t>(__builtin_popcountll(lower)));
+    return static_cast<TriangleId>(t - before[t / 64] -
+                                   static_cast<std::size_t>(bitCount(lower)));
   };
   const std::size_t kept = count - before.back();
   const auto parts = static_cast<unsigned>(

@@ -10,10 +10,12 @@
 
 #include <pcl_vts/core/boundary_loops.h>
 #include <pcl_vts/core/mesh_checks.h>
+#include <pcl_vts/core/point_spacing.h>
 #include <pcl_vts/core/trim_outward_triangles.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -197,6 +199,71 @@ TEST(TrimOutwardTriangles, MaxEdgeIsAnAbsoluteLimit)
     if (std::hypot(a.x - b.x, a.y - b.y) > 1.2) {
       EXPECT_GT(result.kept_to_stay_manifold, 0u);
     }
+  }
+}
+
+// The trim's shortcuts (the ring-minimum bound, the root-free clearance, the medians
+// of short rows) against the definition: every triangle classified against the
+// largest local spacing of its corners (measurePointSpacing), then the peel; the
+// survivors in their order. Also far from the origin, tiny and huge scales, a
+// max_edge, other factors.
+TEST(TrimOutwardTriangles, EqualsThePeelOfTheDefinitionsClassification)
+{
+  struct Case {
+    test::Distribution distribution;
+    double scale;
+    TrimOptions options;
+  };
+  TrimOptions tight;
+  tight.trim_factor = 1.5;
+  TrimOptions edge;
+  edge.max_edge = 1.1;
+  TrimOptions closed;
+  closed.open_voids = false;
+  const std::vector<Case> cases = {
+      {test::Distribution::JITTERED_GRID, 1.0, TrimOptions{}},
+      {test::Distribution::JITTERED_GRID, 1.0, tight},
+      {test::Distribution::JITTERED_GRID, 1.0, edge},
+      {test::Distribution::BIG_VOIDS, 1.0, TrimOptions{}},
+      {test::Distribution::BIG_VOIDS, 1.0, closed},
+      {test::Distribution::CLUSTERED, 1.0, TrimOptions{}},
+      {test::Distribution::UNIFORM, 1e-70, TrimOptions{}},
+      {test::Distribution::UNIFORM, 1e55, tight},
+      {test::Distribution::UTM_OFFSET, 1.0, TrimOptions{}},
+      {test::Distribution::ANISOTROPIC, 1.0, TrimOptions{}},
+      {test::Distribution::EXACT_GRID, 1.0, TrimOptions{}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(test::distributionName(c.distribution) + " x" +
+                 std::to_string(c.scale));
+    std::vector<double> xyz = test::generatePoints(c.distribution, 3000, 7);
+    for (double& value : xyz)
+      value *= c.scale;
+    const TriangleMesh input = triangulate(xyz);
+    const PointSpacing spacing = measurePointSpacing(input);
+    std::vector<std::uint8_t> flags(input.triangleCount(), 0);
+    for (TriangleId t = 0; t < input.triangleCount(); ++t) {
+      double largest = 0.0;
+      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+        largest = std::max(largest, spacing.local[input.triangles[e]]);
+      const TriangleSize size = classifyTriangle(
+          input.xy[input.triangles[3 * t]], input.xy[input.triangles[3 * t + 1]],
+          input.xy[input.triangles[3 * t + 2]], largest, c.options);
+      flags[t] = static_cast<std::uint8_t>((size.oversized ? OVERSIZED : 0) |
+                                           (size.void_seed ? VOID_SEED : 0));
+    }
+    std::vector<bool> removed;
+    peelOutwardTriangles(input, flags, c.options.open_voids, removed);
+    std::vector<VertexId> expected;
+    for (TriangleId t = 0; t < input.triangleCount(); ++t)
+      if (!removed[t])
+        for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+          expected.push_back(input.triangles[e]);
+    TriangleMesh mesh = input;
+    TrimResult result;
+    ASSERT_TRUE(trimOutwardTriangles(mesh, c.options, result).ok());
+    EXPECT_EQ(mesh.triangles, expected);
+    EXPECT_EQ(result.spacing, spacing.global_median);
   }
 }
 
