@@ -64,6 +64,27 @@ std::string halfedgeText(const TriangleMesh& mesh, HalfedgeId e)
   return out.str();
 }
 
+/// Triangle t's corners name vertices and no edge joins a vertex to itself; each of
+/// its halfedges is a boundary one or has a twin in range, not itself, whose twin it
+/// is and that runs the other way. The three corners at once: no remainder by 3 per
+/// halfedge but for the twins'. Corners are range-checked before any use as an index.
+bool triangleTwinsGood(const TriangleMesh& mesh, std::size_t t)
+{
+  const std::size_t n = mesh.xy.size(), count = mesh.triangles.size();
+  const VertexId* corner = mesh.triangles.data() + 3 * t;
+  const HalfedgeId* twins = mesh.halfedges.data();
+  const VertexId a = corner[0], b = corner[1], c = corner[2];
+  if (!(a < n && b < n && c < n))
+    return false;
+  auto good = [&](std::size_t e, VertexId from, VertexId to) {
+    const HalfedgeId twin = twins[e];
+    return twin == INVALID_ID ||
+           (twin < count && twin != e && twins[twin] == e &&
+            mesh.triangles[twin] == to && mesh.triangles[nextHalfedge(twin)] == from);
+  };
+  return good(3 * t, a, b) & good(3 * t + 1, b, c) & good(3 * t + 2, c, a);
+}
+
 /// Triangles come in threes and every id names an existing vertex.
 bool trianglesWellFormed(const TriangleMesh& mesh, std::string* why,
                          unsigned threads = 1)
@@ -188,6 +209,13 @@ bool allTrianglesCcw(const TriangleMesh& mesh, std::string* why, unsigned thread
 
 bool halfedgesConsistent(const TriangleMesh& mesh, std::string* why, unsigned threads)
 {
+  // One pass over the triangles for the verdict (ids and twins together); the checks
+  // run again in their order for the message of a failure.
+  if (mesh.xy.size() == mesh.z.size() && mesh.triangles.size() % 3 == 0 &&
+      mesh.halfedges.size() == mesh.triangles.size() &&
+      everyIndex(threads, mesh.triangleCount(),
+                 [&](std::size_t t) { return triangleTwinsGood(mesh, t); }))
+    return true;
   if (!trianglesWellFormed(mesh, why, threads))
     return false;
   const std::size_t count = mesh.triangles.size();
@@ -318,37 +346,52 @@ bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
 bool isValidSurfaceMesh(const TriangleMesh& mesh, std::string* why, unsigned threads)
 {
   auto fast = [&] {
-    if (!halfedgesConsistent(mesh, nullptr, threads)) // ids in range, twins reversed
+    // One pass over the triangles: ids in range, no self-loop, twins reversed,
+    // counter-clockwise (the exact predicate).
+    if (mesh.xy.size() != mesh.z.size() || mesh.triangles.size() % 3 != 0 ||
+        mesh.halfedges.size() != mesh.triangles.size())
+      return false;
+    if (!everyIndex(threads, mesh.triangleCount(), [&](std::size_t t) {
+          if (!triangleTwinsGood(mesh, t))
+            return false;
+          const VertexId* corner = mesh.triangles.data() + 3 * t;
+          return orient2d(mesh.xy[corner[0]], mesh.xy[corner[1]], mesh.xy[corner[2]]) ==
+                 Sign::POSITIVE; // also no self-loop: a degenerate triangle is not
+        }))
       return false;
     // Twins consistent: an interior pair holds both directions of its edge, a
     // boundary halfedge its own; a directed edge is used twice (also when the edge is
     // used three times) exactly when two entries of one edge share a direction bit.
+    // Per triangle, its three halfedges at once.
     const std::size_t corners = mesh.triangles.size();
     const std::size_t n = mesh.xy.size();
+    const VertexId* corner = mesh.triangles.data();
+    const HalfedgeId* twins = mesh.halfedges.data();
     std::vector<std::uint32_t> start(n + 1, 0);
-    for (std::size_t i = 0; i < corners; ++i) {
-      const auto e = static_cast<HalfedgeId>(i);
-      const VertexId from = mesh.triangles[e], to = mesh.triangles[nextHalfedge(e)];
-      if (from == to)
-        return false;
-      const HalfedgeId twin = mesh.halfedges[e];
-      if (twin == INVALID_ID || e < twin)
-        ++start[std::min(from, to) + std::size_t{1}];
+    for (std::size_t e = 0; e < corners; e += 3) {
+      const VertexId v[3] = {corner[e], corner[e + 1], corner[e + 2]};
+      for (std::size_t k = 0; k < 3; ++k) {
+        const HalfedgeId twin = twins[e + k];
+        if (twin == INVALID_ID || e + k < twin)
+          ++start[std::min(v[k], v[k == 2 ? 0 : k + 1]) + std::size_t{1}];
+      }
     }
     for (std::size_t v = 0; v < n; ++v)
       start[v + 1] += start[v];
     // (upper vertex << 2) | directions (1: upward, 2: downward).
     std::vector<std::uint64_t> bucket(start[n]);
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < corners; ++i) {
-      const auto e = static_cast<HalfedgeId>(i);
-      const HalfedgeId twin = mesh.halfedges[e];
-      if (twin != INVALID_ID && twin < e)
-        continue;
-      const VertexId from = mesh.triangles[e], to = mesh.triangles[nextHalfedge(e)];
-      const std::uint64_t directions = twin != INVALID_ID ? 3 : from < to ? 1 : 2;
-      bucket[fill[std::min(from, to)]++] =
-          (std::uint64_t{std::max(from, to)} << 2) | directions;
+    for (std::size_t e = 0; e < corners; e += 3) {
+      const VertexId v[3] = {corner[e], corner[e + 1], corner[e + 2]};
+      for (std::size_t k = 0; k < 3; ++k) {
+        const HalfedgeId twin = twins[e + k];
+        if (twin != INVALID_ID && twin < e + k)
+          continue;
+        const VertexId from = v[k], to = v[k == 2 ? 0 : k + 1];
+        const std::uint64_t directions = twin != INVALID_ID ? 3 : from < to ? 1 : 2;
+        bucket[fill[std::min(from, to)]++] =
+            (std::uint64_t{std::max(from, to)} << 2) | directions;
+      }
     }
     const bool unshared = everyIndex(threads, n, [&](std::size_t v) {
       const auto first = bucket.begin() + start[v];
@@ -362,7 +405,7 @@ bool isValidSurfaceMesh(const TriangleMesh& mesh, std::string* why, unsigned thr
           shared |= (*i >> 2) == (*j >> 2) && (*i & *j & 3) != 0;
       return !shared;
     });
-    return unshared && allTrianglesCcw(mesh, nullptr, threads);
+    return unshared;
   };
   if (fast())
     return true;
