@@ -13,10 +13,39 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <new>
+#include <utility>
 #include <vector>
 
 namespace pcl_vts {
 namespace detail {
+
+/// std::allocator whose value-initialisation (resize) leaves the elements
+/// uninitialised: LocalDelaunay's triangle arrays are written before they are read,
+/// and zero-filling them cost a memset of a window's size whenever a larger window
+/// followed a smaller one (windows vary most on clustered points).
+template <typename T>
+struct UninitAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind { // NOLINT(readability-identifier-naming): the allocator interface
+    using other = UninitAllocator<U>; // NOLINT(readability-identifier-naming)
+  };
+  UninitAllocator() = default;
+  template <typename U>
+  UninitAllocator(const UninitAllocator<U>& /*other*/) noexcept // NOLINT
+  {}
+  template <typename U>
+  void construct(U* ptr) noexcept
+  {
+    ::new (static_cast<void*>(ptr)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* ptr, Args&&... args)
+  {
+    ::new (static_cast<void*>(ptr)) U(std::forward<Args>(args)...);
+  }
+};
 
 /// The loaded window: cells [i0, i1) x [j0, j1).
 struct CellWindow {
@@ -53,7 +82,7 @@ class LocalDelaunay {
                     Keep&& keep) const;
 
   std::vector<Point2> p;
-  std::vector<std::int32_t> v, adj;
+  std::vector<std::int32_t, UninitAllocator<std::int32_t>> v, adj;
   std::vector<std::uint32_t> ids;
   std::vector<std::uint8_t> in_core;
 
