@@ -109,6 +109,9 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
   void widen(Query& q, const Window& done);
   /// World rectangle of a block (pyramid block or sub-cell), widened by the slack.
   BlockRect blockBounds(const Block& b) const;
+  /// widen: tests the points of a small pyramid block (level >= 1) at once; false
+  /// (nothing done) when it holds too many points or a crowded cell.
+  bool testBlockDirectly(const Block& blk, Query& q);
 
   const CellGrid& grid_;
   const CellPyramid& pyramid_;
