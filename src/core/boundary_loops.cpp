@@ -1,5 +1,7 @@
 // Boundary loops: one walk per twin-less halfedge not yet visited; components by a
 // flood over twins. See boundary_loops.h.
+#include "post_pass_spacing.h"
+
 #include <pcl_vts/core/boundary_loops.h>
 
 #include <algorithm>
@@ -104,6 +106,13 @@ void labelComponents(const TriangleMesh& mesh, BoundaryLoops& loops)
 
 Status traceBoundaryLoops(const TriangleMesh& mesh, std::vector<BoundaryLoop>& loops)
 {
+  return detail::traceBoundaryLoops(mesh, loops, nullptr);
+}
+
+Status detail::traceBoundaryLoops(const TriangleMesh& mesh,
+                                  std::vector<BoundaryLoop>& loops,
+                                  const std::vector<HalfedgeId>* boundary)
+{
   loops.clear();
   if (mesh.halfedges.size() != mesh.triangles.size() || mesh.triangles.size() % 3 != 0)
     return Status::error(StatusCode::INVALID_PARAMETER,
@@ -111,7 +120,12 @@ Status traceBoundaryLoops(const TriangleMesh& mesh, std::vector<BoundaryLoop>& l
                              ") must have one entry per triangle corner (" +
                              std::to_string(mesh.triangles.size()) + ")");
   std::vector<bool> visited; // sized at the first boundary halfedge
-  for (HalfedgeId start = 0; start < mesh.halfedges.size(); ++start) {
+  // The boundary halfedges in increasing order: from the list, else by a scan.
+  const std::size_t starts =
+      boundary != nullptr ? boundary->size() : mesh.halfedges.size();
+  for (std::size_t k = 0; k < starts; ++k) {
+    const HalfedgeId start =
+        boundary != nullptr ? (*boundary)[k] : static_cast<HalfedgeId>(k);
     if (mesh.halfedges[start] != INVALID_ID)
       continue;
     if (visited.empty())

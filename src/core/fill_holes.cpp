@@ -515,7 +515,10 @@ Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
   if (!status.ok())
     return status;
   BoundaryLoops loops; // the pieces are not needed: holes run clockwise
-  status = traceBoundaryLoops(mesh, loops.loops);
+  // The trim's list of the boundary halfedges spares a scan of all of them.
+  status = detail::traceBoundaryLoops(
+      mesh, loops.loops,
+      known != nullptr && known->boundary_known ? &known->boundary : nullptr);
   if (!status.ok())
     return status;
   // A loop runs counter-clockwise around its piece's outside, clockwise inside a

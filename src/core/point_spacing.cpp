@@ -129,17 +129,20 @@ std::uint64_t bitsOf(double value)
 
 namespace detail {
 
-void VertexRows::build(const TriangleMesh& mesh)
+void VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary)
 {
   // A row entry per halfedge, two for a boundary one.
+  if (boundary != nullptr)
+    boundary->clear();
   if (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max())
-    fill(mesh, start32_);
+    fill(mesh, start32_, boundary);
   else
-    fill(mesh, start64_);
+    fill(mesh, start64_, boundary);
 }
 
 template <typename Index>
-void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start)
+void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
+                      std::vector<HalfedgeId>* boundary)
 {
   const std::size_t n = mesh.vertexCount();
   const std::size_t corners = mesh.triangles.size();
@@ -161,6 +164,10 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start)
       ++start[c];
     if (twin[e + 2] == INVALID_ID)
       ++start[a];
+    if (boundary != nullptr)
+      for (std::size_t k = e; k < e + 3; ++k)
+        if (twin[k] == INVALID_ID)
+          boundary->push_back(static_cast<HalfedgeId>(k));
   }
   for (std::size_t v = 1; v < n; ++v)
     start[v] += start[v - 1];

@@ -5,6 +5,7 @@
 // trimmed mesh (point_spacing.h).
 #pragma once
 
+#include <pcl_vts/core/boundary_loops.h>
 #include <pcl_vts/core/fill_holes.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/point_spacing.h>
@@ -28,6 +29,10 @@ struct VertexSpacing {
   std::vector<bool> changed;               ///< when not own_settled
   double global_median = 0.0;
   bool settled = false;
+  /// The trimmed mesh's boundary halfedges (no twin) in increasing order, when
+  /// boundary_known: the fill's loops start from them instead of a scan.
+  std::vector<HalfedgeId> boundary;
+  bool boundary_known = false;
 
   void settle(const TriangleMesh& trimmed, unsigned threads = 1);
 };
@@ -36,7 +41,8 @@ struct VertexSpacing {
 /// halfedges leaving it and the starts of the boundary halfedges entering it.
 class VertexRows {
  public:
-  void build(const TriangleMesh& mesh);
+  /// With `boundary`, also lists the halfedges without twin, in increasing order.
+  void build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary = nullptr);
   std::size_t begin(std::size_t v) const
   {
     return start64_.empty() ? start32_[v] : start64_[v];
@@ -46,7 +52,8 @@ class VertexRows {
 
  private:
   template <typename Index>
-  void fill(const TriangleMesh& mesh, std::vector<Index>& start);
+  void fill(const TriangleMesh& mesh, std::vector<Index>& start,
+            std::vector<HalfedgeId>* boundary);
   std::vector<std::uint32_t> start32_; ///< while the entries fit 32 bits
   std::vector<std::size_t> start64_;
 };
@@ -89,6 +96,11 @@ double medianOverUsed(const std::vector<double>& own,
 Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
                             TrimResult& result, VertexSpacing* after,
                             unsigned threads = 1);
+
+/// traceBoundaryLoops; with `boundary` (every halfedge without twin, in increasing
+/// order), the loops start from its halfedges instead of a scan of all of them.
+Status traceBoundaryLoops(const TriangleMesh& mesh, std::vector<BoundaryLoop>& loops,
+                          const std::vector<HalfedgeId>* boundary);
 
 /// fillHolesOfPart; with `spacing` (handed over by the trim of this mesh), the
 /// local spacing at hole rims is read from it instead of measuring the whole mesh.

@@ -392,7 +392,7 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
 /// every range moves its others within itself, then written: no range writes where
 /// another reads.
 void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped,
-                      unsigned threads)
+                      unsigned threads, std::vector<HalfedgeId>* boundary)
 {
   const std::size_t count = mesh.triangleCount();
   std::vector<std::uint64_t> bits((count + 63) / 64, 0);
@@ -418,6 +418,7 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
     HalfedgeId twins[3];
   };
   std::vector<std::vector<Moved>> aside(parts);
+  std::vector<std::vector<HalfedgeId>> open_edges(parts); // new ids, increasing
   parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
     for (std::size_t t = begin; t < end; ++t) {
       if (is_removed(t))
@@ -428,6 +429,8 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
         const bool open = twin == INVALID_ID || is_removed(triangleOf(twin));
         moved.corners[k] = mesh.triangles[3 * t + k];
         moved.twins[k] = open ? INVALID_ID : 3 * new_id(triangleOf(twin)) + twin % 3;
+        if (open && boundary != nullptr)
+          open_edges[p].push_back(3 * moved.to + static_cast<HalfedgeId>(k));
       }
       if (moved.to < begin) {
         aside[p].push_back(moved);
@@ -447,6 +450,11 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
       }
   mesh.triangles.resize(3 * kept);
   mesh.halfedges.resize(3 * kept);
+  if (boundary != nullptr) {
+    boundary->clear();
+    for (const std::vector<HalfedgeId>& part : open_edges)
+      boundary->insert(boundary->end(), part.begin(), part.end());
+  }
 }
 
 } // namespace
@@ -479,8 +487,11 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   if (mesh.halfedges.size() != mesh.triangles.size())
     return Status::error(StatusCode::INVALID_PARAMETER,
                          "halfedges must have one entry per triangle corner");
+  // With `after`, the boundary halfedges too: the trimmed mesh's when the trim
+  // removes nothing, else the compaction lists them.
+  std::vector<HalfedgeId> boundary;
   detail::VertexRows rows;
-  rows.build(mesh);
+  rows.build(mesh, after != nullptr ? &boundary : nullptr);
   std::vector<double> own = detail::ownMedians(mesh, rows, threads);
   const double global_median = detail::medianOverRows(own, rows);
   result.spacing = global_median;
@@ -558,7 +569,7 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   }
   rows = detail::VertexRows{};
   if (result.triangles_removed > 0)
-    compactTriangles(mesh, dropped, threads);
+    compactTriangles(mesh, dropped, threads, after != nullptr ? &boundary : nullptr);
   std::vector<bool>().swap(removed);
   if (!fans_whole) {
     std::vector<bool> has_triangle(mesh.vertexCount(), false);
@@ -574,6 +585,8 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
     after->global_median = global_median;
     after->settled = result.triangles_removed == 0; // the input's spacing holds
     after->own_settled = fans_whole;
+    after->boundary.swap(boundary);
+    after->boundary_known = true;
     if (!after->settled && fans_whole)
       after->without_triangles.swap(without_triangles);
     else if (!after->settled)
