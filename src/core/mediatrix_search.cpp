@@ -23,6 +23,10 @@ constexpr std::size_t QUICK_CELLS = 16;
 constexpr std::size_t SPAN_CELLS = 2048;
 // settleAlongEdge's first band reaches this many cells beyond the edge's ends.
 constexpr std::uint32_t EXTEND_CELLS = 8;
+// settleAlongEdge skips an edge away from the border longer than EXTEND_CELLS /
+// LONG_INTERIOR cells: on clustered input that is an edge across a void, whose band
+// rarely settles it (its circle is a void's size) and whose cost widen pays anyway.
+constexpr double LONG_INTERIOR = 0.5;
 
 // widen tests the points of a block of up to 2^DIRECT_LEVEL cells a side directly (one
 // range per cell row) when it holds at most DIRECT_POINTS points and no crowded cell:
@@ -347,16 +351,19 @@ bool MediatrixSearch::settleAlongEdge(Query& q)
   const double near = static_cast<double>(EXTEND_CELLS) * grid_.cell_size /
                       std::sqrt((q.pb.x - q.pa.x) * (q.pb.x - q.pa.x) +
                                 (q.pb.y - q.pa.y) * (q.pb.y - q.pa.y));
-  if (settleInBand(q, near))
-    return true;
-  // The long band only near the grid's border, where the flat hull triangles are
-  // (inside, a failed near band is mostly an edge across a void: nothing to find).
   const auto inside = [&](const Point2& p) {
     const std::uint32_t i = grid_.column(p.x), j = grid_.row(p.y);
     return i >= EXTEND_CELLS && j >= EXTEND_CELLS && i + EXTEND_CELLS < grid_.nx &&
            j + EXTEND_CELLS < grid_.ny;
   };
-  if (inside(q.pa) && inside(q.pb))
+  const bool interior = inside(q.pa) && inside(q.pb);
+  if (interior && near < LONG_INTERIOR)
+    return false;
+  if (settleInBand(q, near))
+    return true;
+  // The long band only near the grid's border, where the flat hull triangles are
+  // (inside, a failed near band is mostly an edge across a void: nothing to find).
+  if (interior)
     return false;
   return settleInBand(q, near + 4.0);
 }
