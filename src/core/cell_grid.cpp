@@ -201,4 +201,28 @@ Status buildCellGrid(const std::vector<Point2>& points, double cell_size,
   return Status::success();
 }
 
+void compactCellStarts(CellGrid& grid)
+{
+  const std::size_t cells = grid.cellCount();
+  if (grid.cell_start.size() != cells + 1 || cells <= 2 * grid.points.size())
+    return;
+  constexpr std::size_t BLOCK = 16;
+  const std::size_t blocks = (cells >> 4) + 1; // the end slot's block too
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t last = std::min(cells, b * BLOCK + BLOCK - 1);
+    if (grid.cell_start[last] - grid.cell_start[b * BLOCK] > 255)
+      return;
+  }
+  std::vector<std::uint32_t> block_start(blocks);
+  std::vector<std::uint8_t> cell_offset(cells + 1);
+  for (std::size_t b = 0; b < blocks; ++b)
+    block_start[b] = grid.cell_start[b * BLOCK];
+  for (std::size_t c = 0; c <= cells; ++c)
+    cell_offset[c] =
+        static_cast<std::uint8_t>(grid.cell_start[c] - block_start[c >> 4]);
+  grid.block_start = std::move(block_start);
+  grid.cell_offset = std::move(cell_offset);
+  std::vector<std::uint32_t>().swap(grid.cell_start);
+}
+
 } // namespace pcl_vts

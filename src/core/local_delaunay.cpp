@@ -40,8 +40,7 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   // by m + 2): the arrays are sized once per window, not per insertion.
   std::size_t n = 0;
   for (std::uint32_t j = w.j0; j < w.j1; ++j)
-    n += grid.cell_start[grid.cellId(w.i1 - 1, j) + 1] -
-         grid.cell_start[grid.cellId(w.i0, j)];
+    n += grid.start(grid.cellId(w.i1 - 1, j) + 1) - grid.start(grid.cellId(w.i0, j));
   if (stamp_counter_ > (1u << 31)) { // before the marks wrap around
     std::fill(stamp_.begin(), stamp_.end(), 0u);
     stamp_counter_ = 0;
@@ -83,7 +82,7 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
     const CellId cell = grid.cellId(i, j);
     const std::uint8_t inside =
         i >= core.i0 && i < core.i1 && j >= core.j0 && j < core.j1 ? 1 : 0;
-    for (std::uint32_t k = grid.cell_start[cell]; k < grid.cell_start[cell + 1]; ++k) {
+    for (std::uint32_t k = grid.start(cell), end = grid.start(cell + 1); k < end; ++k) {
       const Point2& q = grid.points[k];
       if (!(q.x >= tx_lo && q.x <= tx_hi && q.y >= ty_lo && q.y <= ty_hi))
         outsideBox(q, cx, cy, d);

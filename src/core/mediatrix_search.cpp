@@ -68,8 +68,8 @@ VertexId MediatrixSearch::guessThirdPoint(const Query& q) const
   double best_num = 1.0, best_den = 0.0; // t = +infinity
   for (std::uint32_t j = j0; j <= j1; ++j) {
     const CellId row = grid_.cellId(0, j);
-    for (std::uint32_t k = grid_.cell_start[row + i0];
-         k < grid_.cell_start[row + i1 + 1]; ++k) {
+    for (std::uint32_t k = grid_.start(row + i0), end = grid_.start(row + i1 + 1);
+         k < end; ++k) {
       const double dx = grid_.points[k].x - mx, dy = grid_.points[k].y - my;
       const double den = dx * nx + dy * ny;
       const double num = dx * dx + dy * dy - quarter;
@@ -242,13 +242,13 @@ bool MediatrixSearch::testBlockDirectly(const Block& blk, Query& q)
   std::uint32_t points = 0;
   for (std::uint32_t j = j0; j <= j1; ++j) {
     const CellId row = grid_.cellId(0, j);
-    points += grid_.cell_start[row + i1 + 1] - grid_.cell_start[row + i0];
+    points += grid_.start(row + i1 + 1) - grid_.start(row + i0);
   }
   if (points > DIRECT_POINTS)
     return false;
   for (std::uint32_t j = j0; j <= j1; ++j) {
     const CellId row = grid_.cellId(0, j);
-    testRange(grid_.cell_start[row + i0], grid_.cell_start[row + i1 + 1], q);
+    testRange(grid_.start(row + i0), grid_.start(row + i1 + 1), q);
     stats_.cells_visited += i1 - i0;
   }
   return true;
@@ -273,7 +273,7 @@ bool MediatrixSearch::settleByGuess(Query& q)
   // The cells of a window row are contiguous in the grid: one range per row.
   for (std::uint32_t j = r.j0; j <= r.j1; ++j) {
     const CellId row = grid_.cellId(0, j);
-    testRange(grid_.cell_start[row + r.i0], grid_.cell_start[row + r.i1 + 1], q);
+    testRange(grid_.start(row + r.i0), grid_.start(row + r.i1 + 1), q);
     stats_.cells_visited += r.i1 - r.i0;
   }
   return true;
@@ -415,8 +415,9 @@ bool MediatrixSearch::settleInBand(Query& q, double e)
   double best_num = 1.0, best_den = 0.0; // t = +infinity
   for (const Window& span : band_) {
     const CellId row = grid_.cellId(0, span.j0);
-    for (std::uint32_t k = grid_.cell_start[row + span.i0];
-         k < grid_.cell_start[row + span.i1 + 1]; ++k) {
+    for (std::uint32_t k = grid_.start(row + span.i0),
+                       end = grid_.start(row + span.i1 + 1);
+         k < end; ++k) {
       const double px = grid_.points[k].x - mx, py = grid_.points[k].y - my;
       const double den = px * nx + py * ny;
       const double num = px * px + py * py - quarter;
@@ -466,8 +467,7 @@ bool MediatrixSearch::settleInBand(Query& q, double e)
       return false;
     for (const Window& span : band_) {
       const CellId row = grid_.cellId(0, span.j0);
-      testRange(grid_.cell_start[row + span.i0], grid_.cell_start[row + span.i1 + 1],
-                q);
+      testRange(grid_.start(row + span.i0), grid_.start(row + span.i1 + 1), q);
       stats_.cells_visited += span.i1 - span.i0;
     }
     return true;
@@ -498,7 +498,7 @@ bool MediatrixSearch::settleInBand(Query& q, double e)
   }
   for (const Window& span : spans_) {
     const CellId row = grid_.cellId(0, span.j0);
-    testRange(grid_.cell_start[row + span.i0], grid_.cell_start[row + span.i1 + 1], q);
+    testRange(grid_.start(row + span.i0), grid_.start(row + span.i1 + 1), q);
     stats_.cells_visited += span.i1 - span.i0;
   }
   return true;

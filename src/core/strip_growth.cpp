@@ -128,8 +128,9 @@ class Growth {
     // reads of open_head_ missed the cache, row after row).
     for (std::uint32_t j = 0; j < grid_.ny && reached_ < strip_vertices_; ++j) {
       const CellId row = grid_.cellId(0, j);
-      for (VertexId v = grid_.cell_start[row + first_column_];
-           v < grid_.cell_start[row + end_column_]; ++v) {
+      for (VertexId v = grid_.start(row + first_column_),
+                    end = grid_.start(row + end_column_);
+           v < end; ++v) {
         if (open_head_[v] != UNREACHED)
           continue;
         if (Status s = seedAt(v); !s.ok())
@@ -172,8 +173,7 @@ class Growth {
     std::size_t vertices = 0;
     for (std::uint32_t j = 0; j < grid_.ny; ++j) {
       const CellId row = grid_.cellId(0, j);
-      vertices +=
-          grid_.cell_start[row + end_column_] - grid_.cell_start[row + first_column_];
+      vertices += grid_.start(row + end_column_) - grid_.start(row + first_column_);
     }
     strip_vertices_ = vertices;
     const std::size_t expected = 2 * vertices + vertices / 32 + 64;
@@ -314,8 +314,8 @@ class Growth {
                               std::min(grid_.ny, cj0 + BLOCK)};
         std::size_t own = 0;
         for (std::uint32_t j = core.j0; j < core.j1; ++j)
-          own += grid_.cell_start[grid_.cellId(core.i1 - 1, j) + 1] -
-                 grid_.cell_start[grid_.cellId(core.i0, j)];
+          own += grid_.start(grid_.cellId(core.i1 - 1, j) + 1) -
+                 grid_.start(grid_.cellId(core.i0, j));
         if (own == 0)
           continue;
         const CellWindow window{
@@ -446,7 +446,7 @@ class Growth {
         break;
       if (block.level == 0) {
         const CellId c = grid_.cellId(block.i, block.j);
-        for (VertexId w = grid_.cell_start[c]; w < grid_.cell_start[c + 1]; ++w) {
+        for (VertexId w = grid_.start(c), end = grid_.start(c + 1); w < end; ++w) {
           const double dx = grid_.points[w].x - pv.x, dy = grid_.points[w].y - pv.y;
           const double d2 = dx * dx + dy * dy;
           if (w != v) {

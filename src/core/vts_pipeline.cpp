@@ -161,6 +161,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
       return s;
     }
   }
+  // The strips' peak holds the cells: compact on sparse (clustered) grids.
+  compactCellStarts(stage.grid);
   diag.hull_vertices = result.hull.size();
   diag.seconds_hull = watch.seconds();
 

@@ -265,5 +265,55 @@ TEST(GridStage, ErrorsNameTheFirstBadPoint)
             StatusCode::INVALID_PARAMETER);
 }
 
+/// compactCellStarts: on a sparse (clustered) grid every cell's start read through
+/// the compact form equals the flat offsets; a dense grid, or a sparse one with a
+/// cell over 255 points, keeps its flat offsets.
+TEST(GridStage, CompactCellStartsKeepEveryOffset)
+{
+  const std::size_t n = 60000;
+  const auto build = [](const std::vector<double>& xyz, GridStage& stage) {
+    std::vector<VertexId> map;
+    Diagnostics diag;
+    ASSERT_TRUE(buildGridStage(xyz.data(), xyz.size() / 3, 0.0, DuplicateRule::LOWEST_Z,
+                               1, stage, map, diag)
+                    .ok());
+  };
+  std::vector<double> xyz = test::generatePoints(test::Distribution::CLUSTERED, n, 7);
+  GridStage stage;
+  build(xyz, stage);
+  const CellGrid& flat = stage.grid;
+  ASSERT_GT(flat.cellCount(), 2 * flat.points.size()); // sparse: compacted
+  CellGrid compact = flat;
+  compactCellStarts(compact);
+  ASSERT_TRUE(compact.cell_start.empty());
+  EXPECT_LT(compact.block_start.size() * 4 + compact.cell_offset.size(),
+            flat.cell_start.size() * 2);
+  for (std::size_t c = 0; c <= flat.cellCount(); ++c) {
+    ASSERT_EQ(compact.start(c), flat.cell_start[c]) << c;
+    ASSERT_EQ(flat.start(c), flat.cell_start[c]) << c;
+  }
+
+  // A dense grid stays flat.
+  GridStage dense;
+  build(test::generatePoints(test::Distribution::JITTERED_GRID, n, 7), dense);
+  CellGrid kept = dense.grid;
+  compactCellStarts(kept);
+  EXPECT_TRUE(kept.cell_start == dense.grid.cell_start);
+  EXPECT_TRUE(kept.block_start.empty());
+
+  // 300 distinct points in one cell: its block's offsets exceed a byte, stays flat.
+  for (std::size_t k = 0; k < 300; ++k) {
+    xyz.push_back(xyz[0] + 1e-9 * static_cast<double>(k));
+    xyz.push_back(xyz[1]);
+    xyz.push_back(0.0);
+  }
+  GridStage crowded;
+  build(xyz, crowded);
+  ASSERT_GT(crowded.grid.cellCount(), 2 * crowded.grid.points.size());
+  CellGrid still = crowded.grid;
+  compactCellStarts(still);
+  EXPECT_TRUE(still.cell_start == crowded.grid.cell_start);
+}
+
 } // namespace
 } // namespace pcl_vts

@@ -81,7 +81,7 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
   void testRange(std::uint32_t begin, std::uint32_t end, Query& q);
   void testCell(CellId cell, Query& q)
   {
-    testRange(grid_.cell_start[cell], grid_.cell_start[cell + 1], q);
+    testRange(grid_.start(cell), grid_.start(cell + 1), q);
   }
   bool windowHasCrowdedCell(const Window& w) const;
   Window diskCells(const SafeDisk& disk) const;
