@@ -171,7 +171,6 @@ void MediatrixSearch::widen(Query& q, const Window& done)
                            !mayLieLeft(q.pa, q.pb, {r.x0, r.y1}) &&
                            !mayLieLeft(q.pa, q.pb, {r.x1, r.y1})))
       return;
-    child.rect = r;
     child.key = r.squaredDistance(mx, my);
     heap_.push_back(child);
     std::push_heap(heap_.begin(), heap_.end(), cmp);
@@ -180,7 +179,7 @@ void MediatrixSearch::widen(Query& q, const Window& done)
   heap_.clear();
   q.refreshDisk(grid_);
   const auto top = static_cast<std::uint32_t>(pyramid_.levels.size() - 1);
-  push({0.0, {}, top, 0, 0, INVALID_ID});
+  push({0.0, top, 0, 0, INVALID_ID});
   VertexId reach_of = INVALID_ID; // the best whose reach2 is known
   double reach2 = 0.0;
   while (!heap_.empty()) {
@@ -200,7 +199,7 @@ void MediatrixSearch::widen(Query& q, const Window& done)
       if (blk.key > reach2)
         break;
       // The disk may have shrunk since the block was pushed.
-      if (outsideDisk(blk.rect))
+      if (outsideDisk(blockBounds(blk)))
         continue;
     }
 
@@ -211,13 +210,13 @@ void MediatrixSearch::widen(Query& q, const Window& done)
       else
         for (std::uint32_t c = n.first_child; c < n.first_child + 4; ++c)
           if (sub_.nodes[c].end > sub_.nodes[c].begin)
-            push({0.0, {}, 0, 0, 0, c});
+            push({0.0, 0, 0, 0, c});
       continue;
     }
     if (blk.level == 0) {
       const CellId cell = grid_.cellId(blk.i, blk.j);
       if (sub_.any() && sub_.root[cell] != INVALID_ID)
-        push({0.0, {}, 0, blk.i, blk.j, sub_.root[cell]});
+        push({0.0, 0, blk.i, blk.j, sub_.root[cell]});
       else if (!done.contains(blk.i, blk.j))
         testCell(cell, q);
       continue;
@@ -226,7 +225,7 @@ void MediatrixSearch::widen(Query& q, const Window& done)
       continue;
     forEachOccupiedChild(pyramid_, blk.level, blk.i, blk.j,
                          [&](std::uint32_t ci, std::uint32_t cj) {
-                           push({0.0, {}, blk.level - 1, ci, cj, INVALID_ID});
+                           push({0.0, blk.level - 1, ci, cj, INVALID_ID});
                          });
   }
 }

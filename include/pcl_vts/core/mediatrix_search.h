@@ -40,8 +40,7 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
 
  private:
   struct Block {
-    double key;     ///< squared distance from the edge midpoint (lower bound)
-    BlockRect rect; ///< blockBounds, kept from the push
+    double key; ///< squared distance from the edge midpoint (lower bound)
     std::uint32_t level;
     std::uint32_t i;
     std::uint32_t j;
