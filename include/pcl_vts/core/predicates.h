@@ -35,6 +35,35 @@ constexpr double ICC_ERR_BOUND_A = (10.0 + 96.0 * UNIT_ROUNDOFF) * UNIT_ROUNDOFF
 // bound a normal number: a subnormal one costs a microcode assist on every call.
 constexpr double UNDERFLOW_SLACK = 0x1p-1000;
 
+/// The in-circle determinant of (a, b, c, d) translated to d, with the products and
+/// lifts its error bound is made of: the one evaluation incircle's dynamic filter and
+/// incirclePerturbedInBox's box filter share (the same operations in the same order).
+struct IncircleTerms {
+  double bdxcdy, cdxbdy, cdxady, adxcdy, adxbdy, bdxady;
+  double alift, blift, clift;
+  double det;
+};
+inline IncircleTerms incircleTerms(const Point2& a, const Point2& b, const Point2& c,
+                                   const Point2& d)
+{
+  const double adx = a.x - d.x, ady = a.y - d.y;
+  const double bdx = b.x - d.x, bdy = b.y - d.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  IncircleTerms t;
+  t.bdxcdy = bdx * cdy;
+  t.cdxbdy = cdx * bdy;
+  t.cdxady = cdx * ady;
+  t.adxcdy = adx * cdy;
+  t.adxbdy = adx * bdy;
+  t.bdxady = bdx * ady;
+  t.alift = adx * adx + ady * ady;
+  t.blift = bdx * bdx + bdy * bdy;
+  t.clift = cdx * cdx + cdy * cdy;
+  t.det = t.alift * (t.bdxcdy - t.cdxbdy) + t.blift * (t.cdxady - t.adxcdy) +
+          t.clift * (t.adxbdy - t.bdxady);
+  return t;
+}
+
 /// |v| without a branch (a sign bit mask): the filter's terms have random signs, and
 /// `v < 0 ? -v : v` compiles to a branch that mispredicts about half the time.
 inline double absValue(double v)
@@ -67,27 +96,17 @@ inline Sign orient2d(const Point2& a, const Point2& b, const Point2& c)
 inline Sign incircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d)
 {
   using detail::absValue;
-  const double adx = a.x - d.x, ady = a.y - d.y;
-  const double bdx = b.x - d.x, bdy = b.y - d.y;
-  const double cdx = c.x - d.x, cdy = c.y - d.y;
-  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-  const double cdxady = cdx * ady, adxcdy = adx * cdy;
-  const double adxbdy = adx * bdy, bdxady = bdx * ady;
-  const double alift = adx * adx + ady * ady;
-  const double blift = bdx * bdx + bdy * bdy;
-  const double clift = cdx * cdx + cdy * cdy;
-  const double det =
-      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-  const double permanent = (absValue(bdxcdy) + absValue(cdxbdy)) * alift +
-                           (absValue(cdxady) + absValue(adxcdy)) * blift +
-                           (absValue(adxbdy) + absValue(bdxady)) * clift;
+  const detail::IncircleTerms t = detail::incircleTerms(a, b, c, d);
+  const double permanent = (absValue(t.bdxcdy) + absValue(t.cdxbdy)) * t.alift +
+                           (absValue(t.cdxady) + absValue(t.adxcdy)) * t.blift +
+                           (absValue(t.adxbdy) + absValue(t.bdxady)) * t.clift;
   // The lifts bound the squared differences, hence how far an underflowed product
   // can be amplified.
   const double errbound = detail::ICC_ERR_BOUND_A * permanent +
-                          detail::UNDERFLOW_SLACK * (1.0 + alift + blift + clift);
-  if (det > errbound)
+                          detail::UNDERFLOW_SLACK * (1.0 + t.alift + t.blift + t.clift);
+  if (t.det > errbound)
     return Sign::POSITIVE;
-  if (-det > errbound)
+  if (-t.det > errbound)
     return Sign::NEGATIVE;
   return detail::incircleExact(a, b, c, d);
 }
@@ -178,17 +197,7 @@ inline Sign orient2dInBox(const Point2& a, const Point2& b, const Point2& c,
 inline Sign incirclePerturbedInBox(const Point2& a, const Point2& b, const Point2& c,
                                    const Point2& d, double bound)
 {
-  const double adx = a.x - d.x, ady = a.y - d.y;
-  const double bdx = b.x - d.x, bdy = b.y - d.y;
-  const double cdx = c.x - d.x, cdy = c.y - d.y;
-  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-  const double cdxady = cdx * ady, adxcdy = adx * cdy;
-  const double adxbdy = adx * bdy, bdxady = bdx * ady;
-  const double alift = adx * adx + ady * ady;
-  const double blift = bdx * bdx + bdy * bdy;
-  const double clift = cdx * cdx + cdy * cdy;
-  const double det =
-      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+  const double det = incircleTerms(a, b, c, d).det;
   if (det > bound)
     return Sign::POSITIVE;
   if (-det > bound)
