@@ -40,6 +40,38 @@ bool heapGreater(double a, double b)
   return a > b;
 }
 
+/// Circle centres through a and b are m + t n (n the left normal, |n| = |ab|); a left
+/// point p gives t(p) = (|p - m|^2 - |ab|^2 / 4) / (2 (p - m).n), and the Delaunay
+/// apex has the smallest t. Compared as fractions: no division. A guess, not a proof:
+/// the search certifies whatever it returns.
+struct SmallestCentre {
+  SmallestCentre(const Point2& pa, const Point2& pb)
+      : mx(0.5 * (pa.x + pb.x))
+      , my(0.5 * (pa.y + pb.y))
+      , nx(pa.y - pb.y)
+      , ny(pb.x - pa.x)
+      , quarter(0.25 * (nx * nx + ny * ny))
+  {}
+  /// Takes the points [begin, end) of the grid other than the edge's ends a and b.
+  void scan(const Point2* points, std::uint32_t begin, std::uint32_t end, VertexId a,
+            VertexId b)
+  {
+    for (std::uint32_t k = begin; k < end; ++k) {
+      const double dx = points[k].x - mx, dy = points[k].y - my;
+      const double den = dx * nx + dy * ny;
+      const double num = dx * dx + dy * dy - quarter;
+      if (den > 0.0 && num * best_den < best_num * den && k != a && k != b) {
+        best = k;
+        best_num = num;
+        best_den = den;
+      }
+    }
+  }
+  double mx, my, nx, ny, quarter;
+  VertexId best = INVALID_ID;
+  double best_num = 1.0, best_den = 0.0; // t = +infinity
+};
+
 } // namespace
 
 MediatrixSearch::MediatrixSearch(const CellGrid& grid, const CellPyramid& pyramid,
@@ -51,36 +83,20 @@ MediatrixSearch::MediatrixSearch(const CellGrid& grid, const CellPyramid& pyrami
 
 VertexId MediatrixSearch::guessThirdPoint(const Query& q) const
 {
-  // Circle centres through a and b are m + t n (n the left normal, |n| = |ab|); a left
-  // point p gives t(p) = (|p - m|^2 - |ab|^2 / 4) / (2 (p - m).n), and the Delaunay
-  // apex has the smallest t. Compared as fractions: no division.
-  const double mx = 0.5 * (q.pa.x + q.pb.x), my = 0.5 * (q.pa.y + q.pb.y);
-  const double nx = q.pa.y - q.pb.y, ny = q.pb.x - q.pa.x;
-  const double quarter = 0.25 * (nx * nx + ny * ny);
-  const double gx = mx + GUESS_CENTRE * nx, gy = my + GUESS_CENTRE * ny;
+  SmallestCentre centre(q.pa, q.pb);
+  const double gx = centre.mx + GUESS_CENTRE * centre.nx;
+  const double gy = centre.my + GUESS_CENTRE * centre.ny;
   const double reach = 0.5 * grid_.cell_size;
   const Window w{grid_.column(gx - reach), grid_.column(gx + reach),
                  grid_.row(gy - reach), grid_.row(gy + reach)};
   if (cellCount(w) > GUESS_CELLS || windowHasCrowdedCell(w))
     return INVALID_ID;
-  const std::uint32_t i0 = w.i0, i1 = w.i1, j0 = w.j0, j1 = w.j1;
-  VertexId best = INVALID_ID;
-  double best_num = 1.0, best_den = 0.0; // t = +infinity
-  for (std::uint32_t j = j0; j <= j1; ++j) {
+  for (std::uint32_t j = w.j0; j <= w.j1; ++j) {
     const CellId row = grid_.cellId(0, j);
-    for (std::uint32_t k = grid_.start(row + i0), end = grid_.start(row + i1 + 1);
-         k < end; ++k) {
-      const double dx = grid_.points[k].x - mx, dy = grid_.points[k].y - my;
-      const double den = dx * nx + dy * ny;
-      const double num = dx * dx + dy * dy - quarter;
-      if (den > 0.0 && num * best_den < best_num * den && k != q.a && k != q.b) {
-        best = k;
-        best_num = num;
-        best_den = den;
-      }
-    }
+    centre.scan(grid_.points.data(), grid_.start(row + w.i0),
+                grid_.start(row + w.i1 + 1), q.a, q.b);
   }
-  return best;
+  return centre.best;
 }
 
 void MediatrixSearch::testRange(std::uint32_t begin, std::uint32_t end, Query& q)
@@ -407,26 +423,13 @@ bool MediatrixSearch::settleInBand(Query& q, double e)
     band_.push_back(span);
   }
   // The guess: the smallest circumcentre offset (as in guessThirdPoint) in the band.
-  const double mx = 0.5 * (q.pa.x + q.pb.x), my = 0.5 * (q.pa.y + q.pb.y);
-  const double nx = q.pa.y - q.pb.y, ny = q.pb.x - q.pa.x;
-  const double quarter = 0.25 * (nx * nx + ny * ny);
-  VertexId guess = INVALID_ID;
-  double best_num = 1.0, best_den = 0.0; // t = +infinity
+  SmallestCentre centre(q.pa, q.pb);
   for (const Window& span : band_) {
     const CellId row = grid_.cellId(0, span.j0);
-    for (std::uint32_t k = grid_.start(row + span.i0),
-                       end = grid_.start(row + span.i1 + 1);
-         k < end; ++k) {
-      const double px = grid_.points[k].x - mx, py = grid_.points[k].y - my;
-      const double den = px * nx + py * ny;
-      const double num = px * px + py * py - quarter;
-      if (den > 0.0 && num * best_den < best_num * den && k != q.a && k != q.b) {
-        guess = k;
-        best_num = num;
-        best_den = den;
-      }
-    }
+    centre.scan(grid_.points.data(), grid_.start(row + span.i0),
+                grid_.start(row + span.i1 + 1), q.a, q.b);
   }
+  const VertexId guess = centre.best;
   if (guess != INVALID_ID && guess != q.best &&
       orient2d(q.pa, q.pb, grid_.points[guess]) == Sign::POSITIVE &&
       (q.best == INVALID_ID ||
