@@ -245,19 +245,18 @@ long long extendedGcd(long long p, long long q, long long& x, long long& y)
   return g;
 }
 
-TEST(Orient2d, ExactNearALineAtUtmMagnitudes)
+/// Triples {a, b, c} on the ulp grid U = 2^-30 around b = (5e5, 5.4e6): c = b + 3 U (p,
+/// q) for a random coprime step (p, q) of about 1 m, and five points a = b + U (-y + j
+/// p, x + j q) (j = -2..2, p x + q y = 1), each exactly one ulp^2 left of b -> c. At
+/// these magnitudes every difference is exact (Sterbenz): only the products round.
+std::vector<std::array<Point2, 3>> ulpOffLineTriples(std::mt19937_64& rng,
+                                                     std::size_t count)
 {
-  // At UTM magnitudes every difference of nearby coordinates is exact (Sterbenz), so
-  // the naive formula fails only when the cross product, in ulp^2 units, is tiny
-  // against the products. Build such points: on the ulp grid U = 2^-30 around
-  // (5e5, 5.4e6), the line from b along the coprime step (p, q) ~ 1 m, and a at
-  // integer offset (-y, x) with p x + q y = 1, i.e. exactly one ulp^2 off the line.
   const double U = 0x1p-30;
   const Point2 b = {5.0e5, 5.4e6};
-  std::mt19937_64 rng(2);
   std::uniform_int_distribution<long long> step(1LL << 29, 1LL << 31);
-  int naive_wrong = 0, tested = 0;
-  while (tested < 250) {
+  std::vector<std::array<Point2, 3>> triples;
+  while (triples.size() < count) {
     const long long p = step(rng), q = step(rng);
     long long x = 0, y = 0;
     if (extendedGcd(p, q, x, y) != 1)
@@ -268,13 +267,28 @@ TEST(Orient2d, ExactNearALineAtUtmMagnitudes)
       const double ax = static_cast<double>(-y + j * p),
                    ay = static_cast<double>(x + j * q);
       const Point2 a = {b.x + ax * U, b.y + ay * U};
-      ASSERT_EQ(a.x - b.x, ax * U); // on the grid: the construction is exact
-      ASSERT_EQ(a.y - b.y, ay * U);
-      EXPECT_EQ(orient2d(b, c, a), Sign::POSITIVE) << "cross product = +1 ulp^2";
-      EXPECT_EQ(orient2d(c, b, a), Sign::NEGATIVE);
-      naive_wrong += expectOrientExact(a, b, c);
-      ++tested;
+      EXPECT_EQ(a.x - b.x, ax * U); // on the grid: the construction is exact
+      EXPECT_EQ(a.y - b.y, ay * U);
+      triples.push_back({a, b, c});
     }
+  }
+  return triples;
+}
+
+TEST(Orient2d, ExactNearALineAtUtmMagnitudes)
+{
+  // At UTM magnitudes every difference of nearby coordinates is exact (Sterbenz), so
+  // the naive formula fails only when the cross product, in ulp^2 units, is tiny
+  // against the products. Build such points: on the ulp grid U = 2^-30 around
+  // (5e5, 5.4e6), the line from b along the coprime step (p, q) ~ 1 m, and a at
+  // integer offset (-y, x) with p x + q y = 1, i.e. exactly one ulp^2 off the line.
+  std::mt19937_64 rng(2);
+  int naive_wrong = 0, tested = 0;
+  for (const auto& [a, b, c] : ulpOffLineTriples(rng, 250)) {
+    EXPECT_EQ(orient2d(b, c, a), Sign::POSITIVE) << "cross product = +1 ulp^2";
+    EXPECT_EQ(orient2d(c, b, a), Sign::NEGATIVE);
+    naive_wrong += expectOrientExact(a, b, c);
+    ++tested;
   }
   EXPECT_GT(naive_wrong, tested / 2);
 }
@@ -659,24 +673,8 @@ TEST(BoxFilters, OrientEqualsOrient2dNearLines)
   }
   // One ulp^2 off a line at UTM magnitudes (as in ExactNearALineAtUtmMagnitudes): the
   // differences are exact, the products' rounding is far above the determinant.
-  const double U = 0x1p-30;
-  const Point2 b = {5.0e5, 5.4e6};
   std::mt19937_64 rng(15);
-  std::uniform_int_distribution<long long> step(1LL << 29, 1LL << 31);
-  std::vector<std::array<Point2, 3>> ulp;
-  while (ulp.size() < 1000) {
-    const long long p = step(rng), q = step(rng);
-    long long x = 0, y = 0;
-    if (extendedGcd(p, q, x, y) != 1)
-      continue;
-    const Point2 c = {b.x + static_cast<double>(3 * p) * U,
-                      b.y + static_cast<double>(3 * q) * U};
-    for (long long j = -2; j <= 2; ++j)
-      ulp.push_back({Point2{b.x + static_cast<double>(-y + j * p) * U,
-                            b.y + static_cast<double>(x + j * q) * U},
-                     b, c});
-  }
-  checkOrientInBox(ulp, check);
+  checkOrientInBox(ulpOffLineTriples(rng, 1000), check);
   // Near lines of 10 m to 10 km from points near the origin: the differences are
   // rounded, and the naive sign flips with |det| up to about half the bound.
   std::uniform_real_distribution<double> unit(0.0, 1.0);
