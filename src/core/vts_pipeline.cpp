@@ -51,6 +51,8 @@ std::vector<double> vertexHeights(const double* xyz, std::size_t n,
 /// Output checks and post-passes, after either triangulation path.
 Status finishPipeline(const VtsOptions& options, VtsResult& result)
 {
+  if (!options.input_map) // before the post-passes allocate
+    std::vector<VertexId>().swap(result.input_to_vertex);
   TriangleMesh& mesh = result.mesh;
   Diagnostics& diag = result.diagnostics;
   if (options.check_output) {
@@ -130,11 +132,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   if (options.lattice) { // DEM rasters: no search in complete cells (section 7)
     bool handled = false;
     const Status s = triangulateLattice(xyz, n, options, result, handled);
-    if (handled) {
-      if (!options.input_map)
-        std::vector<VertexId>().swap(result.input_to_vertex);
+    if (handled)
       return s.ok() ? finishPipeline(options, result) : s;
-    }
   }
 
   Stopwatch watch;
@@ -203,8 +202,6 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   mesh.z = vertexHeights(xyz, n, result.input_to_vertex, stage.source,
                          options.duplicate_rule, threads);
   result.source_index = std::move(stage.source);
-  if (!options.input_map)
-    std::vector<VertexId>().swap(result.input_to_vertex);
   diag.triangles = mesh.triangleCount();
 
   return finishPipeline(options, result);
