@@ -1,4 +1,6 @@
 // mmap of a whole regular file; failures name the file and the system's reason.
+#include "release_memory.h"
+
 #include <pcl_vts/core/mapped_file.h>
 
 #include <cerrno>
@@ -26,11 +28,8 @@ void MappedFile::dropPages() const
 
 void dropMappedPages(const void* begin, const void* end)
 {
-  const std::uintptr_t page = 4096;
-  const auto first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) & ~(page - 1);
-  const auto last = reinterpret_cast<std::uintptr_t>(end) & ~(page - 1);
-  if (begin != nullptr && last > first)
-    ::madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+  if (begin != nullptr) // a private file mapping reads its pages back from the file
+    detail::releasePages(begin, end);
 }
 
 Status MappedFile::open(const std::string& path)
