@@ -11,6 +11,7 @@
 #include <pcl_vts/core/mesh_arrays.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -101,28 +102,58 @@ inline std::vector<double> generate(const std::string& dist, std::size_t n,
   return xyz;
 }
 
-/// FNV-1a over 64-bit words of a mesh's arrays (triangles, halfedges, xy, z): equal
-/// meshes give equal hashes; any changed index or coordinate changes it in practice.
-inline std::uint64_t meshHash(const TriangleMesh& mesh)
-{
-  std::uint64_t h = 1469598103934665603ull;
-  const auto add = [&h](const void* data, std::size_t bytes) {
+/// FNV-1a over 64-bit words of byte arrays, each array's length counted too.
+class Fnv1a64 {
+ public:
+  void add(const void* data, std::size_t bytes)
+  {
     const auto* b = static_cast<const unsigned char*>(data);
     std::size_t i = 0;
     for (; i + 8 <= bytes; i += 8) {
       std::uint64_t word;
       std::memcpy(&word, b + i, 8);
-      h = (h ^ word) * 1099511628211ull;
+      h_ = (h_ ^ word) * 1099511628211ull;
     }
     for (; i < bytes; ++i)
-      h = (h ^ b[i]) * 1099511628211ull;
-    h = (h ^ bytes) * 1099511628211ull; // array boundaries count
-  };
-  add(mesh.triangles.data(), mesh.triangles.size() * sizeof(VertexId));
-  add(mesh.halfedges.data(), mesh.halfedges.size() * sizeof(HalfedgeId));
-  add(mesh.xy.data(), mesh.xy.size() * sizeof(Point2));
-  add(mesh.z.data(), mesh.z.size() * sizeof(double));
-  return h;
+      h_ = (h_ ^ b[i]) * 1099511628211ull;
+    h_ = (h_ ^ bytes) * 1099511628211ull; // array boundaries count
+  }
+  std::uint64_t value() const { return h_; }
+
+ private:
+  std::uint64_t h_ = 1469598103934665603ull;
+};
+
+/// Hash of a mesh's arrays (triangles, halfedges, xy, z): equal meshes give equal
+/// hashes; any changed index, order or coordinate changes it in practice.
+inline std::uint64_t meshHash(const TriangleMesh& mesh)
+{
+  Fnv1a64 h;
+  h.add(mesh.triangles.data(), mesh.triangles.size() * sizeof(VertexId));
+  h.add(mesh.halfedges.data(), mesh.halfedges.size() * sizeof(HalfedgeId));
+  h.add(mesh.xy.data(), mesh.xy.size() * sizeof(Point2));
+  h.add(mesh.z.data(), mesh.z.size() * sizeof(double));
+  return h.value();
+}
+
+/// Hash of the mesh as a set: each triangle rotated to start at its smallest vertex
+/// (orientation kept), the triangles sorted, then xy and z. Equal for two
+/// triangulations of the same vertices that list the same triangles in another order,
+/// so a change of insertion order can be checked against the build before it.
+inline std::uint64_t meshSetHash(const TriangleMesh& mesh)
+{
+  std::vector<std::array<VertexId, 3>> set(mesh.triangles.size() / 3);
+  for (std::size_t t = 0; t < set.size(); ++t) {
+    const VertexId* v = &mesh.triangles[3 * t];
+    const int first = v[0] <= v[1] && v[0] <= v[2] ? 0 : (v[1] <= v[2] ? 1 : 2);
+    set[t] = {v[first], v[(first + 1) % 3], v[(first + 2) % 3]};
+  }
+  std::sort(set.begin(), set.end());
+  Fnv1a64 h;
+  h.add(set.data(), set.size() * sizeof(set[0]));
+  h.add(mesh.xy.data(), mesh.xy.size() * sizeof(Point2));
+  h.add(mesh.z.data(), mesh.z.size() * sizeof(double));
+  return h.value();
 }
 
 } // namespace pcl_vts::bench
