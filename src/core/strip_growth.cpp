@@ -340,85 +340,108 @@ class Growth {
   void addBlock(const LocalDelaunay& dt, const CellWindow& window)
   {
     // Per local vertex, once: in the strip, right of its left border (the owned
-    // test), and a candidate owner (in the strip and in the block's core).
-    constexpr std::uint8_t IN_STRIP = 1, NOT_LEFT = 2, CORE_OWNER = 4, USED = 8;
+    // test), and its owner key: (id + 1) * 2, plus 1 unless it is a strip vertex of
+    // the block's core; all ones outside the strip, 1 for the super triangle. The
+    // smallest key of a triangle is then its smallest strip vertex's, even iff the
+    // triangle has no super vertex and that vertex is in the core.
+    constexpr std::uint8_t IN_STRIP = 1, NOT_LEFT = 2, USED = 8;
+    constexpr std::uint64_t NOT_OURS = ~std::uint64_t{0};
     const std::size_t vertices = dt.p.size();
     vertex_flags_.resize(vertices);
-    vertex_flags_[0] = vertex_flags_[1] = vertex_flags_[2] = 0; // the super triangle
+    owner_key_.resize(vertices);
+    std::uint8_t* const flags = vertex_flags_.data();
+    std::uint64_t* const key = owner_key_.data();
+    for (std::size_t k = 0; k < 3; ++k) { // the super triangle
+      flags[k] = 0;
+      key[k] = 1;
+    }
     for (std::size_t k = 3; k < vertices; ++k) {
       const double t = (dt.p[k].x - grid_.origin_x) * grid_.inv_cell_size;
       const bool in = t >= low_ && t < high_;
-      vertex_flags_[k] =
-          static_cast<std::uint8_t>((in ? IN_STRIP : 0) | (t >= low_ ? NOT_LEFT : 0) |
-                                    (in && dt.in_core[k] ? CORE_OWNER : 0));
+      flags[k] =
+          static_cast<std::uint8_t>((in ? IN_STRIP : 0) | (t >= low_ ? NOT_LEFT : 0));
+      key[k] =
+          in ? ((std::uint64_t{dt.ids[k]} + 1) << 1 | (dt.in_core[k] != 0 ? 0u : 1u))
+             : NOT_OURS;
     }
-    // Kept: the triangle's smallest strip vertex is in the core (tested before the
-    // finality bound, which is the expensive part), and the triangle is final.
+    // Kept: the owner test (cheap) first, then the finality bound. kept_twin_: per
+    // local halfedge, its strip halfedge once kept, else CLOSED.
     const std::size_t local_triangles = dt.v.size() / 3;
-    kept_at_.assign(local_triangles, CLOSED);
+    const std::int32_t* const tv = dt.v.data();
     kept_.clear();
-    const auto first = static_cast<HalfedgeId>(mesh_.triangles.size());
     dt.forEachFinal(
         grid_, window,
         [&](std::size_t t) {
-          std::size_t owner = 0;
-          for (std::size_t k = 3 * t; k < 3 * t + 3; ++k) {
-            const auto local = static_cast<std::size_t>(dt.v[k]);
-            if ((vertex_flags_[local] & IN_STRIP) != 0 &&
-                (owner == 0 || dt.ids[local] < dt.ids[owner]))
-              owner = local;
-          }
-          return owner != 0 && (vertex_flags_[owner] & CORE_OWNER) != 0;
+          const std::uint64_t k0 = key[tv[3 * t]], k1 = key[tv[3 * t + 1]],
+                              k2 = key[tv[3 * t + 2]];
+          return (std::min(k0, std::min(k1, k2)) & 1u) == 0;
         },
-        [&](std::size_t t) {
-          kept_at_[t] = first + static_cast<HalfedgeId>(3 * kept_.size());
-          kept_.push_back(t);
-        });
+        [&](std::size_t t) { kept_.push_back(t); });
     if (kept_.empty())
       return;
+    const auto first = static_cast<HalfedgeId>(mesh_.triangles.size());
+    kept_twin_.assign(3 * local_triangles, CLOSED);
+    HalfedgeId* const twin_of = kept_twin_.data();
     const std::size_t added = kept_.size();
+    for (std::size_t i = 0; i < added; ++i) {
+      const std::size_t t = kept_[i];
+      const auto f = first + static_cast<HalfedgeId>(3 * i);
+      twin_of[3 * t] = f;
+      twin_of[3 * t + 1] = f + 1;
+      twin_of[3 * t + 2] = f + 2;
+    }
     mesh_.triangles.resize(mesh_.triangles.size() + 3 * added);
-    mesh_.halfedges.resize(mesh_.halfedges.size() + 3 * added, CLOSED);
+    mesh_.halfedges.resize(mesh_.halfedges.size() + 3 * added);
     mesh_.owned.resize(mesh_.owned.size() + added);
     VertexId* out = mesh_.triangles.data() + first;
     std::uint8_t* owned = mesh_.owned.data() + first / 3;
+    const VertexId* const ids = dt.ids.data();
+    std::size_t owned_count = 0;
     for (const std::size_t t : kept_) {
-      std::uint8_t all = NOT_LEFT;
-      for (std::size_t k = 0; k < 3; ++k) {
-        const auto local = static_cast<std::size_t>(dt.v[3 * t + k]);
-        const VertexId id = dt.ids[local];
-        *out++ = id;
-        all &= vertex_flags_[local];
-        vertex_flags_[local] |= USED;
-      }
+      const auto l0 = static_cast<std::size_t>(tv[3 * t]),
+                 l1 = static_cast<std::size_t>(tv[3 * t + 1]),
+                 l2 = static_cast<std::size_t>(tv[3 * t + 2]);
+      out[0] = ids[l0];
+      out[1] = ids[l1];
+      out[2] = ids[l2];
+      out += 3;
+      const std::uint8_t all = flags[l0] & flags[l1] & flags[l2] & NOT_LEFT;
+      flags[l0] |= USED;
+      flags[l1] |= USED;
+      flags[l2] |= USED;
       *owned++ = all != 0 ? 1 : 0;
-      mesh_.owned_count += all != 0 ? 1 : 0;
+      owned_count += all != 0 ? 1 : 0;
     }
+    mesh_.owned_count += owned_count;
     // The strip vertices of the kept triangles are reached (their stars will be
     // grown): tested once per vertex, not once per corner.
     for (std::size_t k = 3; k < vertices; ++k)
-      if ((vertex_flags_[k] & (IN_STRIP | USED)) == (IN_STRIP | USED) &&
-          open_head_[dt.ids[k]] == UNREACHED) {
-        open_head_[dt.ids[k]] = OPEN_LIST_END;
+      if ((flags[k] & (IN_STRIP | USED)) == (IN_STRIP | USED) &&
+          open_head_[ids[k]] == UNREACHED) {
+        open_head_[ids[k]] = OPEN_LIST_END;
         ++reached_;
       }
-    for (const std::size_t t : kept_) {
-      const HalfedgeId f = kept_at_[t];
+    // Twins inside the block written in place; the other edges go through the open
+    // lists (linkOrOpen leaves the arrays where they are).
+    HalfedgeId* const halfedges = mesh_.halfedges.data();
+    const std::int32_t* const adj = dt.adj.data();
+    for (std::size_t i = 0; i < added; ++i) {
+      const std::size_t t = kept_[i];
+      const auto f = first + static_cast<HalfedgeId>(3 * i);
       for (std::uint32_t k = 0; k < 3; ++k) {
-        const std::int32_t o = dt.adj[3 * t + k];
+        const std::int32_t o = adj[3 * t + k];
+        const HalfedgeId twin = o >= 0 ? twin_of[o] : HalfedgeId{CLOSED};
         const HalfedgeId g = f + k;
-        if (o >= 0 && kept_at_[static_cast<std::size_t>(o / 3)] != CLOSED) {
-          mesh_.halfedges[g] = kept_at_[static_cast<std::size_t>(o / 3)] +
-                               static_cast<HalfedgeId>(o % 3);
+        if (twin != CLOSED) {
+          halfedges[g] = twin;
           continue;
         }
-        const bool from_in =
-            (vertex_flags_[static_cast<std::size_t>(dt.v[3 * t + k])] & IN_STRIP) != 0;
-        const bool to_in =
-            (vertex_flags_[static_cast<std::size_t>(dt.v[3 * t + (k + 1) % 3])] &
-             IN_STRIP) != 0;
+        const auto from = static_cast<std::size_t>(tv[3 * t + k]);
+        const auto to = static_cast<std::size_t>(tv[3 * t + (k == 2 ? 0 : k + 1)]);
+        const bool from_in = (flags[from] & IN_STRIP) != 0;
+        const bool to_in = (flags[to] & IN_STRIP) != 0;
         if (linkOrOpen(g, from_in, to_in) && (from_in || to_in))
-          pool_.push(g, grid_.row(dt.p[static_cast<std::size_t>(dt.v[3 * t + k])].y));
+          pool_.push(g, grid_.row(dt.p[from].y));
       }
     }
   }
@@ -539,10 +562,11 @@ class Growth {
   std::vector<std::pair<double, VertexId>> candidates_;
   std::vector<NearBlock> blocks_;
   const bool cache_blocks_;
-  /// Per local triangle of the block: its first halfedge once added, or CLOSED.
-  std::vector<HalfedgeId> kept_at_;
+  /// Per local halfedge of the block: its strip halfedge once added, or CLOSED.
+  std::vector<HalfedgeId> kept_twin_;
   std::vector<std::size_t> kept_;          ///< local triangles added, in order
   std::vector<std::uint8_t> vertex_flags_; ///< per local vertex of the block
+  std::vector<std::uint64_t> owner_key_;   ///< per local vertex of the block
   std::size_t strip_vertices_ = 0;         ///< grid points in the strip's columns
   std::size_t reached_ = 0; ///< of them, those whose open_head_ is not UNREACHED
 };
