@@ -31,6 +31,7 @@
 //    are exactly the rest of DT.
 // The triangle count is checked against 2n - h - 2 and every halfedge is paired.
 #include "lattice_triangulation.h"
+#include "release_memory.h"
 
 #include <pcl_vts/core/grid_triangulator.h>
 #include <pcl_vts/core/mediatrix_search.h>
@@ -54,6 +55,15 @@ namespace {
 // error, so the fast path leaves such inputs to it.
 constexpr double MAX_ABS_COORDINATE = 1e60;
 constexpr double MIN_EXTENT = 1e-80;
+
+/// v.reserve(count) with its pages faulted in at once (release_memory.h): for the big
+/// arrays, written in full once the input is known to be a lattice.
+template <class T>
+void reservePopulated(std::vector<T>& v, std::size_t count)
+{
+  v.reserve(count);
+  detail::populatePages(v.data(), v.data() + v.capacity());
+}
 
 /// Distinct values of one coordinate; ids in order of first appearance.
 class ValueTable {
@@ -277,6 +287,7 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   // Pass 2: the position of every point (in input_to_vertex for now) and the
   // representative input point of every position.
   std::vector<std::uint32_t>& slot = lat.vertex_at;
+  reservePopulated(slot, positions);
   slot.assign(positions, INVALID_ID);
   std::size_t merged = 0;
   bool zero_replaced = false; // a representative replaced at x or y == 0 (+-0.0)
@@ -340,9 +351,9 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   TriangleMesh& mesh = result.mesh;
   // Grown row by row (no pass zeroing them first: a row's zeros are in cache when
   // it is written).
-  source.reserve(nv);
-  mesh.xy.reserve(nv);
-  mesh.z.reserve(nv);
+  reservePopulated(source, nv);
+  reservePopulated(mesh.xy, nv);
+  reservePopulated(mesh.z, nv);
   VertexId next = 0;
   for (std::uint32_t j = 0; j < lat.ny; ++j) {
     std::uint32_t* row = &slot[lat.position(0, j)];
@@ -611,8 +622,8 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
     }
   };
   const std::size_t rows = lat.ny - 1;
-  triangles.reserve(capacity); // the fringe's triangles follow
-  halfedges.reserve(capacity);
+  reservePopulated(triangles, capacity); // the fringe's triangles follow
+  reservePopulated(halfedges, capacity);
   if (threads <= 1) {
     emitRows(0, rows, open, true);
     return;
