@@ -10,7 +10,9 @@
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/point2.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -92,6 +94,9 @@ class LocalDelaunay {
   void reserveTriangles(std::size_t count);
   bool finalTriangle(std::size_t t, double x_lo, double x_hi, double y_lo,
                      double y_hi) const;
+  static bool finalByVertices(const Point2& a, const Point2& b, const Point2& c,
+                              double x_lo, double x_hi, double y_lo, double y_hi,
+                              double margin);
 
   std::vector<std::uint32_t> stamp_;
   std::uint32_t stamp_counter_ = 0;
@@ -104,6 +109,43 @@ class LocalDelaunay {
   double orient_bound_ = 0.0, incircle_wide_bound_ = 0.0, incircle_tight_bound_ = 0.0;
 };
 
+/// A sufficient condition for finalTriangle's bound without its divisions and square
+/// roots, tried first. Every point of the circumdisk (radius R) lies within 2R of each
+/// vertex (R of the centre, which is R from the vertex), so the disk is inside the box
+/// when the vertices' extreme coordinates are more than 2R inside it: with P the
+/// product of the squared sides and det = 2 cross(b - a, c - a), 4R^2 = 4P / det^2, so
+/// the test is 4P < (G |det|)^2, G the least of those four distances. Each computed
+/// quantity is within a few units in the last place of its value (differences of
+/// input coordinates are correctly rounded, the sides' squares are kept in
+/// [1e-100, 1e100], so no product under- or overflows), and det within Shewchuk's
+/// orient2d bound (3.3e-16 of |t1| + |t2|, 4e-16 used): the relative factor 1e-5 and
+/// `margin` (an absolute 1e-14 of the window's coordinates) exceed them with room.
+/// They exceed as well finalTriangle's own allowance (1e-7 of r + |b| + |c| <= 5e-7 R,
+/// 1e-15 of |a|, and its roundings), and the flatness test is finalTriangle's: a
+/// triangle passing here passes finalTriangle, so the triangles kept are the same.
+inline bool LocalDelaunay::finalByVertices(const Point2& a, const Point2& b,
+                                           const Point2& c, double x_lo, double x_hi,
+                                           double y_lo, double y_hi, double margin)
+{
+  const double bx = b.x - a.x, by = b.y - a.y;
+  const double cx = c.x - a.x, cy = c.y - a.y;
+  const double ex = c.x - b.x, ey = c.y - b.y;
+  const double t1 = bx * cy, t2 = by * cx;
+  const double det = 2.0 * (t1 - t2);
+  const double sum = std::fabs(t1) + std::fabs(t2);
+  const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy, e2 = ex * ex + ey * ey;
+  const double lo = std::min(b2, std::min(c2, e2)), hi = std::max(b2, std::max(c2, e2));
+  const double q = std::fabs(det) - (8e-16 * sum + 1e-300);
+  const double g = std::min(std::min(std::max(a.x, std::max(b.x, c.x)) - x_lo,
+                                     x_hi - std::min(a.x, std::min(b.x, c.x))),
+                            std::min(std::max(a.y, std::max(b.y, c.y)) - y_lo,
+                                     y_hi - std::min(a.y, std::min(b.y, c.y)))) -
+                   margin;
+  const double gq = g * q;
+  return std::fabs(det) > 1e-6 * sum && lo >= 1e-100 && hi <= 1e100 && q > 0.0 &&
+         g > 0.0 && 4.0 * (b2 * c2 * e2) * (1.0 + 1e-5) < gq * gq;
+}
+
 template <typename Wanted, typename Keep>
 void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
                                  Wanted&& wanted, Keep&& keep) const
@@ -111,14 +153,25 @@ void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
   const double c = grid.cell_size;
   const double inf = std::numeric_limits<double>::infinity();
   // A point of an unloaded cell lies within the slack of its cell's rectangle.
-  const double x_lo = w.i0 == 0 ? -inf : grid.origin_x + w.i0 * c + 2 * grid.slack;
-  const double x_hi = w.i1 == grid.nx ? inf : grid.origin_x + w.i1 * c - 2 * grid.slack;
-  const double y_lo = w.j0 == 0 ? -inf : grid.origin_y + w.j0 * c + 2 * grid.slack;
-  const double y_hi = w.j1 == grid.ny ? inf : grid.origin_y + w.j1 * c - 2 * grid.slack;
-  for (std::size_t t = 0; t < v.size() / 3; ++t)
-    if (v[3 * t] >= 3 && v[3 * t + 1] >= 3 && v[3 * t + 2] >= 3 && wanted(t) &&
-        finalTriangle(t, x_lo, x_hi, y_lo, y_hi))
+  const double x0 = grid.origin_x + w.i0 * c, x1 = grid.origin_x + w.i1 * c;
+  const double y0 = grid.origin_y + w.j0 * c, y1 = grid.origin_y + w.j1 * c;
+  const double x_lo = w.i0 == 0 ? -inf : x0 + 2 * grid.slack;
+  const double x_hi = w.i1 == grid.nx ? inf : x1 - 2 * grid.slack;
+  const double y_lo = w.j0 == 0 ? -inf : y0 + 2 * grid.slack;
+  const double y_hi = w.j1 == grid.ny ? inf : y1 - 2 * grid.slack;
+  // Bounds |a.x| + |a.y| of every loaded point (within a cell of the window) and the
+  // window's own coordinates.
+  const double margin = 1e-14 * (std::max(std::fabs(x0), std::fabs(x1)) +
+                                 std::max(std::fabs(y0), std::fabs(y1)) + 4 * c);
+  const std::int32_t* const tv = v.data();
+  const Point2* const P = p.data();
+  for (std::size_t t = 0; t < v.size() / 3; ++t) {
+    const std::int32_t a = tv[3 * t], b = tv[3 * t + 1], d = tv[3 * t + 2];
+    if (a >= 3 && b >= 3 && d >= 3 && wanted(t) &&
+        (finalByVertices(P[a], P[b], P[d], x_lo, x_hi, y_lo, y_hi, margin) ||
+         finalTriangle(t, x_lo, x_hi, y_lo, y_hi)))
       keep(t);
+  }
 }
 
 } // namespace detail
