@@ -10,68 +10,19 @@
 #include <memory>
 #include <mutex>
 #include <string>
-#include <tuple>
 
 namespace pcl_vts {
 namespace {
 
 using detail::StripMesh;
 
-/// A halfedge of an owned triangle whose twin another strip owns.
-struct BorderRecord {
-  VertexId low, high;  ///< the edge's vertices, sorted
-  HalfedgeId halfedge; ///< global id
-  bool operator<(const BorderRecord& r) const
-  {
-    return std::tie(low, high, halfedge) < std::tie(r.low, r.high, r.halfedge);
-  }
-};
-
-/// A strip's owned triangles, compacted in place by the worker that grew it:
-/// strip-local ids from 0 in the order grown, twins inside the strip in that numbering,
-/// INVALID_ID for the hull and for the border halfedges, which are listed in `border`
-/// (strip-local ids). `index` is the worker's buffer. Returns the number of owned
-/// triangles.
-std::size_t compactStrip(StripMesh& strip, std::vector<TriangleId>& index,
-                         std::vector<BorderRecord>& border)
-{
-  const std::size_t grown = strip.owned.size();
-  index.resize(grown);
-  TriangleId next = 0;
-  for (std::size_t t = 0; t < grown; ++t)
-    index[t] = strip.owned[t] ? next++ : INVALID_ID;
-  // Forward in place: triangle t moves to index[t] <= t, its slots read first.
-  VertexId* v = strip.triangles.data();
-  HalfedgeId* h = strip.halfedges.data();
-  for (std::size_t t = 0; t < grown; ++t) {
-    if (index[t] == INVALID_ID)
-      continue;
-    const std::size_t out = 3 * static_cast<std::size_t>(index[t]);
-    const VertexId a[3] = {v[3 * t], v[3 * t + 1], v[3 * t + 2]};
-    const HalfedgeId e[3] = {h[3 * t], h[3 * t + 1], h[3 * t + 2]};
-    for (std::size_t k = 0; k < 3; ++k) {
-      v[out + k] = a[k];
-      if (e[k] == detail::BORDER) {
-        const VertexId b = a[k == 2 ? 0 : k + 1];
-        border.push_back(
-            {std::min(a[k], b), std::max(a[k], b), static_cast<HalfedgeId>(out + k)});
-        h[out + k] = INVALID_ID;
-      } else {
-        h[out + k] = e[k] == detail::HULL ? INVALID_ID : 3 * index[e[k] / 3] + e[k] % 3;
-      }
-    }
-  }
-  strip.triangles.resize(3 * static_cast<std::size_t>(next));
-  strip.halfedges.resize(3 * static_cast<std::size_t>(next));
-  return next;
-}
+using BorderRecord = detail::BorderHalfedge;
 
 /// Appends a compacted strip to the mesh: its triangles, its twins shifted, its
 /// border halfedges (global ids) added to `border`. `release`: the strip's pages are
 /// handed back as they are copied (the strip's arrays are emptied next), so that a
 /// large strip and the output it goes to are not both resident at once.
-void appendStrip(const StripMesh& strip, const std::vector<BorderRecord>& strip_border,
-                 bool release, std::vector<VertexId>& triangles,
+void appendStrip(const StripMesh& strip, bool release, std::vector<VertexId>& triangles,
                  std::vector<HalfedgeId>& halfedges, std::vector<BorderRecord>& border)
 {
   const auto shift = static_cast<HalfedgeId>(halfedges.size());
@@ -95,7 +46,7 @@ void appendStrip(const StripMesh& strip, const std::vector<BorderRecord>& strip_
     if (release)
       detail::releasePages(local + begin, local + end);
   }
-  for (const BorderRecord& r : strip_border)
+  for (const BorderRecord& r : strip.border)
     border.push_back({r.low, r.high, r.halfedge + shift});
 }
 
@@ -122,7 +73,7 @@ namespace {
 
 /// Strips merged in strip order as they are grown, so that the merge (a serial chain)
 /// runs beside the growth of the later strips and each strip is freed soon after it
-/// is grown: a worker that finishes strip s compacts it (compactStrip), then, unless
+/// is grown: a worker that finishes strip s (growStrip compacts it), then, unless
 /// another worker holds the merge, appends every strip from the first unmerged one on
 /// that is ready. The arrays depend on the layout alone, not on the thread count or
 /// the order the strips finish in.
@@ -131,7 +82,6 @@ class StripMerge {
   StripMerge(std::uint32_t count, unsigned workers, std::size_t expected,
              std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges)
       : strips_(count)
-      , borders_(count)
       , results_(count)
       , ready_(count, 0)
       , reuse_end_(count - std::min<std::uint32_t>(count, workers))
@@ -160,11 +110,9 @@ class StripMerge {
     return strips_[s];
   }
 
-  /// Strip s grown with `result`; `index` is the worker's buffer.
-  void grown(std::uint32_t s, Status result, std::vector<TriangleId>& index)
+  /// Strip s grown (and compacted) with `result`.
+  void grown(std::uint32_t s, Status result)
   {
-    if (result.ok())
-      compactStrip(strips_[s], index, borders_[s]);
     results_[s] = std::move(result);
     std::unique_lock<std::mutex> lock(mutex_);
     ready_[s] = 1;
@@ -179,16 +127,16 @@ class StripMerge {
       if (!results_[next].ok())
         failed_ = true;
       if (!failed_)
-        appendStrip(strips_[next], borders_[next],
+        appendStrip(strips_[next],
                     last_use || strips_[next].triangles.size() > release_above_,
                     triangles_, halfedges_, border_);
-      borders_[next] = std::vector<BorderRecord>();
       StripMesh spare = std::move(strips_[next]);
       strips_[next] = StripMesh();
       spare.triangles.clear();
       spare.halfedges.clear();
       spare.owned.clear();
       spare.owned_count = 0;
+      spare.border.clear();
       lock.lock();
       // Kept for a strip still to be grown (its pages stay resident, so growing
       // there faults none in); freed once every strip is taken.
@@ -241,7 +189,6 @@ class StripMerge {
 
  private:
   std::vector<StripMesh> strips_;
-  std::vector<std::vector<BorderRecord>> borders_; ///< per strip, strip-local ids
   std::vector<Status> results_;
   std::mutex mutex_; ///< guards ready_, merged_, merging_, taken_, spare_
   std::vector<char> ready_;
@@ -287,8 +234,9 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
     MediatrixSearch search(grid, pyramid, subdivision);
     std::vector<TriangleId> index;
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++) {
-      Status result = detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
-                                        open_head.get(), merge.strip(s), cache_blocks);
+      Status result =
+          detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
+                            open_head.get(), merge.strip(s), index, cache_blocks);
       if (++strips_grown == layout.count) {
         // No strip reads the grid or open_head any more: both released before the
         // last strips are merged, when the output is nearly full (the peak).
@@ -297,7 +245,7 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
           grown();
         detail::releaseFreedMemory();
       }
-      merge.grown(s, std::move(result), index);
+      merge.grown(s, std::move(result));
     }
     worker_stats[w] = search.stats();
   };

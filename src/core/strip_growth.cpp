@@ -96,7 +96,8 @@ class Growth {
  public:
   Growth(const CellGrid& grid, const CellPyramid& pyramid, const StripLayout& layout,
          std::uint32_t strip, const HullEdges& hull, MediatrixSearch& search,
-         HalfedgeId* open_head, StripMesh& mesh, bool cache_blocks)
+         HalfedgeId* open_head, StripMesh& mesh, bool cache_blocks,
+         std::vector<TriangleId>& index)
       : grid_(grid)
       , pyramid_(pyramid)
       , hull_(hull)
@@ -110,6 +111,7 @@ class Growth {
       , high_(end_column_ == grid.nx ? std::numeric_limits<double>::infinity()
                                      : static_cast<double>(end_column_))
       , cache_blocks_(cache_blocks)
+      , index_(index)
   {}
 
   Status run()
@@ -527,23 +529,48 @@ class Growth {
                          "no Delaunay edge found at point " + std::to_string(v));
   }
 
-  /// Owned halfedges whose twin is not owned, or still open off the hull, are
-  /// strip borders: the merge pairs them with the neighbouring strip's.
+  /// The owned triangles compacted in place, in the order grown (triangle t moves to
+  /// index_[t] <= t, its slots read first): twins inside the strip renumbered, HULL
+  /// for a closed halfedge or one still open along the hull, and BORDER for one whose
+  /// twin is not owned or that is still open off the hull (another strip owns the
+  /// twin), listed in mesh_.border.
   void finish()
   {
-    for (std::size_t t = 0; t < mesh_.owned.size(); ++t) {
-      if (!mesh_.owned[t])
+    const std::size_t grown = mesh_.owned.size();
+    index_.resize(grown);
+    TriangleId* const index = index_.data();
+    const std::uint8_t* const owned = mesh_.owned.data();
+    TriangleId next = 0;
+    for (std::size_t t = 0; t < grown; ++t)
+      index[t] = owned[t] != 0 ? next++ : INVALID_ID;
+    VertexId* const v = mesh_.triangles.data();
+    HalfedgeId* const h = mesh_.halfedges.data();
+    for (std::size_t t = 0; t < grown; ++t) {
+      if (index[t] == INVALID_ID)
         continue;
-      for (HalfedgeId e = static_cast<HalfedgeId>(3 * t); e < 3 * t + 3; ++e) {
-        const HalfedgeId h = mesh_.halfedges[e];
-        if (h < OPEN)
-          mesh_.halfedges[e] = mesh_.owned[h / 3] ? h : HalfedgeId{BORDER};
-        else if (h != CLOSED)
-          mesh_.halfedges[e] = hull_.contains(origin(e), target(e)) ? HULL : BORDER;
-        else
-          mesh_.halfedges[e] = HULL;
+      const std::size_t out = 3 * static_cast<std::size_t>(index[t]);
+      const VertexId a[3] = {v[3 * t], v[3 * t + 1], v[3 * t + 2]};
+      const HalfedgeId e[3] = {h[3 * t], h[3 * t + 1], h[3 * t + 2]};
+      for (std::size_t k = 0; k < 3; ++k) {
+        v[out + k] = a[k];
+        const VertexId b = a[k == 2 ? 0 : k + 1];
+        HalfedgeId twin = HULL;
+        if (e[k] < OPEN) {
+          const TriangleId o = index[e[k] / 3];
+          twin = o != INVALID_ID ? 3 * o + e[k] % 3 : HalfedgeId{BORDER};
+        } else if (e[k] != CLOSED && !hull_.contains(a[k], b)) {
+          twin = BORDER;
+        }
+        if (twin == BORDER) {
+          mesh_.border.push_back(
+              {std::min(a[k], b), std::max(a[k], b), static_cast<HalfedgeId>(out + k)});
+          twin = HULL;
+        }
+        h[out + k] = twin;
       }
     }
+    mesh_.triangles.resize(3 * static_cast<std::size_t>(next));
+    mesh_.halfedges.resize(3 * static_cast<std::size_t>(next));
   }
 
   const CellGrid& grid_;
@@ -567,8 +594,9 @@ class Growth {
   std::vector<std::size_t> kept_;          ///< local triangles added, in order
   std::vector<std::uint8_t> vertex_flags_; ///< per local vertex of the block
   std::vector<std::uint64_t> owner_key_;   ///< per local vertex of the block
-  std::size_t strip_vertices_ = 0;         ///< grid points in the strip's columns
-  std::size_t reached_ = 0; ///< of them, those whose open_head_ is not UNREACHED
+  std::vector<TriangleId>& index_; ///< per triangle grown: its owned number (finish)
+  std::size_t strip_vertices_ = 0; ///< grid points in the strip's columns
+  std::size_t reached_ = 0;        ///< of them, those whose open_head_ is not UNREACHED
 };
 
 } // namespace
@@ -605,10 +633,10 @@ StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
-                 bool cache_blocks)
+                 std::vector<TriangleId>& index, bool cache_blocks)
 {
   return Growth(grid, pyramid, layout, strip, hull, search, open_head, mesh,
-                cache_blocks)
+                cache_blocks, index)
       .run();
 }
 

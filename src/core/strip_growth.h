@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -58,29 +59,40 @@ class HullEdges {
 ///     an open halfedge whose `next` is the following open halfedge of the same origin
 ///     (or OPEN_LIST_END); or CLOSED, no twin and never one (the right side of a hull
 ///     edge), the state a new slot starts in.
-///   StripMesh::halfedges once grown (growStrip's result, owned triangles only): a
-///     strip-local twin (< OPEN_LIST_END), BORDER (the twin belongs to another strip)
-///     or HULL (no twin). BORDER's bits equal OPEN | (OPEN_LIST_END - 1), a state that
-///     no longer exists then.
 ///   open_head, per grid point: UNREACHED (no triangle of its strip touches it yet),
 ///     OPEN_LIST_END (reached, no open halfedge) or its first open halfedge.
+/// Once grown (growStrip's result) the owned triangles alone are left, compacted:
+/// a strip-local twin or HULL (INVALID_ID: no twin in the strip, see
+/// StripMesh::border). BORDER marks a border halfedge while the strip is compacted.
 enum HalfedgeSlot : HalfedgeId {
   OPEN_LIST_END = 0x7ffffffeu, ///< end of an open-halfedge list
   OPEN = 0x80000000u,          ///< flag of an open halfedge; the rest links the list
-  BORDER = 0xfffffffdu,        ///< once grown: the twin is another strip's
+  BORDER = 0xfffffffdu,        ///< the twin is another strip's (while compacting)
   CLOSED = INVALID_ID,         ///< while growing: no twin, never one
-  HULL = INVALID_ID,           ///< once grown: no twin (the mesh's INVALID_ID)
+  HULL = INVALID_ID,           ///< once grown: no twin in the strip
   UNREACHED = 0xffffffffu,     ///< open_head of a point no triangle touches yet
 };
 /// Triangles a strip may grow: its halfedge ids stay below OPEN_LIST_END.
 constexpr std::size_t MAX_STRIP_TRIANGLES = OPEN_LIST_END / 3;
 
-/// What one strip grew; its halfedge slots are in the HalfedgeSlot table.
+/// A halfedge of an owned triangle whose twin another strip owns.
+struct BorderHalfedge {
+  VertexId low, high;  ///< the edge's vertices, sorted
+  HalfedgeId halfedge; ///< strip-local id, then global once merged
+  bool operator<(const BorderHalfedge& r) const
+  {
+    return std::tie(low, high, halfedge) < std::tie(r.low, r.high, r.halfedge);
+  }
+};
+
+/// What one strip grew; its halfedge slots are in the HalfedgeSlot table. Once grown:
+/// the owned triangles only, strip-local ids from 0 in the order grown.
 struct StripMesh {
-  std::vector<VertexId> triangles;   ///< 3 per triangle grown (owned or not)
-  std::vector<HalfedgeId> halfedges; ///< 1 per halfedge, see above (owned only)
+  std::vector<VertexId> triangles;   ///< 3 per triangle (grown, then owned)
+  std::vector<HalfedgeId> halfedges; ///< 1 per halfedge, see above
   std::vector<std::uint8_t> owned;   ///< 1 per triangle grown: 1 owned, 0 not
   std::size_t owned_count = 0;
+  std::vector<BorderHalfedge> border; ///< once grown: the halfedges left HULL for this
 };
 
 /// Grows strip `strip` of `layout`. `open_head` (one slot per grid point, filled with
@@ -88,10 +100,11 @@ struct StripMesh {
 /// of its own vertices, where it keeps the head of each vertex's list of open
 /// halfedges. `cache_blocks`: the triangles proven by block-local triangulations are
 /// added first (docs/scaling.md, "Cache blocks"); the same triangles, another order.
+/// `index`: the caller's buffer (one per worker: its pages stay resident).
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
-                 bool cache_blocks = false);
+                 std::vector<TriangleId>& index, bool cache_blocks = false);
 
 } // namespace detail
 } // namespace pcl_vts
