@@ -222,6 +222,7 @@ int main(int argc, char** argv)
     const unsigned seed = argc > 4 ? static_cast<unsigned>(std::atoi(argv[4])) : 1u;
     m.threads = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 1u;
     xyz = generate(m.dist, m.n, seed);
+    m.n = xyz.size() / 3; // raster: the N cells less the NODATA ones
   }
   const std::size_t n = m.n;
   std::vector<Traits::Point_2> cgal_points;
