@@ -189,23 +189,28 @@ struct Lattice {
   Point2 point(std::size_t p) const { return {xs[p % nx], ys[p / nx]}; }
 };
 
-/// Where the y value's id changes in the input: (first input index, y id).
-using YRuns = std::vector<std::pair<std::size_t, std::uint32_t>>;
+/// A run of input points with one y value (a row, as rasters are read): its first
+/// input index, the finite points before it, the y value's id.
+struct YRun {
+  std::size_t first = 0;
+  std::size_t finite_before = 0;
+  std::uint32_t y_id = 0;
+};
+using YRuns = std::vector<YRun>;
 
 /// Pass 1 of readLattice: the distinct x and y values of the finite points, which
 /// are counted (finite) and the others (dropped). False, early, when the points are
 /// scattered (more lattice positions than LATTICE_FILL_FACTOR per point) or a
-/// coordinate is beyond the ordinary path's range. Also each point's x id in code
-/// (INVALID_ID when dropped) and, while they stay few (rows in order, as rasters
-/// are read), the runs of equal y id: pass 2 then reads these instead of the input.
+/// coordinate is beyond the ordinary path's range. Also, while they stay few (rows in
+/// order, as rasters are read), the runs of equal y id: readRows then reads the rows
+/// once more and writes the vertices directly. Nothing is written per point.
 bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
                          ValueTable& yt, std::size_t& finite, std::size_t& dropped,
-                         std::vector<std::uint32_t>& code, YRuns& y_runs, bool& runs_ok)
+                         YRuns& y_runs, bool& runs_ok)
 {
-  code.reserve(n); // appended: scattered input stops early, touching little
   y_runs.clear();
   runs_ok = true;
-  const std::size_t max_runs = n / 64 + 16;
+  const std::size_t max_runs = n / 8 + 16; // rows of 8 points or more
   double last_x = std::nan(""), last_y = std::nan("");
   std::uint32_t id_x = 0, id_y = 0;
   const std::size_t limit = LATTICE_FILL_FACTOR * n;
@@ -223,12 +228,10 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
     const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
       ++dropped;
-      code.push_back(INVALID_ID);
       continue;
     }
     if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE)
       return false;
-    ++finite;
     bool grew = false;
     if (!(x == last_x)) {
       last_x = x;
@@ -240,18 +243,87 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
       grew = lookup(yt, y, id_y) || grew;
       if (runs_ok && (y_runs.empty() || id_y != before)) {
         if (y_runs.size() < max_runs) {
-          y_runs.emplace_back(k, id_y);
-        } else { // not in rows: pass 2 reads the input again
+          y_runs.push_back({k, finite, id_y});
+        } else { // not in rows
           runs_ok = false;
           YRuns().swap(y_runs);
         }
       }
     }
-    code.push_back(id_x);
+    ++finite;
     if (grew &&
         static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size()) >
             limit)
       return false; // scattered: stops after about sqrt(8 n) points
+  }
+  return true;
+}
+
+/// Pass 2 of readLattice for input in rows: one run per lattice row (each y value in
+/// one run), x increasing strictly along each run. A point's vertex id is then its
+/// row's first id plus its place in the run: the vertices (lattice row-major order,
+/// as the general pass gives them), vertex_at and the input map are written in one
+/// read, rows taken bottom up so that every array grows in order (a row's zeros are
+/// in cache when it is written), and no position can hold two points. False, with
+/// the arrays left partly written, at the first run whose x does not increase: the
+/// general pass then decides.
+bool readRows(const double* xyz, std::size_t n, const YRuns& runs, std::size_t finite,
+              ValueTable& xt, const std::vector<std::uint32_t>& rank_x,
+              const std::vector<std::uint32_t>& rank_y, bool input_map, Lattice& lat,
+              VtsResult& result)
+{
+  std::vector<std::uint32_t> run_of_row(lat.ny);
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    run_of_row[rank_y[runs[r].y_id]] = static_cast<std::uint32_t>(r);
+  std::vector<VertexId>& slot = lat.vertex_at;
+  std::vector<std::uint32_t>& source = result.source_index;
+  TriangleMesh& mesh = result.mesh;
+  std::vector<VertexId>& code = result.input_to_vertex;
+  reservePopulated(slot, static_cast<std::size_t>(lat.nx) * lat.ny);
+  reservePopulated(source, finite);
+  reservePopulated(mesh.xy, finite);
+  reservePopulated(mesh.z, finite);
+  if (input_map)
+    code.assign(n, INVALID_ID);
+  const double* xs = lat.xs.data();
+  const std::uint32_t nx = lat.nx;
+  VertexId next = 0;
+  for (std::uint32_t j = 0; j < lat.ny; ++j) {
+    const YRun& run = runs[run_of_row[j]];
+    const std::size_t end =
+        run_of_row[j] + 1 < runs.size() ? runs[run_of_row[j] + 1].first : n;
+    const std::size_t count =
+        (run_of_row[j] + 1 < runs.size() ? runs[run_of_row[j] + 1].finite_before
+                                         : finite) -
+        run.finite_before;
+    slot.resize(slot.size() + nx, INVALID_ID);
+    source.resize(next + count);
+    mesh.xy.resize(next + count);
+    mesh.z.resize(next + count);
+    VertexId* row = slot.data() + lat.position(0, j);
+    std::uint32_t* src = source.data();
+    Point2* xy = mesh.xy.data();
+    double* z = mesh.z.data();
+    std::uint32_t allowed = 0; // the smallest x rank the run may take next
+    for (std::size_t k = run.first; k < end; ++k) {
+      const double* p = xyz + 3 * k;
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+        continue; // dropped by pass 1
+      std::uint32_t i = allowed;
+      if (!(i < nx && xs[i] == p[0])) {
+        i = rank_x[xt.idOf(p[0])];
+        if (i < allowed)
+          return false; // a duplicate, or the row is not in order of x
+      }
+      allowed = i + 1;
+      row[i] = next;
+      src[next] = static_cast<std::uint32_t>(k);
+      xy[next] = {p[0], p[1]};
+      z[next] = p[2];
+      if (input_map)
+        code[k] = next;
+      ++next;
+    }
   }
   return true;
 }
@@ -267,7 +339,7 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
   std::vector<std::uint32_t>& code = result.input_to_vertex;
   YRuns y_runs;
   bool runs_ok = false;
-  if (!distinctCoordinates(xyz, n, xt, yt, finite, dropped, code, y_runs, runs_ok))
+  if (!distinctCoordinates(xyz, n, xt, yt, finite, dropped, y_runs, runs_ok))
     return false;
   const std::size_t positions =
       static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size());
@@ -283,12 +355,33 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
       std::max(lat.xs.back() - lat.xs.front(), lat.ys.back() - lat.ys.front());
   if (extent < MIN_EXTENT)
     return false;
+  const auto done = [&](std::size_t merged) {
+    diag.non_finite_dropped = dropped;
+    diag.duplicates_merged = merged;
+    diag.distinct_points = finite - merged;
+    diag.cells = positions;
+    diag.cell_size = 0.0;
+    diag.lattice_columns = lat.nx;
+    diag.lattice_rows = lat.ny;
+    return true;
+  };
+  if (runs_ok && y_runs.size() == lat.ny) { // each row one run
+    if (readRows(xyz, n, y_runs, finite, xt, rank_x, rank_y, options.input_map, lat,
+                 result))
+      return done(0);
+    lat.vertex_at.clear();
+    result.source_index.clear();
+    result.mesh.xy.clear();
+    result.mesh.z.clear();
+  }
+  YRuns().swap(y_runs);
 
   // Pass 2: the position of every point (in input_to_vertex for now) and the
   // representative input point of every position.
   std::vector<std::uint32_t>& slot = lat.vertex_at;
   reservePopulated(slot, positions);
   slot.assign(positions, INVALID_ID);
+  code.assign(n, INVALID_ID);
   std::size_t merged = 0;
   bool zero_replaced = false; // a representative replaced at x or y == 0 (+-0.0)
   const auto place = [&](std::size_t k, std::uint32_t p) {
@@ -304,17 +397,7 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
       }
     }
   };
-  if (runs_ok) { // from pass 1's x ids and y runs, not the input
-    for (std::size_t r = 0; r < y_runs.size(); ++r) {
-      const std::size_t end = r + 1 < y_runs.size() ? y_runs[r + 1].first : n;
-      const std::size_t row = lat.position(0, rank_y[y_runs[r].second]);
-      for (std::size_t k = y_runs[r].first; k < end; ++k)
-        if (std::uint32_t& c = code[k]; c != INVALID_ID) {
-          c = static_cast<std::uint32_t>(row + rank_x[c]);
-          place(k, c);
-        }
-    }
-  } else { // from the input again
+  {
     // Sorted ranks, predicted from the last one (rows may come top down).
     const auto rankOf = [](ValueTable& table, const std::vector<std::uint32_t>& rank,
                            const std::vector<double>& sorted, double v,
@@ -329,9 +412,9 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
     std::uint32_t r_x = 0, r_y = 0;
     double last_x = std::nan(""), last_y = std::nan("");
     for (std::size_t k = 0; k < n; ++k) {
-      if (code[k] == INVALID_ID) // dropped by pass 1
-        continue;
       const double x = xyz[3 * k], y = xyz[3 * k + 1];
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(xyz[3 * k + 2]))
+        continue; // dropped by pass 1
       if (!(x == last_x)) {
         last_x = x;
         rankOf(xt, rank_x, lat.xs, x, r_x);
@@ -406,14 +489,7 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
     for (std::size_t v = 0; v < nv; ++v)
       mesh.z[v] /= static_cast<double>(count[v]);
   }
-  diag.non_finite_dropped = dropped;
-  diag.duplicates_merged = merged;
-  diag.distinct_points = nv;
-  diag.cells = positions;
-  diag.cell_size = 0.0;
-  diag.lattice_columns = lat.nx;
-  diag.lattice_rows = lat.ny;
-  return true;
+  return done(merged);
 }
 
 /// The convex hull from the first and last point of every row and column: a

@@ -289,6 +289,44 @@ TEST(LatticeTriangulation, DuplicatesAndNonFiniteFollowTheRule)
   }
 }
 
+TEST(LatticeTriangulation, RowsInOrderOrFallBack)
+{
+  // Rows from the top, as the raster readers give them: one run of points per row,
+  // x increasing (the second read writes the vertices directly), then the same rows
+  // with a NaN inside a row (dropped, the same reading), broken so that the general
+  // reading decides (a row's points reversed, a duplicate (0, 0) at the end of the
+  // last row), or with the rows mixed.
+  const std::vector<double> xs = uniformSteps(23, 0.0, 1.0),
+                            ys = uniformSteps(17, 0.0, 1.0);
+  std::vector<double> top_down;
+  for (std::size_t r = ys.size(); r-- > 0;)
+    for (std::size_t i = 0; i < xs.size(); ++i)
+      if ((i * 7 + r * 3) % 11 != 0)
+        top_down.insert(top_down.end(),
+                        {xs[i], ys[r], std::cos(0.2 * xs[i]) + 0.1 * ys[r]});
+  const std::size_t row = 3 * 20; // inside the first rows
+  auto with_nan = top_down;
+  with_nan[row + 2] = std::nan("");
+  auto reversed = top_down;
+  for (std::size_t a = 1, b = 9; a < b; ++a, --b) // points 1 to 9 of the top row
+    std::swap_ranges(reversed.begin() + 3 * a, reversed.begin() + 3 * a + 3,
+                     reversed.begin() + 3 * b);
+  auto duplicate = top_down;
+  duplicate.insert(duplicate.end(), {0.0, 0.0, -1.0, 0.0, 0.0, 2.0});
+  auto mixed = top_down;
+  std::rotate(mixed.begin(), mixed.begin() + 3 * 100, mixed.end());
+  for (const auto* xyz : {&top_down, &with_nan, &reversed, &duplicate, &mixed})
+    for (const DuplicateRule rule :
+         {DuplicateRule::LOWEST_Z, DuplicateRule::MEAN_Z, DuplicateRule::FIRST}) {
+      SCOPED_TRACE(duplicateRuleName(rule));
+      VtsOptions options;
+      options.duplicate_rule = rule;
+      expectSameAsOrdinary(*xyz, options);
+      options.input_map = false;
+      expectSameAsOrdinary(*xyz, options, false);
+    }
+}
+
 TEST(LatticeTriangulation, InputOrderAndThreadsDoNotChangeTheArrays)
 {
   const auto xyz =
