@@ -347,18 +347,28 @@ double localMedian(const VertexRows& rows, const std::vector<double>& own,
   return medianInPlace(values);
 }
 
-double ringMinimum(const VertexRows& rows, const std::vector<double>& own,
-                   std::size_t v)
+double ringLowerBound(const VertexRows& rows, const std::vector<double>& own,
+                      std::size_t v)
 {
+  // The three smallest of the values, kept sorted (s0 <= s1 <= s2) by
+  // compare-exchanges; localMedian's index (the upper median of size values) is
+  // size / 2, so the value of sorted index min(size / 2, 2) is at most it.
   const std::size_t begin = rows.begin(v), end = rows.end(v);
-  double low = own[v];
-  bool nan = std::isnan(low);
+  constexpr double INF = std::numeric_limits<double>::infinity();
+  double s0 = own[v], s1 = INF, s2 = INF;
+  bool nan = std::isnan(s0);
   for (std::size_t k = begin; k < end; ++k) {
     const double x = own[rows.ring[k]];
     nan = nan || std::isnan(x);
-    low = std::min(low, x);
+    s2 = std::min(s2, std::max(s1, x));
+    s1 = std::min(s1, std::max(s0, x));
+    s0 = std::min(s0, x);
   }
-  return nan ? std::numeric_limits<double>::quiet_NaN() : low;
+  const std::size_t index = (end - begin + 1) / 2;
+  return nan          ? std::numeric_limits<double>::quiet_NaN()
+         : index == 0 ? s0
+         : index == 1 ? s1
+                      : s2;
 }
 
 } // namespace detail

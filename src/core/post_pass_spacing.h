@@ -71,10 +71,11 @@ double medianOverRows(const std::vector<double>& own, const VertexRows& rows);
 double localMedian(const VertexRows& rows, const std::vector<double>& own,
                    std::size_t v, std::vector<double>& values);
 
-/// The smallest own over v and its row, a lower bound of localMedian (NaN when one
-/// of them is NaN).
-double ringMinimum(const VertexRows& rows, const std::vector<double>& own,
-                   std::size_t v);
+/// The value of index min(size / 2, 2) of own over v and its row sorted (size values),
+/// a lower bound of localMedian, whose index is size / 2 (NaN when one of them is
+/// NaN).
+double ringLowerBound(const VertexRows& rows, const std::vector<double>& own,
+                      std::size_t v);
 
 /// measurePointSpacing, also giving each vertex's own median (own may be null), on
 /// `threads` threads (0 = all cores; the same figures for any value).

@@ -292,9 +292,9 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
 {
   const std::size_t n = mesh.vertexCount();
   const std::size_t count = mesh.triangleCount();
-  std::vector<double> scale(n); // ringMinimum, then the local median where needed
+  std::vector<double> scale(n); // ringLowerBound, then the local median where needed
   parallelFor(threads, n,
-              [&](std::size_t v) { scale[v] = detail::ringMinimum(rows, own, v); });
+              [&](std::size_t v) { scale[v] = detail::ringLowerBound(rows, own, v); });
   auto corner = [&](TriangleId t, unsigned k) -> const Point2& {
     return mesh.xy[mesh.triangles[3 * std::size_t{t} + k]];
   };
@@ -351,13 +351,18 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
   for (const std::vector<TriangleId>& part : unclear)
     hard.insert(hard.end(), part.begin(), part.end());
   std::vector<std::vector<TriangleId>>().swap(unclear);
-  std::vector<VertexId> corners;
-  corners.reserve(3 * hard.size());
+  // Their corners, each once, in increasing order: a bit per vertex, then the set
+  // bits word by word (no sort).
+  std::vector<std::uint64_t> marked((n + 63) / 64, 0);
   for (const TriangleId t : hard)
     for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-      corners.push_back(mesh.triangles[e]);
-  std::sort(corners.begin(), corners.end());
-  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+      marked[mesh.triangles[e] / 64] |= std::uint64_t{1} << (mesh.triangles[e] % 64);
+  std::vector<VertexId> corners;
+  for (std::size_t w = 0; w < marked.size(); ++w)
+    for (std::uint64_t bits = marked[w]; bits != 0; bits &= bits - 1)
+      corners.push_back(
+          static_cast<VertexId>(64 * w + static_cast<unsigned>(__builtin_ctzll(bits))));
+  std::vector<std::uint64_t>().swap(marked);
   parallelRanges(threads, corners.size(), [&](std::size_t begin, std::size_t end) {
     std::vector<double> values;
     for (std::size_t k = begin; k < end; ++k)
