@@ -406,13 +406,22 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
   std::vector<std::uint32_t> before(bits.size() + 1, 0); // removed in earlier words
   for (std::size_t w = 0; w < bits.size(); ++w)
     before[w + 1] = before[w] + static_cast<std::uint32_t>(bitCount(bits[w]));
-  auto is_removed = [&](std::size_t t) {
-    return ((bits[t / 64] >> (t % 64)) & 1u) != 0;
-  };
-  auto new_id = [&](std::size_t t) {
-    const std::uint64_t lower = bits[t / 64] & ((std::uint64_t{1} << (t % 64)) - 1);
-    return static_cast<TriangleId>(t - before[t / 64] -
-                                   static_cast<std::size_t>(bitCount(lower)));
+  // Raw pointers: the writes into the mesh's arrays would otherwise make the
+  // compiler reload every vector's data pointer after each store.
+  const std::uint64_t* removed_bits = bits.data();
+  const std::uint32_t* removed_before = before.data();
+  VertexId* corners = mesh.triangles.data();
+  HalfedgeId* twins = mesh.halfedges.data();
+  // The new id of triangle t, or INVALID_ID when it is removed. Most words hold no
+  // removed triangle: their count is skipped.
+  auto new_id = [removed_bits, removed_before](std::size_t t) {
+    const std::uint64_t word = removed_bits[t / 64];
+    if (((word >> (t % 64)) & 1u) != 0)
+      return INVALID_ID;
+    std::size_t id = t - removed_before[t / 64];
+    if (word != 0)
+      id -= bitCount(word & ((std::uint64_t{1} << (t % 64)) - 1));
+    return static_cast<TriangleId>(id);
   };
   const std::size_t kept = count - before.back();
   const auto parts = static_cast<unsigned>(
@@ -425,25 +434,27 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
   std::vector<std::vector<Moved>> aside(parts);
   std::vector<std::vector<HalfedgeId>> open_edges(parts); // new ids, increasing
   parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
+    std::vector<HalfedgeId>* open = boundary != nullptr ? &open_edges[p] : nullptr;
     for (std::size_t t = begin; t < end; ++t) {
-      if (is_removed(t))
+      const TriangleId to = new_id(t);
+      if (to == INVALID_ID)
         continue;
-      Moved moved{new_id(t), {}, {}};
+      Moved moved{to, {}, {}};
       for (std::size_t k = 0; k < 3; ++k) {
-        const HalfedgeId twin = mesh.halfedges[3 * t + k];
-        const bool open = twin == INVALID_ID || is_removed(triangleOf(twin));
-        moved.corners[k] = mesh.triangles[3 * t + k];
-        moved.twins[k] = open ? INVALID_ID : 3 * new_id(triangleOf(twin)) + twin % 3;
-        if (open && boundary != nullptr)
-          open_edges[p].push_back(3 * moved.to + static_cast<HalfedgeId>(k));
+        const HalfedgeId twin = twins[3 * t + k];
+        moved.corners[k] = corners[3 * t + k];
+        const TriangleId across = twin == INVALID_ID ? INVALID_ID : new_id(twin / 3);
+        moved.twins[k] = across == INVALID_ID ? INVALID_ID : 3 * across + twin % 3;
+        if (across == INVALID_ID && open != nullptr)
+          open->push_back(3 * to + static_cast<HalfedgeId>(k));
       }
-      if (moved.to < begin) {
+      if (to < begin) {
         aside[p].push_back(moved);
         continue;
       }
       for (std::size_t k = 0; k < 3; ++k) {
-        mesh.triangles[3 * std::size_t{moved.to} + k] = moved.corners[k];
-        mesh.halfedges[3 * std::size_t{moved.to} + k] = moved.twins[k];
+        corners[3 * std::size_t{to} + k] = moved.corners[k];
+        twins[3 * std::size_t{to} + k] = moved.twins[k];
       }
     }
   });
