@@ -41,20 +41,13 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   std::size_t n = 0;
   for (std::uint32_t j = w.j0; j < w.j1; ++j)
     n += grid.start(grid.cellId(w.i1 - 1, j) + 1) - grid.start(grid.cellId(w.i0, j));
-  if (stamp_counter_ > (1u << 31)) { // before the marks wrap around
-    std::fill(stamp_.begin(), stamp_.end(), 0u);
-    stamp_counter_ = 0;
-  }
   reserveTriangles(1 + 2 * n);
   v[0] = 0;
   v[1] = 1;
   v[2] = 2;
   adj[0] = adj[1] = adj[2] = -1;
-  stamp_[0] = 0;
   triangles_ = 1;
   last_ = 0;
-  if (head_.size() < 3 + n)
-    head_.resize(3 + n);
   p.resize(3 + n);
   ids.assign(3 + n, INVALID_ID);
   in_core.assign(3 + n, 0);
@@ -102,12 +95,11 @@ void LocalDelaunay::reserveTriangles(std::size_t count)
 {
   v.resize(3 * count);
   adj.resize(3 * count);
-  if (stamp_.size() < count)
-    stamp_.resize(count, 0);
-  if (bad_.size() < count)
+  if (bad_.size() < count) {
     bad_.resize(count);
-  if (boundary_.size() < 3 * count)
-    boundary_.resize(3 * count);
+    boundary_.resize(count + 2);
+    stack_.resize(2 * count + 3);
+  }
 }
 
 void LocalDelaunay::outsideBox(const Point2& q, double cx, double cy, double d)
@@ -127,9 +119,8 @@ void LocalDelaunay::insert(std::int32_t k)
   const Point2 q = P[k];
   std::int32_t* V = v.data();
   std::int32_t* A = adj.data();
-  std::uint32_t* const S = stamp_.data();
-  std::int32_t* const bad = bad_.data();
-  std::array<std::int32_t, 3>* const boundary = boundary_.data();
+  std::uint32_t* const bad = bad_.data();
+  std::pair<std::int32_t, std::int32_t>* const boundary = boundary_.data();
   const double orient_bound = orient_bound_;
   // Visibility walk from the last new triangle (it ends in a Delaunay mesh); the edge
   // it came in by is not tested again. Halfedge ids are non-negative here: unsigned
@@ -152,74 +143,66 @@ void LocalDelaunay::insert(std::int32_t k)
     t = o / 3;
     entry = o - 3 * t;
   }
-  // Cavity: every triangle whose perturbed circumcircle holds q, grown from t
-  // breadth first; its boundary edges in the order met.
-  stamp_counter_ += 2;
-  const std::uint32_t bad_mark = stamp_counter_, good_mark = stamp_counter_ + 1;
+  // Cavity: the triangles whose perturbed circumcircle holds q, depth first from t. It
+  // is a disk with every vertex on its boundary (its triangles' adjacency is a tree),
+  // so no triangle is reached twice as bad and no marks are needed; entering each bad
+  // triangle by one edge and pushing its other two in counter-clockwise order lists
+  // the boundary edges in counter-clockwise order around q: a closed chain, edge j
+  // from boundary[j].first to boundary[j + 1].first.
   const double tight = incircle_tight_bound_, wide = incircle_wide_bound_;
-  std::size_t bad_count = 1, boundary_count = 0;
-  bad[0] = static_cast<std::int32_t>(t);
-  S[t] = bad_mark;
-  for (std::size_t i = 0; i < bad_count; ++i) {
-    const auto b = static_cast<std::uint32_t>(bad[i]);
-    for (std::uint32_t e = 0; e < 3; ++e) {
-      const std::uint32_t h = 3 * b + e;
-      const std::int32_t o = A[h];
-      if (o >= 0) {
-        const std::uint32_t nb = static_cast<std::uint32_t>(o) / 3;
-        std::uint32_t& s = S[nb];
-        if (s == bad_mark)
-          continue;
-        if (s != good_mark) {
-          const std::int32_t va = V[3 * nb], vb = V[3 * nb + 1], vc = V[3 * nb + 2];
-          const double bound = std::min(va, std::min(vb, vc)) >= 3 ? tight : wide;
-          if (incirclePerturbedInBox(P[va], P[vb], P[vc], q, bound) == Sign::POSITIVE) {
-            s = bad_mark;
-            bad[bad_count++] = static_cast<std::int32_t>(nb);
-            continue;
-          }
-          s = good_mark;
-        }
+  std::uint32_t* const stack = stack_.data();
+  std::size_t top = 0, bad_count = 0, boundary_count = 0;
+  bad[bad_count++] = t;
+  stack[top++] = 3 * t + 2;
+  stack[top++] = 3 * t + 1;
+  stack[top++] = 3 * t;
+  while (top != 0) {
+    const std::uint32_t h = stack[--top];
+    const std::int32_t o = A[h];
+    if (o >= 0) {
+      const auto uo = static_cast<std::uint32_t>(o);
+      const std::uint32_t nb = uo / 3, base = 3 * nb;
+      const std::int32_t va = V[base], vb = V[base + 1], vc = V[base + 2];
+      const double bound = std::min(va, std::min(vb, vc)) >= 3 ? tight : wide;
+      if (incirclePerturbedInBox(P[va], P[vb], P[vc], q, bound) == Sign::POSITIVE) {
+        bad[bad_count++] = nb;
+        const std::uint32_t e = uo - base;
+        stack[top++] = base + (e == 0 ? 2 : e - 1); // the edge before e, popped last
+        stack[top++] = base + (e == 2 ? 0 : e + 1);
+        continue;
       }
-      boundary[boundary_count++] = {V[h], V[3 * b + (e == 2 ? 0 : e + 1)], o};
     }
+    boundary[boundary_count++] = {V[h], o};
   }
-  // The star of q over the cavity boundary: the cavity's slots first, then new ones.
+  // The star of q over the chain: the cavity's slots first, then new ones (a disk of
+  // m boundary edges holds m - 2 triangles: two new slots).
   const std::size_t first_new = triangles_;
-  if (boundary_count > bad_count) {
-    triangles_ += boundary_count - bad_count;
-    if (3 * triangles_ > v.size()) { // only if the 1 + 2n count were wrong
-      v.resize(6 * triangles_);
-      adj.resize(6 * triangles_);
-      stamp_.resize(std::max(stamp_.size(), 2 * triangles_), 0);
-      V = v.data();
-      A = adj.data();
-    }
-    // The new triangles' stamps are older marks: below bad_mark and good_mark.
+  triangles_ += boundary_count - bad_count;
+  if (3 * triangles_ > v.size()) { // only if the 1 + 2n count were wrong
+    v.resize(6 * triangles_);
+    adj.resize(6 * triangles_);
+    V = v.data();
+    A = adj.data();
   }
   const auto slot = [&](std::size_t j) {
-    return static_cast<std::uint32_t>(j < bad_count ? static_cast<std::size_t>(bad[j])
+    return static_cast<std::uint32_t>(j < bad_count ? bad[j]
                                                     : first_new + (j - bad_count));
   };
-  std::int32_t* const head = head_.data();
+  std::uint32_t previous = slot(boundary_count - 1);
   for (std::size_t j = 0; j < boundary_count; ++j) {
     const std::uint32_t s = slot(j);
-    const std::array<std::int32_t, 3>& edge = boundary[j];
-    V[3 * s] = edge[0];
-    V[3 * s + 1] = edge[1];
+    const std::pair<std::int32_t, std::int32_t>& edge = boundary[j];
+    V[3 * s] = edge.first;
+    V[3 * s + 1] = boundary[j + 1 == boundary_count ? 0 : j + 1].first;
     V[3 * s + 2] = k;
-    A[3 * s] = edge[2];
-    if (edge[2] >= 0)
-      A[edge[2]] = static_cast<std::int32_t>(3 * s);
-    head[edge[0]] = static_cast<std::int32_t>(s);
+    A[3 * s] = edge.second;
+    if (edge.second >= 0)
+      A[edge.second] = static_cast<std::int32_t>(3 * s);
+    A[3 * s + 2] = static_cast<std::int32_t>(3 * previous + 1);
+    A[3 * previous + 1] = static_cast<std::int32_t>(3 * s + 2);
+    previous = s;
   }
-  for (std::size_t j = 0; j < boundary_count; ++j) {
-    const std::uint32_t t1 = slot(j);
-    const auto t2 = static_cast<std::uint32_t>(head[V[3 * t1 + 1]]);
-    A[3 * t1 + 1] = static_cast<std::int32_t>(3 * t2 + 2);
-    A[3 * t2 + 2] = static_cast<std::int32_t>(3 * t1 + 1);
-  }
-  last_ = static_cast<std::int32_t>(slot(boundary_count - 1));
+  last_ = static_cast<std::int32_t>(previous);
   if (bad_.size() < triangles_) // the next cavity's arrays (as above: not expected)
     reserveTriangles(v.size() / 3);
 }

@@ -98,10 +98,8 @@ class LocalDelaunay {
                               double x_lo, double x_hi, double y_lo, double y_hi,
                               double margin);
 
-  std::vector<std::uint32_t> stamp_;
-  std::uint32_t stamp_counter_ = 0;
-  std::vector<std::int32_t> head_, bad_;
-  std::vector<std::array<std::int32_t, 3>> boundary_;
+  std::vector<std::uint32_t> bad_, stack_;
+  std::vector<std::pair<std::int32_t, std::int32_t>> boundary_;
   std::int32_t last_ = 0;
   std::size_t triangles_ = 0;
   std::vector<std::array<std::uint32_t, 2>> order_; ///< cells (di, dj) to insert
