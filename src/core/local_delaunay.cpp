@@ -163,7 +163,10 @@ void LocalDelaunay::insert(std::int32_t k)
       const auto uo = static_cast<std::uint32_t>(o);
       const std::uint32_t nb = uo / 3, base = 3 * nb;
       const std::int32_t va = V[base], vb = V[base + 1], vc = V[base + 2];
-      const double bound = std::min(va, std::min(vb, vc)) >= 3 ? tight : wide;
+      // A triangle's last vertex is the point whose insertion made it (the first
+      // super triangle, the only exception, is never tested: the first cavity starts
+      // there).
+      const double bound = std::min(va, vb) >= 3 ? tight : wide;
       if (incirclePerturbedInBox(P[va], P[vb], P[vc], q, bound) == Sign::POSITIVE) {
         bad[bad_count++] = nb;
         const std::uint32_t e = uo - base;
