@@ -57,13 +57,6 @@ struct Scan {
   std::size_t out_of_range = std::numeric_limits<std::size_t>::max(); ///< first one
 };
 
-/// A point on its way from the input to its cell: XY, input index and its cell
-/// counted from its band's first cell.
-struct Record {
-  double x, y;
-  std::uint32_t source, cell;
-};
-
 /// Sorts slots [first, last) of (points, record) lexicographically, ties by record
 /// (records are in input order inside a band): buildCellGrid's order inside a cell.
 void sortCell(Point2* points, std::uint32_t* source, std::uint32_t first,
@@ -115,13 +108,17 @@ struct BandResult {
   std::vector<std::pair<CellId, std::uint32_t>> roots; ///< crowded cell, its root
 };
 
-/// Per-thread buffers of the band pass.
+/// Per-thread buffers of the band pass. A band's records are its slots of the grid's
+/// arrays before the sort (the points and sources the scatter put there), numbered
+/// from the band's first slot.
 struct BandScratch {
   std::vector<std::uint32_t> count;
+  std::vector<std::uint32_t> cell;    ///< per record: its cell in the band
+  std::vector<std::uint32_t> sources; ///< per record: its input index
   std::vector<Point2> points;         ///< the band's points sorted by cell
   std::vector<std::uint32_t> records; ///< and their records
   std::vector<std::pair<Point2, std::uint32_t>> sort;
-  std::vector<std::uint32_t> slots, sources, new_id;
+  std::vector<std::uint32_t> slots, moved_sources, new_id;
   std::vector<Point2> moved;
 };
 
@@ -149,11 +146,12 @@ class GridBuilder {
                  std::vector<std::uint32_t>& chunk_offsets);
   void sortBand(std::size_t b, BandScratch& scratch);
   /// Folds the runs of equal XY of sorted slots [begin, end) of (points, records)
-  /// into the grid's slots [out, ...): the new out. assign(record, v) for each slot:
-  /// its record goes to vertex v.
+  /// into the grid's slots [out, ...): the new out. sources: the input index of each
+  /// record; assign(record, v) for each slot: its record goes to vertex v.
   template <typename Assign>
   std::uint32_t mergeCell(const Point2* points, const std::uint32_t* records,
-                          std::uint32_t begin, std::uint32_t end, std::uint32_t out,
+                          const std::uint32_t* sources, std::uint32_t begin,
+                          std::uint32_t end, std::uint32_t out,
                           const Assign& assign) const;
   void finish();
 
@@ -164,7 +162,9 @@ class GridBuilder {
   GridStage& stage_;
   std::vector<VertexId>& input_to_vertex_;
   Bands bands_;
-  std::unique_ptr<Record[]> records_;
+  /// Per record (grid slot before the band sort): its vertex, a slot of its band's
+  /// range until finish() shifts it.
+  std::unique_ptr<std::uint32_t[]> vertex_;
   std::vector<BandResult> results_;
 };
 
@@ -232,10 +232,12 @@ void GridBuilder::run(const Input& in, std::size_t inputs,
   const std::size_t band_count = bands_.count();
   // The output arrays, zero-filled (page faults and all) by up to three threads at
   // once: the points on one, the sources, cells and input map on the others. The
-  // points are the largest: the others then fault in the first pages of the records
-  // (allocated without a fill, written by the scatter below), each up to the points'
-  // bytes, so that no thread waits for the points' alone.
-  records_.reset(new Record[m]);
+  // points are the largest: the others then fault in the first pages of the records'
+  // vertices (allocated without a fill, written by the band sort), each up to the
+  // points' bytes, so that no thread waits for the points' alone. The scatter below
+  // stages each point and its input index in the slots of its band in the points and
+  // the sources themselves: no other copy of the input.
+  vertex_.reset(new std::uint32_t[m]);
   const unsigned fillers = std::min(chunks, 3u);
   const std::size_t source_bytes =
       m * sizeof(std::uint32_t) + (grid_.cellCount() + 1) * sizeof(std::uint32_t);
@@ -244,9 +246,9 @@ void GridBuilder::run(const Input& in, std::size_t inputs,
   const auto spare = [&](std::size_t bytes) {
     return points_bytes > bytes ? points_bytes - bytes : 0;
   };
-  // Filler 1's and filler 2's shares of the records' bytes (filler 1 the sources and,
-  // with two fillers, the input map too).
-  const std::size_t records_bytes = m * sizeof(Record);
+  // Filler 1's and filler 2's shares of the vertices' bytes (filler 1 the sources
+  // and, with two fillers, the input map too).
+  const std::size_t records_bytes = m * sizeof(std::uint32_t);
   const std::size_t share1 =
       fillers < 2 ? 0
                   : std::min(records_bytes,
@@ -262,26 +264,25 @@ void GridBuilder::run(const Input& in, std::size_t inputs,
     }
     if (w == fillers - 1)
       input_to_vertex_.assign(inputs, INVALID_ID);
-    if (w > 0) { // a write to each page of the thread's share of the records
+    if (w > 0) { // a write to each page of the thread's share of the vertices
       const std::size_t begin = w == 1 ? 0 : share1;
       const std::size_t end = w == 1 ? share1 : share1 + share2;
       constexpr std::size_t PAGE = 4096;
       for (std::size_t at = begin; at < end; at += PAGE)
-        records_[at / sizeof(Record)].cell = 0;
+        vertex_[at / sizeof(std::uint32_t)] = 0;
     }
   });
+  Point2* staged = grid_.points.data();
+  std::uint32_t* staged_source = stage_.source.data();
   parallelChunks(chunks, m, [&](std::size_t begin, std::size_t end, unsigned t) {
     std::uint32_t* at = &offsets[t * band_count];
-    const std::size_t nx = grid_.nx;
     for (std::size_t k = begin; k < end; ++k) {
       const double x = in.x(k), y = in.y(k);
-      const std::uint32_t row = grid_.row(y), band = bands_.of_row[row];
-      const auto cell =
-          static_cast<std::uint32_t>((row - bands_.first_row[band]) * nx) +
-          grid_.column(x);
+      const std::uint32_t record = at[bands_.of_row[grid_.row(y)]]++;
       const std::uint32_t source = in.sourceOf(k);
-      input_to_vertex_[source] = at[band]; // its record, for now
-      records_[at[band]++] = {x, y, source, cell};
+      input_to_vertex_[source] = record; // its record, for now
+      staged[record] = {x, y};
+      staged_source[record] = source;
     }
   });
   results_.assign(band_count, BandResult{});
@@ -294,19 +295,19 @@ void GridBuilder::run(const Input& in, std::size_t inputs,
       sortBand(b, scratch);
   });
   finish();
-  records_.reset();
+  vertex_.reset();
 }
 
 template <typename Assign>
 std::uint32_t GridBuilder::mergeCell(const Point2* points, const std::uint32_t* records,
-                                     std::uint32_t begin, std::uint32_t end,
-                                     std::uint32_t out, const Assign& assign) const
+                                     const std::uint32_t* sources, std::uint32_t begin,
+                                     std::uint32_t end, std::uint32_t out,
+                                     const Assign& assign) const
 {
-  const Record* all = records_.get();
   Point2* grid_points = grid_.points.data();
   std::uint32_t* source = stage_.source.data();
   const auto z = [&](std::uint32_t k) {
-    return xyz_[3 * std::size_t{all[records[k]].source} + 2];
+    return xyz_[3 * std::size_t{sources[records[k]]} + 2];
   };
   for (std::uint32_t k = begin; k < end;) {
     std::uint32_t run_end = k + 1;
@@ -332,7 +333,7 @@ std::uint32_t GridBuilder::mergeCell(const Point2* points, const std::uint32_t* 
     for (std::uint32_t q = k; q < run_end; ++q)
       assign(records[q], out);
     grid_points[out] = points[k];
-    source[out] = all[records[best]].source;
+    source[out] = sources[records[best]];
     ++out;
     k = run_end;
   }
@@ -346,51 +347,62 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
   const std::size_t nx = grid_.nx;
   const std::size_t cells = (bands_.first_row[b + 1] - r0) * nx;
   const std::size_t c0 = r0 * nx;
-  // Counting sort of the band's records by cell, stable, into the thread's buffers
-  // (reused band after band, so they stay in cache).
+  // Counting sort of the band's records (numbered from bs) by cell, stable, into the
+  // thread's buffers (reused band after band, so they stay in cache); the records'
+  // cells and sources are read first, as the grid's slots [bs, ...) are overwritten
+  // below.
+  const std::uint32_t n = be - bs;
   std::vector<std::uint32_t>& count = scratch.count;
   count.assign(cells + 1, 0);
-  Record* records = records_.get();
-  for (std::uint32_t k = bs; k < be; ++k)
-    ++count[records[k].cell + 1];
-  for (std::size_t c = 0; c < cells; ++c)
-    count[c + 1] += count[c];
-  if (scratch.points.size() < be - bs) {
-    scratch.points.resize(be - bs);
-    scratch.records.resize(be - bs);
+  if (scratch.points.size() < n) {
+    scratch.cell.resize(n);
+    scratch.sources.resize(n);
+    scratch.points.resize(n);
+    scratch.records.resize(n);
   }
-  Point2* points = scratch.points.data();
-  std::uint32_t* slot = scratch.records.data();
-  for (std::uint32_t k = bs; k < be; ++k) {
-    const Record& r = records[k];
-    const std::uint32_t at = count[r.cell]++;
-    points[at] = {r.x, r.y};
-    slot[at] = k;
-  }
-  // count[c] is now cell c's end. Each cell: sort, merge equal XY into the grid's
-  // slots [out, ...) (written in order), subdivide when crowded. A record's cell
-  // field takes its vertex (finish() hands it to input_to_vertex); vertex ids are
-  // slots of the band's own range for now (finish() shifts them down).
-  BandResult& result = results_[b];
   Point2* grid_points = grid_.points.data();
   std::uint32_t* source = stage_.source.data();
-  const auto vertex = [records](std::uint32_t record, std::uint32_t v) {
-    records[record].cell = v;
+  std::uint32_t* cell = scratch.cell.data();
+  std::uint32_t* sources = scratch.sources.data();
+  for (std::uint32_t r = 0; r < n; ++r) {
+    const Point2 p = grid_points[bs + r];
+    cell[r] =
+        static_cast<std::uint32_t>((grid_.row(p.y) - r0) * nx) + grid_.column(p.x);
+    sources[r] = source[bs + r];
+    ++count[cell[r] + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c)
+    count[c + 1] += count[c];
+  Point2* points = scratch.points.data();
+  std::uint32_t* slot = scratch.records.data();
+  for (std::uint32_t r = 0; r < n; ++r) {
+    const std::uint32_t at = count[cell[r]]++;
+    points[at] = grid_points[bs + r];
+    slot[at] = r;
+  }
+  // count[c] is now cell c's end. Each cell: sort, merge equal XY into the grid's
+  // slots [out, ...) (written in order), subdivide when crowded. Each record's vertex
+  // goes to vertex_ (finish() hands it to input_to_vertex); vertex ids are slots of
+  // the band's own range for now (finish() shifts them down).
+  BandResult& result = results_[b];
+  std::uint32_t* vertex_of = vertex_.get() + bs;
+  const auto vertex = [vertex_of](std::uint32_t record, std::uint32_t v) {
+    vertex_of[record] = v;
   };
   std::uint32_t begin = 0, out = bs;
   for (std::size_t c = 0; c < cells; ++c) {
     const std::uint32_t end = count[c];
     grid_.cell_start[c0 + c] = out;
     if (end - begin == 1) {
-      Record& r = records[slot[begin]];
-      r.cell = out;
+      const std::uint32_t r = slot[begin];
+      vertex_of[r] = out;
       grid_points[out] = points[begin];
-      source[out] = r.source;
+      source[out] = sources[r];
       ++out;
     } else if (end - begin > 1) {
       sortCell(points, slot, begin, end, scratch.sort);
       const std::uint32_t first = out;
-      out = mergeCell(points, slot, begin, end, out, vertex);
+      out = mergeCell(points, slot, sources, begin, end, out, vertex);
       const std::uint32_t distinct = out - first;
       if (distinct > CROWDED_CELL_POINTS) { // its quadtree may move the vertices
         result.roots.emplace_back(static_cast<CellId>(c0 + c),
@@ -402,18 +414,19 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
         detail::subdivideCell(grid_, i, j, grid_points, scratch.slots.data(), first,
                               first, out, result.nodes);
         scratch.moved.resize(distinct);
-        scratch.sources.resize(distinct);
+        scratch.moved_sources.resize(distinct);
         scratch.new_id.resize(distinct);
         for (std::uint32_t q = 0; q < distinct; ++q) {
           const std::uint32_t old = scratch.slots[q] - first;
           scratch.moved[q] = grid_points[first + old];
-          scratch.sources[q] = source[first + old];
+          scratch.moved_sources[q] = source[first + old];
           scratch.new_id[old] = first + q;
         }
         std::copy(scratch.moved.begin(), scratch.moved.end(), grid_points + first);
-        std::copy(scratch.sources.begin(), scratch.sources.end(), source + first);
+        std::copy(scratch.moved_sources.begin(), scratch.moved_sources.end(),
+                  source + first);
         for (std::uint32_t q = begin; q < end; ++q)
-          records[slot[q]].cell = scratch.new_id[records[slot[q]].cell - first];
+          vertex_of[slot[q]] = scratch.new_id[vertex_of[slot[q]] - first];
       }
     }
     begin = end;
@@ -461,7 +474,7 @@ void GridBuilder::finish()
       ++b;
     band_at[i] = static_cast<std::uint32_t>(b);
   }
-  const Record* records = records_.get();
+  const std::uint32_t* vertex = vertex_.get();
   const bool shifted = distinct < m;
   parallelRanges(threads_, input_to_vertex_.size(),
                  [&](std::size_t k0, std::size_t k1) {
@@ -469,7 +482,7 @@ void GridBuilder::finish()
                      const std::uint32_t record = input_to_vertex_[k];
                      if (record == INVALID_ID)
                        continue;
-                     VertexId v = records[record].cell;
+                     VertexId v = vertex[record];
                      if (shifted) {
                        std::uint32_t b = band_at[record >> BUCKET_BITS];
                        while (record >= bands_.start[b + 1])
