@@ -602,75 +602,87 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
     lat.incomplete.insert(lat.incomplete.end(), part.begin(), part.end());
 }
 
+/// The first triangle of each cell of cell row r in the output (complete cells are
+/// numbered in row-major order, two triangles each), INVALID_ID for an incomplete
+/// cell and for every cell of a row beyond the lattice (r = -1 or r = cy): idx[i + 1]
+/// for cell i, idx[0] and idx[cx + 1] INVALID_ID.
+void indexCellRow(const Lattice& lat, std::int64_t r, std::vector<HalfedgeId>& idx)
+{
+  const std::uint32_t cx = lat.nx - 1;
+  idx.assign(static_cast<std::size_t>(cx) + 2, INVALID_ID);
+  if (r < 0 || r >= static_cast<std::int64_t>(lat.ny) - 1)
+    return;
+  const auto j = static_cast<std::uint32_t>(r);
+  const VertexId* low = &lat.vertex_at[lat.position(0, j)];
+  const VertexId* high = low + lat.nx;
+  auto t = static_cast<HalfedgeId>(2 * lat.row_start[j]);
+  HalfedgeId* out = idx.data() + 1;
+  for (std::uint32_t i = 0; i < cx; ++i) {
+    const bool complete = low[i] != INVALID_ID && low[i + 1] != INVALID_ID &&
+                          high[i] != INVALID_ID && high[i + 1] != INVALID_ID;
+    out[i] = complete ? t : INVALID_ID;
+    t += complete ? 2 : 0;
+  }
+}
+
 /// The triangles of every complete cell in row-major order (the first
 /// 2 * row_start.back() triangles), with the twins among them; the halfedges facing
 /// an incomplete cell (or the border) are INVALID_ID and listed in `open`. One
-/// thread appends (no pass zeroing the arrays first), several write their rows.
-void emitCompleteCells(const Lattice& lat, unsigned threads,
-                       std::vector<VertexId>& triangles,
+/// thread appends (no pass zeroing the arrays first) and hands vertex_at's pages
+/// back as it goes (lat.vertex_at is empty afterwards, whatever the thread count);
+/// several write their rows into arrays sized once.
+void emitCompleteCells(Lattice& lat, unsigned threads, std::vector<VertexId>& triangles,
                        std::vector<HalfedgeId>& halfedges,
                        std::vector<HalfedgeId>& open, std::size_t capacity)
 {
   // Rows [begin, end): each cell's six halfedges written in place, the open ones
-  // listed. Complete cell (i, j) has triangles (A, B,
-  // D) and (B, C, D), A lower left, B lower right, C upper right, D upper left. A->B
-  // faces the cell below (its C->D, halfedge 4), D->A the cell on the left (its B->C,
-  // halfedge 3), B->C the cell on the right (its D->A, halfedge 2), C->D the cell
-  // above (its A->B, halfedge 0); B-D is shared. The row's neighbours are read
-  // through row pointers (the vertices of the lattice rows j - 1 to j + 2, in cache:
-  // the neighbouring rows' walks read them too), with no per-cell bounds work; the
-  // ranks of the cells in the row and in the rows below and above are counted along
-  // the walk, with no per-cell rank array.
-  // Row j's halfedges are [6 row_start[j], 6 row_start[j + 1]): one thread grows the
-  // arrays row by row (no pass zeroing them first: the zeros of a row are in cache
-  // when it is written), several write into arrays sized once.
+  // listed. Complete cell (i, j) has triangles (A, B, D) and (B, C, D), A lower
+  // left, B lower right, C upper right, D upper left. A->B faces the cell below (its
+  // C->D, halfedge 4), D->A the cell on the left (its B->C, halfedge 3), B->C the
+  // cell on the right (its D->A, halfedge 2), C->D the cell above (its A->B,
+  // halfedge 0); B-D is shared. Each cell's first triangle in the rows below, at and
+  // above the row is looked up in three rolling rows of indexCellRow (sentinels at
+  // both ends: no bounds work per cell). Row j's halfedges are [6 row_start[j],
+  // 6 row_start[j + 1]): one thread grows the arrays row by row (no pass zeroing
+  // them first: the zeros of a row are in cache when it is written), with their
+  // pages faulted in a chunk ahead (populatePages) and the lattice rows no longer
+  // read handed back (releasePages: the peak holds the cells' arrays, not vertex_at
+  // too).
   const auto emitRows = [&lat, &triangles,
                          &halfedges](std::size_t begin, std::size_t end,
                                      std::vector<HalfedgeId>& my_open, bool grow) {
-    const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
+    const std::uint32_t cx = lat.nx - 1;
+    std::vector<HalfedgeId> below, at, above;
+    indexCellRow(lat, static_cast<std::int64_t>(begin) - 1, below);
+    indexCellRow(lat, static_cast<std::int64_t>(begin), at);
+    std::size_t populated = 0; // elements of triangles and halfedges faulted in
+    const void* released = lat.vertex_at.data();
+    constexpr std::size_t CHUNK = std::size_t{1} << 18; // elements (1 MiB)
     for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j) {
-      const std::size_t base = 2 * lat.row_start[j];
-      const std::size_t base_below = j > 0 ? 2 * lat.row_start[j - 1] : 0;
-      const std::size_t base_above = j + 1 < cy ? 2 * lat.row_start[j + 1] : 0;
+      indexCellRow(lat, static_cast<std::int64_t>(j) + 1, above);
+      const std::size_t size = 6 * lat.row_start[j + 1];
+      if (grow && size > triangles.size()) {
+        if (size > populated) {
+          const std::size_t upto = std::min(triangles.capacity(), size + CHUNK);
+          detail::populatePages(triangles.data() + populated, triangles.data() + upto);
+          detail::populatePages(halfedges.data() + populated, halfedges.data() + upto);
+          populated = upto;
+        }
+        triangles.resize(size);
+        halfedges.resize(size);
+      }
       const VertexId* low = &lat.vertex_at[lat.position(0, j)];
       const VertexId* high = low + lat.nx;
-      // The lattice rows below and above the row's two (nullptr beyond the border).
-      const VertexId* under = j > 0 ? low - lat.nx : nullptr;
-      const VertexId* over = j + 1 < cy ? high + lat.nx : nullptr;
-      // Both ends of the cell's bottom (top) edge present, at i and i + 1.
-      const auto edge = [](const VertexId* row, std::uint32_t i) {
-        return row[i] != INVALID_ID && row[i + 1] != INVALID_ID;
-      };
-      if (lat.row_start[j + 1] == lat.row_start[j])
-        continue; // no complete cell: the row adds nothing
-      // Complete cells before i in rows j - 1, j and j + 1.
-      std::uint32_t rank_below = 0, rank = 0, rank_above = 0;
-      bool bottom = edge(low, 0), top = edge(high, 0); // the edges of cell i
-      bool left = false;                               // cell i - 1 complete
-      if (grow) {
-        triangles.resize(6 * lat.row_start[j + 1]);
-        halfedges.resize(6 * lat.row_start[j + 1]);
-      }
       VertexId* tri = triangles.data();
       HalfedgeId* twin = halfedges.data();
+      // Cell i's entry in the rows below, at and above, its left and right neighbours'.
+      const HalfedgeId *b = below.data() + 1, *c = at.data() + 1, *a = above.data() + 1;
+      const HalfedgeId *left = at.data(), *right = at.data() + 2;
       for (std::uint32_t i = 0; i < cx; ++i) {
-        const bool complete = bottom && top;
-        const bool below = under != nullptr && bottom && edge(under, i);
-        const bool above = over != nullptr && top && edge(over, i);
-        const bool next_bottom = i + 1 < cx && edge(low, i + 1);
-        const bool next_top = i + 1 < cx && edge(high, i + 1);
-        const std::uint32_t r_below = rank_below, r = rank, r_above = rank_above;
-        rank_below += below;
-        rank += complete;
-        rank_above += above;
-        const bool was_left = left;
-        left = complete;
-        bottom = next_bottom;
-        top = next_top;
-        if (!complete)
+        const HalfedgeId t = c[i];
+        if (t == INVALID_ID)
           continue;
-        const std::size_t t0 = base + 2 * static_cast<std::size_t>(r);
-        const auto e0 = static_cast<HalfedgeId>(3 * t0);
+        const HalfedgeId e0 = 3 * t;
         VertexId* const v = tri + e0;
         HalfedgeId* const h = twin + e0;
         v[0] = low[i];
@@ -679,31 +691,41 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
         v[3] = low[i + 1];
         v[4] = high[i + 1];
         v[5] = high[i];
-        h[0] = below ? static_cast<HalfedgeId>(
-                           3 * (base_below + 2 * static_cast<std::size_t>(r_below)) + 4)
-                     : INVALID_ID;
-        h[1] = e0 + 5;
-        // The complete cells of a row are ranked consecutively: the left one's
+        // The complete cells of a row are numbered consecutively: the left one's
         // triangles end where this one's start, the right one's start after them.
-        h[2] = was_left ? e0 - 3 : INVALID_ID;
-        h[3] = next_bottom && next_top ? e0 + 8 : INVALID_ID;
-        h[4] = above ? static_cast<HalfedgeId>(
-                           3 * (base_above + 2 * static_cast<std::size_t>(r_above)))
-                     : INVALID_ID;
+        const bool has_below = b[i] != INVALID_ID, has_left = left[i] != INVALID_ID,
+                   has_right = right[i] != INVALID_ID, has_above = a[i] != INVALID_ID;
+        h[0] = has_below ? 3 * b[i] + 4 : INVALID_ID;
+        h[1] = e0 + 5;
+        h[2] = has_left ? e0 - 3 : INVALID_ID;
+        h[3] = has_right ? e0 + 8 : INVALID_ID;
+        h[4] = has_above ? 3 * a[i] : INVALID_ID;
         h[5] = e0 + 1;
-        for (unsigned k = 0; k < 6; ++k)
-          if (h[k] == INVALID_ID)
-            my_open.push_back(e0 + k);
+        if (!(has_below && has_left && has_right && has_above))
+          for (const unsigned k : {0u, 2u, 3u, 4u})
+            if (h[k] == INVALID_ID)
+              my_open.push_back(e0 + k);
       }
+      if (grow) { // lattice rows up to j are read no more
+        const void* done = lat.vertex_at.data() + lat.position(0, j + 1);
+        if (static_cast<const char*>(done) - static_cast<const char*>(released) >=
+            static_cast<std::ptrdiff_t>(CHUNK))
+          released = detail::releasePagesUpTo(released, done);
+      }
+      std::swap(below, at);
+      std::swap(at, above);
     }
   };
   const std::size_t rows = lat.ny - 1;
-  reservePopulated(triangles, capacity); // the fringe's triangles follow
-  reservePopulated(halfedges, capacity);
   if (threads <= 1) {
+    triangles.reserve(capacity); // the fringe's triangles follow
+    halfedges.reserve(capacity);
     emitRows(0, rows, open, true);
+    std::vector<VertexId>().swap(lat.vertex_at);
     return;
   }
+  reservePopulated(triangles, capacity);
+  reservePopulated(halfedges, capacity);
   triangles.resize(6 * lat.row_start.back());
   halfedges.resize(triangles.size());
   std::vector<std::vector<HalfedgeId>> open_per_chunk(threads);
@@ -712,6 +734,7 @@ void emitCompleteCells(const Lattice& lat, unsigned threads,
   });
   for (const std::vector<HalfedgeId>& part : open_per_chunk)
     open.insert(open.end(), part.begin(), part.end());
+  std::vector<VertexId>().swap(lat.vertex_at);
 }
 
 class Fringe {

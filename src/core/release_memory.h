@@ -46,6 +46,24 @@ inline void releasePages(const void* begin, const void* end)
 #endif
 }
 
+/// releasePages(begin, end) for an array handed back piece by piece from its start:
+/// returns where the next piece should begin (end rounded down to a page), so that
+/// consecutive calls hand back every whole page once.
+inline const void* releasePagesUpTo(const void* begin, const void* end)
+{
+#if defined(__linux__)
+  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  releasePages(begin, end);
+  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
+  return last > reinterpret_cast<std::uintptr_t>(begin)
+             ? reinterpret_cast<const void*>(last)
+             : begin;
+#else
+  (void)end;
+  return begin;
+#endif
+}
+
 /// Faults in the whole pages inside [begin, end) of a live allocation in one system
 /// call (Linux >= 5.14, MADV_POPULATE_WRITE), for an array about to be written in
 /// full: without it each of its pages faults on its first write, a trap apiece (in a
