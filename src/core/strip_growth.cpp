@@ -172,16 +172,27 @@ class Growth {
 
   void reserve()
   {
-    std::size_t vertices = 0;
+    // Grown: about 2 owned triangles per vertex, and the triangles across the strip's
+    // left border, owned by the strip on the left (about 1.6 per point of a column on
+    // each side): the arrays are reserved for them too, so that they are not
+    // reallocated (copied, and faulted in twice) near the end of a strip.
+    std::size_t vertices = 0, border = 0;
+    const std::uint32_t border_column = first_column_ > 0 ? first_column_ - 1 : 0;
     for (std::uint32_t j = 0; j < grid_.ny; ++j) {
       const CellId row = grid_.cellId(0, j);
       vertices += grid_.start(row + end_column_) - grid_.start(row + first_column_);
+      border += grid_.start(row + first_column_ + 1) - grid_.start(row + border_column);
     }
     strip_vertices_ = vertices;
-    const std::size_t expected = 2 * vertices + vertices / 32 + 64;
-    mesh_.triangles.reserve(3 * expected);
-    mesh_.halfedges.reserve(3 * expected);
-    mesh_.owned.reserve(expected);
+    const std::size_t expected = 2 * vertices + 2 * border + vertices / 32 + 64;
+    // Arrays too small for this strip are reallocated with room for a somewhat larger
+    // next strip that reuses them (their pages then stay resident).
+    if (mesh_.owned.capacity() < expected) {
+      const std::size_t room = expected + expected / 8;
+      mesh_.triangles.reserve(3 * room);
+      mesh_.halfedges.reserve(3 * room);
+      mesh_.owned.reserve(room);
+    }
     // Arrays reused from a larger strip (StripMerge::strip): their resident pages
     // beyond this strip's need are handed back, not kept beside the output.
     releasePages(mesh_.triangles.data() + 3 * expected,
