@@ -168,6 +168,9 @@ struct Lattice {
   /// row is walked: no per-cell array.
   std::vector<std::size_t> row_start;
   std::vector<std::size_t> incomplete; ///< the other cells, sorted
+  /// Each lattice row's first present position and one past its last (columns):
+  /// every position outside them is absent.
+  std::vector<std::uint32_t> row_first, row_end;
 
   std::size_t position(std::uint32_t i, std::uint32_t j) const
   {
@@ -497,7 +500,7 @@ bool readLattice(const double* xyz, std::size_t n, const VtsOptions& options,
 /// it extreme in its row, or in its column when the line is horizontal). Andrew's
 /// monotone chain as in convexHull (the same vertices from the same start, collinear
 /// boundary points kept), without its passes over all the points.
-Status latticeHull(const Lattice& lat, std::vector<VertexId>& hull)
+Status latticeHull(Lattice& lat, std::vector<VertexId>& hull)
 {
   std::vector<std::uint32_t> low(lat.nx, INVALID_ID), high(lat.nx, INVALID_ID);
   std::vector<std::uint64_t> keys; // (column, row): lexicographic (x, y) order
@@ -507,6 +510,8 @@ Status latticeHull(const Lattice& lat, std::vector<VertexId>& hull)
   // Each row's first and last point, scanned from its ends (a row holds a point
   // unless it is all NODATA), and each column's lowest and highest, rows scanned from
   // the bottom (the top) over the columns not found yet: not every position is read.
+  lat.row_first.assign(lat.ny, lat.nx);
+  lat.row_end.assign(lat.ny, 0);
   for (std::uint32_t j = 0; j < lat.ny; ++j) {
     const VertexId* row = &lat.vertex_at[lat.position(0, j)];
     std::uint32_t first = 0, last = lat.nx;
@@ -516,6 +521,8 @@ Status latticeHull(const Lattice& lat, std::vector<VertexId>& hull)
       continue;
     while (row[last - 1] == INVALID_ID)
       --last;
+    lat.row_first[j] = first;
+    lat.row_end[j] = last;
     keys.push_back(key(first, j));
     keys.push_back(key(last - 1, j));
   }
@@ -975,14 +982,22 @@ void Fringe::pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& 
     std::tie(j0, j1) = indicesWithin(lat_.ys, disk.cy - reach, disk.cy + reach);
   }
   for (std::uint32_t j = j0; j < j1; ++j) {
-    std::uint32_t i0 = 0, i1 = lat_.nx;
+    // Only the row's present span: disks of triangles across large NODATA areas
+    // reach far beyond it.
+    std::uint32_t i0 = lat_.row_first[j], i1 = lat_.row_end[j];
+    if (i0 >= i1)
+      continue;
     if (disk.valid) {
       const double dy = lat_.ys[j] - disk.cy;
       const double h2 = reach * reach - dy * dy;
       if (h2 < 0.0)
         continue;
       const double h = std::sqrt(h2);
-      std::tie(i0, i1) = indicesWithin(lat_.xs, disk.cx - h, disk.cx + h);
+      if (lat_.xs[i0] > disk.cx + h || lat_.xs[i1 - 1] < disk.cx - h)
+        continue;
+      const auto within = indicesWithin(lat_.xs, disk.cx - h, disk.cx + h);
+      i0 = std::max(i0, within.first);
+      i1 = std::min(i1, within.second);
     }
     const std::size_t row = lat_.position(0, j);
     for (std::uint32_t i = i0; i < i1; ++i)
