@@ -68,9 +68,10 @@ double segmentDistance(const Point2& a, const Point2& b, const Point2& p)
 
 /// Vertex neighbours, measurePointSpacing's rows (the ends of the halfedges leaving
 /// a vertex and the starts of the boundary ones entering it): compressed rows of the
-/// whole mesh, or walked around each vertex's fan from a halfedge leaving it, which
-/// costs a pass over the corners instead of a sort, and gives the same row when the
-/// fan holds every triangle of the vertex (checked against its count of triangles).
+/// whole mesh, or walked around each vertex's fan from a halfedge leaving it (its
+/// seed), which costs no pass over the mesh, and gives the same row when the fan
+/// holds every triangle of the vertex (checked against its count of triangles, which
+/// the trim hands over: VertexSpacing::triangle_count).
 class Neighbours {
  public:
   static Neighbours rows(const TriangleMesh& mesh)
@@ -97,54 +98,60 @@ class Neighbours {
     return adj;
   }
 
-  static Neighbours fans(const TriangleMesh& mesh)
+  /// counts: each vertex's triangles, up to detail::MANY_TRIANGLES (not trusted).
+  static Neighbours fans(const TriangleMesh& mesh,
+                         const std::vector<std::uint8_t>& counts)
   {
     Neighbours adj(mesh);
-    adj.out_.assign(mesh.vertexCount(), INVALID_ID);
-    adj.triangles_.assign(mesh.vertexCount(), 0);
-    for (HalfedgeId e = 0; e < mesh.triangles.size(); ++e) {
-      const VertexId v = mesh.triangles[e];
-      adj.out_[v] = e;
-      adj.triangles_[v] = static_cast<std::uint8_t>(
-          std::min(MANY, static_cast<unsigned>(adj.triangles_[v]) + 1));
-    }
+    adj.counts_ = &counts;
     return adj;
   }
 
-  /// v's row in out (replaced); false when its fan does not hold all its triangles.
-  bool row(VertexId v, std::vector<VertexId>& out) const
+  /// v's row in out (replaced), walked from seed (a halfedge leaving v) unless the
+  /// rows are built; with seeds, a halfedge leaving each entry (INVALID_ID from the
+  /// rows). false when its fan does not hold all its triangles.
+  bool row(VertexId v, HalfedgeId seed, std::vector<VertexId>& out,
+           std::vector<HalfedgeId>* seeds = nullptr) const
   {
     out.clear();
-    if (out_.empty()) {
+    if (seeds != nullptr)
+      seeds->clear();
+    if (counts_ == nullptr) {
       out.assign(ring_.begin() + static_cast<std::ptrdiff_t>(start_[v]),
                  ring_.begin() + static_cast<std::ptrdiff_t>(start_[v + 1]));
+      if (seeds != nullptr)
+        seeds->assign(out.size(), INVALID_ID);
       return true;
     }
-    const HalfedgeId first = out_[v];
-    const unsigned count = triangles_[v];
-    if (first == INVALID_ID)
+    const unsigned count = (*counts_)[v];
+    if (count == 0)
       return true;
-    if (count >= MANY)
+    if (count >= detail::MANY_TRIANGLES || seed == INVALID_ID)
       return false;
-    // Back to the open end, if any.
-    HalfedgeId f = first;
+    // Back to the open end, if any; a closed fan starts at its largest halfedge (the
+    // walk gives the same row from any seed).
+    HalfedgeId f = seed, largest = seed;
     bool closed = false;
     for (unsigned steps = 0;; ++steps) {
       const HalfedgeId twin = mesh_->halfedges[prevHalfedge(f)];
       if (twin == INVALID_ID)
         break;
       f = twin;
-      if (f == first) {
+      largest = std::max(largest, f);
+      if (f == seed) {
         closed = true;
         break;
       }
       if (steps > count)
         return false;
     }
-    const HalfedgeId start = f;
+    const HalfedgeId start = closed ? largest : f;
+    f = start;
     unsigned walked = 0;
     for (;;) {
       out.push_back(mesh_->triangles[nextHalfedge(f)]);
+      if (seeds != nullptr)
+        seeds->push_back(nextHalfedge(f));
       if (++walked > count)
         return false;
       const HalfedgeId twin = mesh_->halfedges[f];
@@ -154,21 +161,22 @@ class Neighbours {
       if (f == start)
         break;
     }
-    if (!closed)
+    if (!closed) {
       out.push_back(mesh_->triangles[prevHalfedge(start)]);
+      if (seeds != nullptr)
+        seeds->push_back(prevHalfedge(start));
+    }
     return walked == count;
   }
 
  private:
-  static constexpr unsigned MANY = 255; ///< a count this large is not trusted
   explicit Neighbours(const TriangleMesh& mesh)
       : mesh_(&mesh)
   {}
   const TriangleMesh* mesh_;
   std::vector<std::size_t> start_; ///< rows
   std::vector<VertexId> ring_;
-  std::vector<HalfedgeId> out_;         ///< fans: a halfedge leaving each vertex
-  std::vector<std::uint8_t> triangles_; ///< fans: its triangles, up to MANY
+  const std::vector<std::uint8_t>* counts_ = nullptr; ///< fans
 };
 
 /// Hexagonal lattice points of spacing h strictly inside polygon[0..size) and at
@@ -210,27 +218,35 @@ void addLatticePoints(std::vector<Point2>& polygon, std::size_t size, double h,
   }
 }
 
-/// Rim vertices and rings of neighbours around them (breadth first, loop order).
-/// Its own set of seen vertices: holes are measured on several threads at once.
-/// false when a row could not be walked (Neighbours::row).
+/// Rim vertices and rings of neighbours around them (breadth first, loop order);
+/// rim_seeds: a halfedge leaving each rim vertex. Its own set of seen vertices: holes
+/// are measured on several threads at once. false when a row could not be walked
+/// (Neighbours::row).
 bool rimRings(const Neighbours& adj, const std::vector<VertexId>& rim,
-              std::size_t rings, std::vector<VertexId>& samples)
+              const std::vector<HalfedgeId>& rim_seeds, std::size_t rings,
+              std::vector<VertexId>& samples)
 {
   samples.clear();
+  std::vector<HalfedgeId> sample_seeds;
   std::unordered_set<VertexId> seen;
-  for (const VertexId v : rim)
-    if (seen.insert(v).second)
-      samples.push_back(v);
+  for (std::size_t k = 0; k < rim.size(); ++k)
+    if (seen.insert(rim[k]).second) {
+      samples.push_back(rim[k]);
+      sample_seeds.push_back(rim_seeds[k]);
+    }
   std::size_t level_begin = 0;
   std::vector<VertexId> row;
+  std::vector<HalfedgeId> row_seeds;
   for (std::size_t r = 0; r < rings; ++r) {
     const std::size_t level_end = samples.size();
     for (std::size_t k = level_begin; k < level_end; ++k) {
-      if (!adj.row(samples[k], row))
+      if (!adj.row(samples[k], sample_seeds[k], row, &row_seeds))
         return false;
-      for (const VertexId u : row)
-        if (seen.insert(u).second)
-          samples.push_back(u);
+      for (std::size_t i = 0; i < row.size(); ++i)
+        if (seen.insert(row[i]).second) {
+          samples.push_back(row[i]);
+          sample_seeds.push_back(row_seeds[i]);
+        }
     }
     level_begin = level_end;
   }
@@ -265,6 +281,22 @@ std::vector<Point2> pieceProbes(const TriangleMesh& mesh, const BoundaryLoops& l
   return probes;
 }
 
+/// The local spacing at the rim vertices: measurePointSpacing's (dense), or one
+/// figure per rim vertex in increasing order (sparse).
+struct RimSpacing {
+  const std::vector<double>* dense = nullptr;
+  std::vector<std::pair<VertexId, double>> sparse;
+  double at(VertexId v) const
+  {
+    if (dense != nullptr)
+      return (*dense)[v];
+    const auto it = std::lower_bound(
+        sparse.begin(), sparse.end(), v,
+        [](const std::pair<VertexId, double>& a, VertexId b) { return a.first < b; });
+    return it != sparse.end() && it->first == v ? it->second : 0.0;
+  }
+};
+
 /// What one hole becomes: left open, skipped, or filled by a patch over the rim
 /// polygon and the lattice points (with their z).
 struct HolePatch {
@@ -281,9 +313,9 @@ struct HolePatch {
 /// patch appended in loop order (append, finish).
 class HoleFiller {
  public:
-  HoleFiller(TriangleMesh& mesh, const FillOptions& options,
-             const PointSpacing& spacing, double global_h,
-             std::vector<Point2> piece_probe, Neighbours adjacency, FillResult& result)
+  HoleFiller(TriangleMesh& mesh, const FillOptions& options, const RimSpacing& spacing,
+             double global_h, std::vector<Point2> piece_probe, Neighbours adjacency,
+             FillResult& result)
       : mesh_(mesh)
       , options_(options)
       , spacing_(spacing)
@@ -322,7 +354,8 @@ class HoleFiller {
                        options_.snap_to_float);
     if (!triangulatePolygon(hole.points, size, hole.patch).ok())
       return hole;
-    const HoleHeights heights = fitHeights(hole.rim);
+    std::vector<HalfedgeId> rim_seeds(loop.halfedges.rbegin(), loop.halfedges.rend());
+    const HoleHeights heights = fitHeights(hole.rim, rim_seeds);
     hole.z.assign(hole.points.size() - size, 0.0);
     for (std::size_t k = size; k < hole.points.size(); ++k) {
       if (!hole.patch.steiner_used[k - size])
@@ -401,7 +434,7 @@ class HoleFiller {
   {
     std::vector<double> rim_spacing;
     for (const VertexId v : rim)
-      rim_spacing.push_back(spacing_.local[v]);
+      rim_spacing.push_back(spacing_.at(v));
     double h =
         options_.point_spacing > 0.0 ? options_.point_spacing : medianOf(rim_spacing);
     if (!(h > 0.0))
@@ -411,14 +444,15 @@ class HoleFiller {
 
   /// The spline through the rim and rim_rings rings around it (at most
   /// MAX_SPLINE_SAMPLES of them, in position order), and the rim's mean z.
-  HoleHeights fitHeights(const std::vector<VertexId>& rim) const
+  HoleHeights fitHeights(const std::vector<VertexId>& rim,
+                         const std::vector<HalfedgeId>& rim_seeds) const
   {
     HoleHeights heights;
     const bool spline = options_.z_method == HoleZMethod::THIN_PLATE_SPLINE;
     std::vector<Point2> sample_xy;
     std::vector<double> sample_z;
     std::vector<VertexId> samples;
-    if (!rimRings(adj_, rim, spline ? options_.rim_rings : 0, samples))
+    if (!rimRings(adj_, rim, rim_seeds, spline ? options_.rim_rings : 0, samples))
       unwalked_ = true; // measured again with the rows
 
     sortByPosition(mesh_, samples);
@@ -480,7 +514,7 @@ class HoleFiller {
 
   TriangleMesh& mesh_;
   const FillOptions& options_;
-  const PointSpacing& spacing_;
+  const RimSpacing& spacing_;
   const double global_h_;
   const std::vector<Point2> piece_probe_;
   FillResult& result_;
@@ -534,44 +568,58 @@ Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
     result.inserted.assign(mesh.vertexCount(), 0);
     return Status::success();
   }
-  // The local spacing is read at hole rims only.
-  std::vector<bool> on_rim(mesh.vertexCount(), false);
+  // The local spacing is read at hole rims only: their vertices, each once in
+  // increasing order, with a halfedge leaving each (its loop's).
+  std::vector<std::pair<VertexId, HalfedgeId>> rim;
   for (const BoundaryLoop& loop : loops.loops)
     if (is_hole(loop))
-      for (const VertexId v : loop.vertices)
-        on_rim[v] = true;
-  // With the trim's spacing, the rows are walked around the fans (no pass sorts the
-  // whole mesh's edges); a fan that does not hold all its vertex's triangles (not
-  // from VTS) takes the compressed rows.
+      for (std::size_t k = 0; k < loop.vertices.size(); ++k)
+        rim.emplace_back(loop.vertices[k], loop.halfedges[k]);
+  std::sort(rim.begin(), rim.end());
+  rim.erase(
+      std::unique(rim.begin(), rim.end(),
+                  [](const auto& a, const auto& b) { return a.first == b.first; }),
+      rim.end());
+  // With the trim's spacing, the rows are walked around the fans from the loops'
+  // halfedges (no pass over the whole mesh); a fan that does not hold all its
+  // vertex's triangles (not from VTS) takes the compressed rows.
   Neighbours adjacency =
-      known != nullptr ? Neighbours::fans(mesh) : Neighbours::rows(mesh);
+      known != nullptr && known->triangle_count.size() == mesh.vertexCount()
+          ? Neighbours::fans(mesh, known->triangle_count)
+          : Neighbours::rows(mesh);
   PointSpacing spacing;
+  RimSpacing rim_spacing;
   if (known != nullptr) {
     known->settle(mesh, threads);
     // measurePointSpacing's local figure at the rims, from the known own medians
     // and the same rows.
     spacing.global_median = known->global_median;
-    spacing.local.assign(mesh.vertexCount(), 0.0);
     std::vector<double> values;
     std::vector<VertexId> row;
     for (bool walked = false; !walked;) {
       walked = true;
-      for (VertexId v = 0; v < mesh.vertexCount() && walked; ++v) {
-        if (!on_rim[v])
-          continue;
-        walked = adjacency.row(v, row);
-        if (row.empty())
-          continue;
-        values.assign(1, known->own[v]);
-        for (const VertexId u : row)
-          values.push_back(known->own[u]);
-        spacing.local[v] = medianOf(values);
+      rim_spacing.sparse.clear();
+      for (std::size_t k = 0; k < rim.size() && walked; ++k) {
+        const VertexId v = rim[k].first;
+        walked = adjacency.row(v, rim[k].second, row);
+        double local = 0.0;
+        if (!row.empty()) {
+          values.assign(1, known->own[v]);
+          for (const VertexId u : row)
+            values.push_back(known->own[u]);
+          local = medianOf(values);
+        }
+        rim_spacing.sparse.emplace_back(v, local);
       }
       if (!walked)
         adjacency = Neighbours::rows(mesh);
     }
   } else {
+    std::vector<bool> on_rim(mesh.vertexCount(), false);
+    for (const auto& [v, out] : rim)
+      on_rim[v] = true;
     spacing = detail::measurePointSpacing(mesh, &on_rim, nullptr, threads);
+    rim_spacing.dense = &spacing.local;
   }
   const double global_h =
       part != nullptr ? part->global_spacing : spacing.global_median;
@@ -579,8 +627,8 @@ Status detail::fillHolesOfPart(TriangleMesh& mesh, const FillOptions& options,
                              ? options.max_hole_area
                              : FillOptions::AUTO_HOLE_AREA_FACTOR * global_h * global_h;
 
-  HoleFiller filler(mesh, options, spacing, global_h, pieceProbes(mesh, loops, real),
-                    std::move(adjacency), result);
+  HoleFiller filler(mesh, options, rim_spacing, global_h,
+                    pieceProbes(mesh, loops, real), std::move(adjacency), result);
   // Holes are independent once found: measured on the threads (each taking the next
   // hole: their sizes differ), then appended in loop order, so the output does not
   // depend on the thread count.

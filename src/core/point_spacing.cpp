@@ -273,7 +273,8 @@ namespace {
 /// The upper median of values[v] over the v that selected(v) flags (0 for none):
 /// medianInPlace's value.
 template <typename Selected>
-double upperMedianWhere(const std::vector<double>& values, const Selected& selected)
+double upperMedianWhere(const std::vector<double>& values, const Selected& selected,
+                        detail::MedianSelection* keep = nullptr)
 {
   // Exact selection by a histogram of the IEEE bits (ordered as the values for
   // non-negative doubles): count, find the bucket holding the upper median's rank,
@@ -317,22 +318,92 @@ double upperMedianWhere(const std::vector<double>& values, const Selected& selec
       chosen.push_back(values[v]);
   const auto mid = chosen.begin() + static_cast<std::ptrdiff_t>(rank);
   std::nth_element(chosen.begin(), mid, chosen.end());
-  return *mid;
+  const double median = *mid;
+  if (keep != nullptr) {
+    keep->low = low;
+    keep->shift = shift;
+    keep->count = count;
+    keep->bucket = bucket;
+    keep->histogram.swap(histogram);
+    keep->members.swap(chosen);
+  }
+  return median;
 }
 
 } // namespace
 
 namespace detail {
 
-double medianOverRows(const std::vector<double>& own, const VertexRows& rows)
+double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
+                      MedianSelection* keep)
 {
   bool all = true; // the usual case: every vertex has triangles
   for (std::size_t v = 0; v < own.size() && all; ++v)
     all = rows.begin(v) != rows.end(v);
   if (all)
-    return upperMedianWhere(own, [](std::size_t) { return true; });
-  return upperMedianWhere(own,
-                          [&](std::size_t v) { return rows.begin(v) != rows.end(v); });
+    return upperMedianWhere(
+        own, [](std::size_t) { return true; }, keep);
+  return upperMedianWhere(
+      own, [&](std::size_t v) { return rows.begin(v) != rows.end(v); }, keep);
+}
+
+bool MedianSelection::update(const std::vector<double>& own,
+                             const std::vector<OwnChange>& changes, double& median)
+{
+  if (histogram.empty() || low == 0)
+    return false; // no histogram, or an unused vertex's 0 would fall in a bucket
+  auto bucket_of = [&](double x, std::size_t& b) {
+    const std::uint64_t bits = bitsOf(x);
+    if (std::signbit(x) || std::isnan(x) || bits < low)
+      return false;
+    b = static_cast<std::size_t>((bits - low) >> shift);
+    return b < histogram.size();
+  };
+  for (const OwnChange& change : changes) {
+    std::size_t b = 0;
+    if (!bucket_of(change.before, b) || histogram[b] == 0 || count == 0)
+      return false;
+    --histogram[b];
+    --count;
+    if (b == bucket) {
+      const auto it = std::find(members.begin(), members.end(), change.before);
+      if (it == members.end())
+        return false;
+      *it = members.back();
+      members.pop_back();
+    }
+    if (!change.kept)
+      continue;
+    if (!bucket_of(change.after, b))
+      return false;
+    ++histogram[b];
+    ++count;
+    if (b == bucket)
+      members.push_back(change.after);
+  }
+  if (count == 0)
+    return false;
+  std::size_t rank = count / 2, b = 0;
+  while (rank >= histogram[b])
+    rank -= histogram[b++];
+  if (b != bucket) {
+    // The median moved to another bucket: its members from every value (those of
+    // vertices without triangles are 0, below low).
+    members.clear();
+    for (const double x : own) {
+      std::size_t xb = 0;
+      if (bucket_of(x, xb) && xb == b)
+        members.push_back(x);
+    }
+    bucket = b;
+    if (members.size() != histogram[b])
+      return false;
+  }
+  std::vector<double> chosen = members;
+  const auto mid = chosen.begin() + static_cast<std::ptrdiff_t>(rank);
+  std::nth_element(chosen.begin(), mid, chosen.end());
+  median = *mid;
+  return true;
 }
 
 double localMedian(const VertexRows& rows, const std::vector<double>& own,
@@ -470,6 +541,15 @@ void VertexSpacing::settle(const TriangleMesh& trimmed, unsigned threads)
 {
   if (settled)
     return;
+  // The trim's histogram of the input's own medians, updated at the changed
+  // vertices, when the trimmed figures fit it.
+  if (own_settled && selection.update(own, own_changes, global_median)) {
+    std::vector<VertexId>().swap(without_triangles);
+    selection = MedianSelection{};
+    std::vector<OwnChange>().swap(own_changes);
+    settled = true;
+    return;
+  }
   std::vector<bool> has_triangle(trimmed.vertexCount(), own_settled);
   if (own_settled) {
     for (const VertexId v : without_triangles)
@@ -480,6 +560,8 @@ void VertexSpacing::settle(const TriangleMesh& trimmed, unsigned threads)
       has_triangle[v] = true;
   }
   global_median = medianOverUsed(own, has_triangle);
+  selection = MedianSelection{};
+  std::vector<OwnChange>().swap(own_changes);
   std::vector<bool>().swap(changed);
   std::vector<VertexId>().swap(without_triangles);
   settled = true;

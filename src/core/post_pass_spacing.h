@@ -16,6 +16,33 @@
 
 namespace pcl_vts::detail {
 
+/// A count of a vertex's triangles this large is not trusted (VertexSpacing).
+constexpr unsigned MANY_TRIANGLES = 255;
+
+/// An own median changed by the trim (VertexSpacing::own_changes).
+struct OwnChange {
+  double before = 0.0, after = 0.0;
+  bool kept = true; ///< false when the vertex lost all its triangles
+};
+
+/// The histogram selection of a median over own medians (of the vertices with a
+/// row): the IEEE bits less low, shifted, counted per bucket; the median's bucket
+/// and its members (values, any order).
+struct MedianSelection {
+  std::uint64_t low = 0;
+  unsigned shift = 0;
+  std::size_t count = 0;
+  std::size_t bucket = 0;
+  std::vector<std::size_t> histogram; ///< empty: no histogram was built
+  std::vector<double> members;
+
+  /// The median after the changes (own: every vertex's figure after them, 0 for a
+  /// vertex without triangles) in median; false when they do not fit the histogram
+  /// (then it is left in any state).
+  bool update(const std::vector<double>& own, const std::vector<OwnChange>& changes,
+              double& median);
+};
+
 /// What the trim hands to the fill: per vertex the median length of its edges, and
 /// either (own_settled) the vertices left without triangles, own being the trimmed
 /// mesh's already, or own before the trim and the vertices whose rows the trim
@@ -26,6 +53,8 @@ struct VertexSpacing {
   std::vector<double> own;
   bool own_settled = false;
   std::vector<VertexId> without_triangles; ///< when own_settled
+  std::vector<OwnChange> own_changes;      ///< when own_settled
+  MedianSelection selection;               ///< the input's global median's
   std::vector<bool> changed;               ///< when not own_settled
   double global_median = 0.0;
   bool settled = false;
@@ -33,6 +62,9 @@ struct VertexSpacing {
   /// boundary_known: the fill's loops start from them instead of a scan.
   std::vector<HalfedgeId> boundary;
   bool boundary_known = false;
+  /// Per vertex its triangles in the trimmed mesh, up to MANY_TRIANGLES (a count
+  /// not trusted): the fill walks the fans of rim vertices and checks them whole.
+  std::vector<std::uint8_t> triangle_count;
 
   void settle(const TriangleMesh& trimmed, unsigned threads = 1);
 };
@@ -63,8 +95,10 @@ class VertexRows {
 std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
                                unsigned threads);
 
-/// The upper median of own over the vertices with a non-empty row.
-double medianOverRows(const std::vector<double>& own, const VertexRows& rows);
+/// The upper median of own over the vertices with a non-empty row; with keep, its
+/// histogram selection when it takes one.
+double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
+                      MedianSelection* keep = nullptr);
 
 /// The median of own over v and its row (measurePointSpacing's local figure; 0 for
 /// an empty row). values: a buffer.

@@ -509,7 +509,9 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   detail::VertexRows rows;
   rows.build(mesh, after != nullptr ? &boundary : nullptr);
   std::vector<double> own = detail::ownMedians(mesh, rows, threads);
-  const double global_median = detail::medianOverRows(own, rows);
+  detail::MedianSelection selection;
+  const double global_median =
+      detail::medianOverRows(own, rows, after != nullptr ? &selection : nullptr);
   result.spacing = global_median;
   std::vector<TriangleId> starts;
   std::vector<std::uint8_t> flags =
@@ -555,6 +557,7 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // measured here, before the compaction; and the vertices without triangles after
   // the trim are those without before and the lost ones.
   std::vector<VertexId> without_triangles;
+  std::vector<detail::OwnChange> own_changes;
   if (after != nullptr && fans_whole && result.triangles_removed > 0) {
     std::vector<double> lengths;
     auto length = [&](VertexId a, VertexId b) {
@@ -575,13 +578,36 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
         if (twin == INVALID_ID || removed[triangleOf(twin)])
           lengths.push_back(length(v, mesh.triangles[in]));
       }
+      const double before = own[v];
       own[v] = lengths.empty() ? 0.0 : medianOf(lengths);
+      own_changes.push_back({before, own[v], !lengths.empty()});
       if (lengths.empty())
         without_triangles.push_back(v);
     }
     for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
       if (rows.begin(v) == rows.end(v))
         without_triangles.push_back(static_cast<VertexId>(v));
+  }
+  // Each vertex's triangles in the trimmed mesh, for the fill: its row's entries (a
+  // triangle per halfedge leaving it, one more per boundary halfedge entering it),
+  // less the latter and its removed triangles; a count that reaches MANY_TRIANGLES
+  // stays there (not trusted).
+  std::vector<std::uint8_t> triangle_count;
+  if (after != nullptr) {
+    constexpr unsigned MANY = detail::MANY_TRIANGLES;
+    triangle_count.resize(mesh.vertexCount());
+    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+      triangle_count[v] = static_cast<std::uint8_t>(
+          std::min<std::size_t>(rows.end(v) - rows.begin(v), MANY));
+    auto lower = [&](VertexId v) {
+      if (triangle_count[v] < MANY)
+        --triangle_count[v];
+    };
+    for (const HalfedgeId e : boundary) // the input's, before the compaction
+      lower(mesh.triangles[nextHalfedge(e)]);
+    for (const TriangleId t : dropped)
+      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+        lower(mesh.triangles[e]);
   }
   rows = detail::VertexRows{};
   if (result.triangles_removed > 0)
@@ -603,9 +629,12 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
     after->own_settled = fans_whole;
     after->boundary.swap(boundary);
     after->boundary_known = true;
-    if (!after->settled && fans_whole)
+    after->triangle_count.swap(triangle_count);
+    if (!after->settled && fans_whole) {
       after->without_triangles.swap(without_triangles);
-    else if (!after->settled)
+      after->own_changes.swap(own_changes);
+      after->selection = std::move(selection);
+    } else if (!after->settled)
       after->changed.swap(changed);
   }
   return Status::success();
