@@ -839,65 +839,67 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
   // on the inner side of the border line, and those cells cover the hull around it).
   const std::vector<std::size_t>& cells = lat_.incomplete;
   const std::uint32_t cx = lat_.nx - 1, cy = lat_.ny - 1;
-  std::vector<std::uint32_t> cell_label(cells.size(), INVALID_ID);
-  // Index of an incomplete cell in `cells`: a table over all cells when they are
-  // many (large NODATA areas), else a bisection.
-  std::vector<std::uint32_t> dense;
-  if (cells.size() > lat_.cellCount() / 16) {
-    dense.assign(lat_.cellCount(), INVALID_ID);
-    for (std::size_t k = 0; k < cells.size(); ++k)
-      dense[cells[k]] = static_cast<std::uint32_t>(k);
-  }
-  // Else the first incomplete cell of each row: a neighbour's bisection then runs
-  // over its row's incomplete cells only (a few dozen), once per row of neighbours.
-  // (The corners below are listed row by row from them too.)
+  // The first incomplete cell of each row (the corners below are listed row by row
+  // from them).
   std::vector<std::size_t> row_first(static_cast<std::size_t>(cy) + 1, cells.size());
   for (std::size_t k = cells.size(); k-- > 0;)
     row_first[cells[k] / cx] = k;
   for (std::uint32_t j = cy; j-- > 0;)
     row_first[j] = std::min(row_first[j], row_first[j + 1]);
-  std::vector<std::size_t> stack;
-  for (std::size_t seed = 0; seed < cells.size(); ++seed) {
-    if (cell_label[seed] != INVALID_ID)
-      continue;
-    const auto label = static_cast<std::uint32_t>(pieces.size());
-    pieces.emplace_back();
-    pieces.back().label = label;
-    cell_label[seed] = label;
-    stack.push_back(seed);
-    while (!stack.empty()) {
-      const std::size_t c = cells[stack.back()];
-      stack.pop_back();
-      ++pieces[label].cells;
-      const auto i = static_cast<std::uint32_t>(c % cx),
-                 j = static_cast<std::uint32_t>(c / cx);
-      const std::uint32_t i0 = i > 0 ? i - 1 : 0, i1 = std::min(cx - 1, i + 1);
-      for (std::uint32_t jj = j > 0 ? j - 1 : 0; jj <= std::min(cy - 1, j + 1); ++jj) {
-        std::size_t k = 0; // in `cells`, at or before the next incomplete neighbour
-        if (dense.empty())
-          k = static_cast<std::size_t>(
-              std::lower_bound(
-                  cells.begin() + static_cast<std::ptrdiff_t>(row_first[jj]),
-                  cells.begin() + static_cast<std::ptrdiff_t>(row_first[jj + 1]),
-                  lat_.cell(i0, jj)) -
-              cells.begin());
-        for (std::uint32_t ii = i0; ii <= i1; ++ii) {
-          const std::size_t d = lat_.cell(ii, jj);
-          if (lat_.complete(ii, jj))
-            continue;
-          if (dense.empty()) {
-            while (cells[k] < d)
-              ++k;
-          } else {
-            k = dense[d];
-          }
-          if (cell_label[k] == INVALID_ID) {
-            cell_label[k] = label;
-            stack.push_back(k);
-          }
-        }
-      }
+  // The components from the runs of incomplete cells along each row: two runs in
+  // consecutive rows touch (by an edge or a corner) when their column ranges,
+  // widened by one, overlap; a union-find over the runs joins them. Labels are given
+  // in order of each component's first run, i.e. of its smallest cell, as a flood
+  // fill seeded in cell order numbers them.
+  struct Run {
+    std::size_t first;       ///< in `cells`
+    std::uint32_t i0, i1, j; ///< columns [i0, i1) of cell row j
+  };
+  std::vector<Run> runs;
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const auto i = static_cast<std::uint32_t>(cells[k] % cx),
+               j = static_cast<std::uint32_t>(cells[k] / cx);
+    if (runs.empty() || runs.back().j != j || runs.back().i1 != i)
+      runs.push_back({k, i, i + 1, j});
+    else
+      ++runs.back().i1;
+  }
+  std::vector<std::uint32_t> parent(runs.size());
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    parent[r] = static_cast<std::uint32_t>(r);
+  const auto find = [&parent](std::uint32_t r) {
+    while (parent[r] != r)
+      r = parent[r] = parent[parent[r]];
+    return r;
+  };
+  for (std::size_t a = 0, b = 0; a < runs.size(); ++a) {
+    // b: the first run of row j + 1 that may touch run a (runs are in cell order).
+    const std::uint32_t j = runs[a].j;
+    while (b < runs.size() &&
+           (runs[b].j <= j || (runs[b].j == j + 1 && runs[b].i1 < runs[a].i0)))
+      ++b;
+    for (std::size_t c = b;
+         c < runs.size() && runs[c].j == j + 1 && runs[c].i0 <= runs[a].i1; ++c) {
+      const std::uint32_t x = find(static_cast<std::uint32_t>(a)),
+                          y = find(static_cast<std::uint32_t>(c));
+      if (x != y)
+        parent[std::max(x, y)] = std::min(x, y);
     }
+  }
+  std::vector<std::uint32_t> cell_label(cells.size());
+  std::vector<std::uint32_t> label_of(runs.size(), INVALID_ID);
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const std::uint32_t root = find(static_cast<std::uint32_t>(r));
+    if (label_of[root] == INVALID_ID) {
+      label_of[root] = static_cast<std::uint32_t>(pieces.size());
+      pieces.emplace_back();
+      pieces.back().label = label_of[root];
+    }
+    const std::uint32_t label = label_of[root];
+    const std::uint32_t length = runs[r].i1 - runs[r].i0;
+    pieces[label].cells += length;
+    std::fill_n(cell_label.begin() + static_cast<std::ptrdiff_t>(runs[r].first), length,
+                label);
   }
   // I in position order without a sort: the present corners on lattice row j are the
   // top corners of the incomplete cells of row j - 1 and the bottom corners of those
