@@ -839,31 +839,30 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
   // on the inner side of the border line, and those cells cover the hull around it).
   const std::vector<std::size_t>& cells = lat_.incomplete;
   const std::uint32_t cx = lat_.nx - 1, cy = lat_.ny - 1;
-  // The first incomplete cell of each row (the corners below are listed row by row
-  // from them).
-  std::vector<std::size_t> row_first(static_cast<std::size_t>(cy) + 1, cells.size());
-  for (std::size_t k = cells.size(); k-- > 0;)
-    row_first[cells[k] / cx] = k;
-  for (std::uint32_t j = cy; j-- > 0;)
-    row_first[j] = std::min(row_first[j], row_first[j + 1]);
   // The components from the runs of incomplete cells along each row: two runs in
   // consecutive rows touch (by an edge or a corner) when their column ranges,
   // widened by one, overlap; a union-find over the runs joins them. Labels are given
   // in order of each component's first run, i.e. of its smallest cell, as a flood
   // fill seeded in cell order numbers them.
   struct Run {
-    std::size_t first;       ///< in `cells`
     std::uint32_t i0, i1, j; ///< columns [i0, i1) of cell row j
   };
   std::vector<Run> runs;
-  for (std::size_t k = 0; k < cells.size(); ++k) {
-    const auto i = static_cast<std::uint32_t>(cells[k] % cx),
-               j = static_cast<std::uint32_t>(cells[k] / cx);
-    if (runs.empty() || runs.back().j != j || runs.back().i1 != i)
-      runs.push_back({k, i, i + 1, j});
-    else
+  // The first run of each cell row (cy + 1 entries: the corners below are listed
+  // row by row from them).
+  std::vector<std::size_t> row_runs(static_cast<std::size_t>(cy) + 1, 0);
+  for (const std::size_t c : cells) {
+    const auto i = static_cast<std::uint32_t>(c % cx),
+               j = static_cast<std::uint32_t>(c / cx);
+    if (runs.empty() || runs.back().j != j || runs.back().i1 != i) {
+      runs.push_back({i, i + 1, j});
+      ++row_runs[j + 1];
+    } else {
       ++runs.back().i1;
+    }
   }
+  for (std::uint32_t j = 0; j < cy; ++j)
+    row_runs[j + 1] += row_runs[j];
   std::vector<std::uint32_t> parent(runs.size());
   for (std::size_t r = 0; r < runs.size(); ++r)
     parent[r] = static_cast<std::uint32_t>(r);
@@ -886,8 +885,7 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
         parent[std::max(x, y)] = std::min(x, y);
     }
   }
-  std::vector<std::uint32_t> cell_label(cells.size());
-  std::vector<std::uint32_t> label_of(runs.size(), INVALID_ID);
+  std::vector<std::uint32_t> label_of(runs.size(), INVALID_ID), run_label(runs.size());
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const std::uint32_t root = find(static_cast<std::uint32_t>(r));
     if (label_of[root] == INVALID_ID) {
@@ -895,50 +893,36 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
       pieces.emplace_back();
       pieces.back().label = label_of[root];
     }
-    const std::uint32_t label = label_of[root];
-    const std::uint32_t length = runs[r].i1 - runs[r].i0;
-    pieces[label].cells += length;
-    std::fill_n(cell_label.begin() + static_cast<std::ptrdiff_t>(runs[r].first), length,
-                label);
+    run_label[r] = label_of[root];
+    pieces[run_label[r]].cells += runs[r].i1 - runs[r].i0;
   }
   // I in position order without a sort: the present corners on lattice row j are the
-  // top corners of the incomplete cells of row j - 1 and the bottom corners of those
-  // of row j, each list in order of i; merged, equal positions once. A corner's
-  // cells all lie in one piece (they share it).
-  std::array<std::size_t, 2> at{}, end{};
+  // top corners of the runs of cell row j - 1 and the bottom corners of those of row
+  // j (run [i0, i1) has corners i0 to i1), each list in order of i; merged, equal
+  // positions once. A corner's cells all lie in one piece (they share it).
   for (std::uint32_t j = 0; j <= cy; ++j) {
-    at = {j > 0 ? row_first[j - 1] : 0, j < cy ? row_first[j] : 0};
-    end = {j > 0 ? row_first[j] : 0, j < cy ? row_first[j + 1] : 0};
-    std::array<unsigned, 2> side{}; // 0: the cell's left corner next, 1: its right
-    std::size_t last = INVALID_ID;
+    std::array<std::size_t, 2> at = {j > 0 ? row_runs[j - 1] : 0,
+                                     j < cy ? row_runs[j] : 0};
+    const std::array<std::size_t, 2> end = {j > 0 ? row_runs[j] : 0,
+                                            j < cy ? row_runs[j + 1] : 0};
+    const std::size_t row = lat_.position(0, j);
+    std::uint32_t next = 0; // the smallest corner not listed yet
     for (;;) {
-      // The next corner of each list: cell i gives i, then i + 1.
-      std::size_t best = INVALID_ID;
-      unsigned from = 0;
-      for (unsigned l = 0; l < 2; ++l)
-        if (at[l] < end[l]) {
-          const std::size_t q = cells[at[l]] % cx + side[l];
-          if (best == INVALID_ID || q < best) {
-            best = q;
-            from = l;
-          }
-        }
-      if (best == INVALID_ID)
+      const bool first = at[0] < end[0], second = at[1] < end[1];
+      if (!first && !second)
         break;
-      const std::uint32_t label = cell_label[at[from]];
-      if (++side[from] == 2) {
-        side[from] = 0;
-        ++at[from];
-      }
-      if (best == last)
-        continue;
-      last = best;
-      if (const std::size_t q = lat_.position(static_cast<std::uint32_t>(best), j);
-          lat_.present(q)) {
-        i_.push_back(q);
-        label_.push_back(label);
-        pieces[label].own.push_back(q); // in order
-      }
+      const unsigned from =
+          first && (!second || runs[at[0]].i0 <= runs[at[1]].i0) ? 0 : 1;
+      const Run& run = runs[at[from]];
+      const std::uint32_t label = run_label[at[from]];
+      ++at[from];
+      for (std::uint32_t i = std::max(next, run.i0); i <= run.i1; ++i)
+        if (lat_.present(row + i)) {
+          i_.push_back(row + i);
+          label_.push_back(label);
+          pieces[label].own.push_back(row + i); // in order
+        }
+      next = std::max(next, run.i1 + 1);
     }
   }
 }
