@@ -84,6 +84,7 @@ class StripMerge {
       : strips_(count)
       , results_(count)
       , ready_(count, 0)
+      , appended_(count, 0)
       , reuse_end_(count - std::min<std::uint32_t>(count, workers))
       , release_above_(6 * expected / std::max<std::uint32_t>(1, count))
       , triangles_(triangles)
@@ -110,13 +111,28 @@ class StripMerge {
     return strips_[s];
   }
 
-  /// Strip s grown (and compacted) with `result`.
+  /// Asked by strip s once grown: the output itself when s is the next strip to merge
+  /// and no merge runs (the caller then holds the merge until grown(s)), unless its
+  /// pages would be handed back as it is copied (see appendStrip's `release`).
+  detail::StripSink* claim(std::uint32_t s)
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const bool last_use = s >= reuse_end_ || taken_ >= reuse_end_;
+    if (merging_ || merged_ != s || failed_ || last_use ||
+        strips_[s].triangles.size() > release_above_)
+      return nullptr;
+    merging_ = true;
+    appended_[s] = 1;
+    return &sink_;
+  }
+
+  /// Strip s grown (and compacted, or appended through claim) with `result`.
   void grown(std::uint32_t s, Status result)
   {
     results_[s] = std::move(result);
     std::unique_lock<std::mutex> lock(mutex_);
     ready_[s] = 1;
-    if (merging_)
+    if (merging_ && appended_[s] == 0)
       return; // the worker merging appends s once it gets there
     merging_ = true;
     while (merged_ < strips_.size() && ready_[merged_] != 0) {
@@ -126,7 +142,7 @@ class StripMerge {
       lock.unlock();
       if (!results_[next].ok())
         failed_ = true;
-      if (!failed_)
+      if (!failed_ && appended_[next] == 0)
         appendStrip(strips_[next],
                     last_use || strips_[next].triangles.size() > release_above_,
                     triangles_, halfedges_, border_);
@@ -190,8 +206,9 @@ class StripMerge {
  private:
   std::vector<StripMesh> strips_;
   std::vector<Status> results_;
-  std::mutex mutex_; ///< guards ready_, merged_, merging_, taken_, spare_
+  std::mutex mutex_; ///< guards ready_, appended_, merged_, merging_, taken_, spare_
   std::vector<char> ready_;
+  std::vector<char> appended_;    ///< written to the output by the strip's worker
   const std::uint32_t reuse_end_; ///< strips from here on get arrays of their own
   /// Strips with more vertex slots than this (twice the mean strip's) hand their
   /// pages back as they are appended: clustered input has strips of a third of the
@@ -205,6 +222,7 @@ class StripMerge {
   std::vector<VertexId>& triangles_;
   std::vector<HalfedgeId>& halfedges_;
   std::vector<BorderRecord> border_; ///< global ids
+  detail::StripSink sink_{triangles_, halfedges_, border_};
 };
 
 /// Grows every strip of the layout (any thread, any order) and merges them; the
@@ -234,9 +252,9 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
     MediatrixSearch search(grid, pyramid, subdivision);
     std::vector<TriangleId> index;
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++) {
-      Status result =
-          detail::growStrip(grid, pyramid, layout, s, hull_edges, search,
-                            open_head.get(), merge.strip(s), index, cache_blocks);
+      Status result = detail::growStrip(
+          grid, pyramid, layout, s, hull_edges, search, open_head.get(), merge.strip(s),
+          index, cache_blocks, [&merge, s] { return merge.claim(s); });
       if (++strips_grown == layout.count) {
         // No strip reads the grid or open_head any more: both released before the
         // last strips are merged, when the output is nearly full (the peak).

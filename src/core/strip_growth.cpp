@@ -97,7 +97,7 @@ class Growth {
   Growth(const CellGrid& grid, const CellPyramid& pyramid, const StripLayout& layout,
          std::uint32_t strip, const HullEdges& hull, MediatrixSearch& search,
          HalfedgeId* open_head, StripMesh& mesh, bool cache_blocks,
-         std::vector<TriangleId>& index)
+         std::vector<TriangleId>& index, const std::function<StripSink*()>& claim)
       : grid_(grid)
       , pyramid_(pyramid)
       , hull_(hull)
@@ -112,6 +112,7 @@ class Growth {
                                      : static_cast<double>(end_column_))
       , cache_blocks_(cache_blocks)
       , index_(index)
+      , claim_(claim)
   {}
 
   Status run()
@@ -554,6 +555,10 @@ class Growth {
     TriangleId next = 0;
     for (std::size_t t = 0; t < grown; ++t)
       index[t] = owned[t] != 0 ? next++ : INVALID_ID;
+    if (StripSink* const sink = claim_ ? claim_() : nullptr) {
+      appendTo(*sink);
+      return;
+    }
     VertexId* const v = mesh_.triangles.data();
     HalfedgeId* const h = mesh_.halfedges.data();
     for (std::size_t t = 0; t < grown; ++t) {
@@ -584,6 +589,42 @@ class Growth {
     mesh_.halfedges.resize(3 * static_cast<std::size_t>(next));
   }
 
+  /// finish's compaction written to the end of the mesh's arrays instead: the same
+  /// values as the compacted strip appended there (ids shifted by the halfedges
+  /// already in the mesh), without the strip's copy in between.
+  void appendTo(StripSink& sink) const
+  {
+    const std::size_t grown = mesh_.owned.size();
+    const TriangleId* const index = index_.data();
+    const VertexId* const v = mesh_.triangles.data();
+    const HalfedgeId* const h = mesh_.halfedges.data();
+    const auto shift = static_cast<HalfedgeId>(sink.halfedges.size());
+    for (std::size_t t = 0; t < grown; ++t) {
+      if (index[t] == INVALID_ID)
+        continue;
+      const HalfedgeId out = shift + 3 * index[t];
+      const VertexId a[3] = {v[3 * t], v[3 * t + 1], v[3 * t + 2]};
+      for (std::size_t k = 0; k < 3; ++k) {
+        sink.triangles.push_back(a[k]);
+        const VertexId b = a[k == 2 ? 0 : k + 1];
+        const HalfedgeId e = h[3 * t + k];
+        HalfedgeId twin = HULL;
+        if (e < OPEN) {
+          const TriangleId o = index[e / 3];
+          twin = o != INVALID_ID ? shift + 3 * o + e % 3 : HalfedgeId{BORDER};
+        } else if (e != CLOSED && !hull_.contains(a[k], b)) {
+          twin = BORDER;
+        }
+        if (twin == BORDER) {
+          sink.border.push_back(
+              {std::min(a[k], b), std::max(a[k], b), out + static_cast<HalfedgeId>(k)});
+          twin = HULL;
+        }
+        sink.halfedges.push_back(twin);
+      }
+    }
+  }
+
   const CellGrid& grid_;
   const CellPyramid& pyramid_;
   const HullEdges& hull_;
@@ -606,8 +647,9 @@ class Growth {
   std::vector<std::uint8_t> vertex_flags_; ///< per local vertex of the block
   std::vector<std::uint64_t> owner_key_;   ///< per local vertex of the block
   std::vector<TriangleId>& index_; ///< per triangle grown: its owned number (finish)
-  std::size_t strip_vertices_ = 0; ///< grid points in the strip's columns
-  std::size_t reached_ = 0;        ///< of them, those whose open_head_ is not UNREACHED
+  const std::function<StripSink*()>& claim_; ///< see growStrip
+  std::size_t strip_vertices_ = 0;           ///< grid points in the strip's columns
+  std::size_t reached_ = 0; ///< of them, those whose open_head_ is not UNREACHED
 };
 
 } // namespace
@@ -644,10 +686,11 @@ StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
-                 std::vector<TriangleId>& index, bool cache_blocks)
+                 std::vector<TriangleId>& index, bool cache_blocks,
+                 const std::function<StripSink*()>& claim)
 {
   return Growth(grid, pyramid, layout, strip, hull, search, open_head, mesh,
-                cache_blocks, index)
+                cache_blocks, index, claim)
       .run();
 }
 

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -95,16 +96,28 @@ struct StripMesh {
   std::vector<BorderHalfedge> border; ///< once grown: the halfedges left HULL for this
 };
 
+/// The mesh's arrays, which a grown strip may append its owned triangles to directly
+/// (instead of compacting them in its own arrays for a later copy): ids shifted to
+/// global ones, border halfedges listed with global ids.
+struct StripSink {
+  std::vector<VertexId>& triangles;
+  std::vector<HalfedgeId>& halfedges;
+  std::vector<BorderHalfedge>& border;
+};
+
 /// Grows strip `strip` of `layout`. `open_head` (one slot per grid point, filled with
 /// UNREACHED, see HalfedgeSlot) is shared by all strips: a strip only touches the slots
 /// of its own vertices, where it keeps the head of each vertex's list of open
 /// halfedges. `cache_blocks`: the triangles proven by block-local triangulations are
 /// added first (docs/scaling.md, "Cache blocks"); the same triangles, another order.
-/// `index`: the caller's buffer (one per worker: its pages stay resident).
+/// `index`: the caller's buffer (one per worker: its pages stay resident). `claim`,
+/// when set, is asked once the strip is grown: a sink it returns receives the owned
+/// triangles (`mesh` is then left as grown), else they are compacted in `mesh`.
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
-                 std::vector<TriangleId>& index, bool cache_blocks = false);
+                 std::vector<TriangleId>& index, bool cache_blocks = false,
+                 const std::function<StripSink*()>& claim = {});
 
 } // namespace detail
 } // namespace pcl_vts
