@@ -16,19 +16,26 @@ unsigned rowThreads(unsigned threads, std::size_t rows, std::size_t columns)
   return static_cast<unsigned>(std::min<std::size_t>({threads, useful, rows}));
 }
 
+void shape(CellPyramid::Level& level, std::uint32_t nx, std::uint32_t ny)
+{
+  level.nx = nx;
+  level.ny = ny;
+  level.row_words = (nx + 63) / 64;
+  level.occupied.assign(static_cast<std::size_t>(level.row_words) * ny, 0);
+}
+
 } // namespace
+
+void startCellPyramid(std::uint32_t nx, std::uint32_t ny, CellPyramid& pyramid)
+{
+  pyramid.levels.assign(1, CellPyramid::Level{});
+  shape(pyramid.levels[0], nx, ny);
+}
 
 void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid, unsigned threads)
 {
-  pyramid.levels.clear();
-  const auto shape = [](CellPyramid::Level& level, std::uint32_t nx, std::uint32_t ny) {
-    level.nx = nx;
-    level.ny = ny;
-    level.row_words = (nx + 63) / 64;
-    level.occupied.assign(static_cast<std::size_t>(level.row_words) * ny, 0);
-  };
-  CellPyramid::Level base;
-  shape(base, grid.nx, grid.ny);
+  startCellPyramid(grid.nx, grid.ny, pyramid);
+  CellPyramid::Level& base = pyramid.levels[0];
   parallelChunks(rowThreads(threads, grid.ny, grid.nx), grid.ny,
                  [&](std::size_t j0, std::size_t j1, unsigned) {
                    for (std::size_t j = j0; j < j1; ++j) {
@@ -39,7 +46,12 @@ void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid, unsigned threa
                          out[i >> 6] |= std::uint64_t{1} << (i & 63u);
                    }
                  });
-  pyramid.levels.push_back(std::move(base));
+  buildCellPyramidLevels(pyramid, threads);
+}
+
+void buildCellPyramidLevels(CellPyramid& pyramid, unsigned threads)
+{
+  pyramid.levels.resize(1);
   while (pyramid.levels.back().nx > 1 || pyramid.levels.back().ny > 1) {
     const CellPyramid::Level& fine = pyramid.levels.back();
     CellPyramid::Level coarse;

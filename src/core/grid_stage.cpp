@@ -286,6 +286,7 @@ void GridBuilder::run(const Input& in, std::size_t inputs,
     }
   });
   results_.assign(band_count, BandResult{});
+  startCellPyramid(grid_.nx, grid_.ny, stage_.pyramid); // the band sort marks cells
   const unsigned workers =
       static_cast<unsigned>(std::min<std::size_t>(chunks, band_count));
   std::atomic<std::size_t> next{0};
@@ -371,8 +372,13 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
     sources[r] = source[bs + r];
     ++count[cell[r] + 1];
   }
-  for (std::size_t c = 0; c < cells; ++c)
+  // The cells' starts as if no point were merged (clustered input has several empty
+  // cells a point: only the occupied ones are visited below).
+  std::uint32_t* cell_start = grid_.cell_start.data() + c0;
+  for (std::size_t c = 0; c < cells; ++c) {
+    cell_start[c] = bs + count[c];
     count[c + 1] += count[c];
+  }
   Point2* points = scratch.points.data();
   std::uint32_t* slot = scratch.records.data();
   for (std::uint32_t r = 0; r < n; ++r) {
@@ -380,26 +386,43 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
     points[at] = grid_points[bs + r];
     slot[at] = r;
   }
-  // count[c] is now cell c's end. Each cell: sort, merge equal XY into the grid's
-  // slots [out, ...) (written in order), subdivide when crowded. Each record's vertex
-  // goes to vertex_ (finish() hands it to input_to_vertex); vertex ids are slots of
-  // the band's own range for now (finish() shifts them down).
+  // count[c] is now cell c's end. Each occupied cell, in order: sort, merge equal XY
+  // into the grid's slots [out, ...) (written in order), subdivide when crowded. Each
+  // record's vertex goes to vertex_ (finish() hands it to input_to_vertex); vertex
+  // ids are slots of the band's own range for now (finish() shifts them down). Once
+  // points were merged (out behind the sorted position), the starts of the cells up
+  // to the next occupied one are rewritten.
   BandResult& result = results_[b];
   std::uint32_t* vertex_of = vertex_.get() + bs;
   const auto vertex = [vertex_of](std::uint32_t record, std::uint32_t v) {
     vertex_of[record] = v;
   };
-  std::uint32_t begin = 0, out = bs;
-  for (std::size_t c = 0; c < cells; ++c) {
-    const std::uint32_t end = count[c];
-    grid_.cell_start[c0 + c] = out;
+  // Each occupied cell also sets its bit of the pyramid's level 0 (the band's rows
+  // are whole words of it: no word is shared with another band).
+  CellPyramid::Level& level0 = stage_.pyramid.levels[0];
+  std::uint32_t out = bs;
+  std::size_t unset = 0;               // the first cell whose start may still be off
+  std::size_t row = r0, row_first = 0; // the row of the cell met last, its first cell
+  std::size_t c = 0;
+  for (std::uint32_t begin = 0, end = 0; begin < n; begin = end, ++c) {
+    while (count[c] == begin) // an empty cell (count[c] is its end)
+      ++c;
+    end = count[c];
+    if (out != bs + begin)
+      std::fill(cell_start + unset, cell_start + c + 1, out);
+    unset = c + 1;
+    for (; c >= row_first + nx; row_first += nx)
+      ++row;
+    const std::size_t column = c - row_first;
+    level0.occupied[row * level0.row_words + (column >> 6)] |= std::uint64_t{1}
+                                                               << (column & 63u);
     if (end - begin == 1) {
       const std::uint32_t r = slot[begin];
       vertex_of[r] = out;
       grid_points[out] = points[begin];
       source[out] = sources[r];
       ++out;
-    } else if (end - begin > 1) {
+    } else {
       sortCell(points, slot, begin, end, scratch.sort);
       const std::uint32_t first = out;
       out = mergeCell(points, slot, sources, begin, end, out, vertex);
@@ -429,8 +452,9 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
           vertex_of[slot[q]] = scratch.new_id[vertex_of[slot[q]] - first];
       }
     }
-    begin = end;
   }
+  if (out != be)
+    std::fill(cell_start + unset, cell_start + cells, out);
   result.distinct = out - bs;
 }
 
@@ -658,7 +682,7 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
   diag.distinct_points = grid.points.size();
   diag.cells = grid.cellCount();
   diag.cell_size = grid.cell_size;
-  buildCellPyramid(grid, stage.pyramid, threads);
+  buildCellPyramidLevels(stage.pyramid, threads); // level 0 from the band sort
   return Status::success();
 }
 

@@ -38,6 +38,15 @@ struct CellPyramid {
 PCL_VTS_CORE_EXPORT void buildCellPyramid(const CellGrid& grid, CellPyramid& pyramid,
                                           unsigned threads = 1);
 
+/// The pyramid in two steps, for a caller that knows the occupied cells as it fills
+/// the grid (the grid stage): level 0 of nx x ny cells, all empty (pyramid holds only
+/// it), then, once the occupied cells' bits are set, the levels above it (the same
+/// pyramid as buildCellPyramid's when the bits are the grid's non-empty cells).
+PCL_VTS_CORE_EXPORT void startCellPyramid(std::uint32_t nx, std::uint32_t ny,
+                                          CellPyramid& pyramid);
+PCL_VTS_CORE_EXPORT void buildCellPyramidLevels(CellPyramid& pyramid,
+                                                unsigned threads = 1);
+
 /// An axis-aligned world rectangle.
 struct BlockRect {
   double x0, y0, x1, y1;
