@@ -95,9 +95,9 @@ void LocalDelaunay::reserveTriangles(std::size_t count)
 {
   v.resize(3 * count);
   adj.resize(3 * count);
-  if (bad_.size() < count) {
-    bad_.resize(count);
-    boundary_.resize(count + 2);
+  if (bad_.size() < count + 2) { // a cavity holds at most every triangle
+    bad_.resize(count + 2);      // then the star's slots
+    boundary_.resize(count + 3); // then the first edge again
     stack_.resize(2 * count + 3);
   }
 }
@@ -155,9 +155,8 @@ void LocalDelaunay::insert(std::int32_t k)
   bad[bad_count++] = t;
   stack[top++] = 3 * t + 2;
   stack[top++] = 3 * t + 1;
-  stack[top++] = 3 * t;
-  while (top != 0) {
-    const std::uint32_t h = stack[--top];
+  std::uint32_t h = 3 * t;
+  for (;;) {
     const std::int32_t o = A[h];
     if (o >= 0) {
       const auto uo = static_cast<std::uint32_t>(o);
@@ -170,15 +169,19 @@ void LocalDelaunay::insert(std::int32_t k)
       if (incirclePerturbedInBox(P[va], P[vb], P[vc], q, bound) == Sign::POSITIVE) {
         bad[bad_count++] = nb;
         const std::uint32_t e = uo - base;
-        stack[top++] = base + (e == 0 ? 2 : e - 1); // the edge before e, popped last
-        stack[top++] = base + (e == 2 ? 0 : e + 1);
+        stack[top++] = base + (e == 0 ? 2 : e - 1); // the edge before e, taken later
+        h = base + (e == 2 ? 0 : e + 1);            // the edge after e, taken now
         continue;
       }
     }
     boundary[boundary_count++] = {V[h], o};
+    if (top == 0)
+      break;
+    h = stack[--top];
   }
-  // The star of q over the chain: the cavity's slots first, then new ones (a disk of
-  // m boundary edges holds m - 2 triangles: two new slots).
+  // The star of q over the chain: the cavity's slots, then new ones (a disk of m
+  // boundary edges holds m - 2 triangles: two new slots), listed after the cavity's.
+  boundary[boundary_count] = boundary[0]; // the chain closed
   const std::size_t first_new = triangles_;
   triangles_ += boundary_count - bad_count;
   if (3 * triangles_ > v.size()) { // only if the 1 + 2n count were wrong
@@ -187,16 +190,14 @@ void LocalDelaunay::insert(std::int32_t k)
     V = v.data();
     A = adj.data();
   }
-  const auto slot = [&](std::size_t j) {
-    return static_cast<std::uint32_t>(j < bad_count ? bad[j]
-                                                    : first_new + (j - bad_count));
-  };
-  std::uint32_t previous = slot(boundary_count - 1);
+  for (std::size_t j = bad_count; j < boundary_count; ++j)
+    bad[j] = static_cast<std::uint32_t>(first_new + (j - bad_count));
+  std::uint32_t previous = bad[boundary_count - 1];
   for (std::size_t j = 0; j < boundary_count; ++j) {
-    const std::uint32_t s = slot(j);
+    const std::uint32_t s = bad[j];
     const std::pair<std::int32_t, std::int32_t>& edge = boundary[j];
     V[3 * s] = edge.first;
-    V[3 * s + 1] = boundary[j + 1 == boundary_count ? 0 : j + 1].first;
+    V[3 * s + 1] = boundary[j + 1].first;
     V[3 * s + 2] = k;
     A[3 * s] = edge.second;
     if (edge.second >= 0)
@@ -206,7 +207,7 @@ void LocalDelaunay::insert(std::int32_t k)
     previous = s;
   }
   last_ = static_cast<std::int32_t>(previous);
-  if (bad_.size() < triangles_) // the next cavity's arrays (as above: not expected)
+  if (bad_.size() < triangles_ + 2) // the next cavity's arrays (as above: not expected)
     reserveTriangles(v.size() / 3);
 }
 
