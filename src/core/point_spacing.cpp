@@ -250,19 +250,40 @@ double ownMedian(const TriangleMesh& mesh, const VertexRows& rows, std::size_t v
 } // namespace
 
 std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
-                               unsigned threads)
+                               unsigned threads, OwnStats* stats)
 {
   // Per vertex: median incident edge length. Robust to a few long edges into a
   // void (a rim vertex keeps most of its short ones) and to anisotropic sampling
   // (scan lines: the shortest edge would only see the along-line spacing).
-  // Each vertex's median is its own slot's: ranges of vertices on any threads.
+  // Each vertex's median is its own slot's: ranges of vertices on any threads, each
+  // with its slot of the stats, joined in range order.
   const std::size_t n = mesh.vertexCount();
   std::vector<double> own(n, 0.0);
-  parallelRanges(threads, n, [&](std::size_t begin, std::size_t end) {
+  const auto parts = static_cast<unsigned>(
+      std::min<std::size_t>(threads, std::max<std::size_t>(1, n >> 16)));
+  std::vector<OwnStats> part_stats(parts);
+  parallelChunks(parts, n, [&](std::size_t begin, std::size_t end, unsigned p) {
     std::vector<double> values; // reused across the range: no copy per vertex
-    for (std::size_t v = begin; v < end; ++v)
+    OwnStats local;
+    for (std::size_t v = begin; v < end; ++v) {
       own[v] = ownMedian(mesh, rows, v, values);
+      if (rows.begin(v) == rows.end(v))
+        continue;
+      const std::uint64_t bits = bitsOf(own[v]);
+      local.low = std::min(local.low, bits);
+      local.high = std::max(local.high, bits);
+      ++local.count;
+    }
+    part_stats[p] = local;
   });
+  if (stats != nullptr) {
+    *stats = OwnStats{};
+    for (const OwnStats& part : part_stats) {
+      stats->low = std::min(stats->low, part.low);
+      stats->high = std::max(stats->high, part.high);
+      stats->count += part.count;
+    }
+  }
   return own;
 }
 
@@ -345,6 +366,90 @@ double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
         own, [](std::size_t) { return true; }, keep);
   return upperMedianWhere(
       own, [&](std::size_t v) { return rows.begin(v) != rows.end(v); }, keep);
+}
+
+namespace {
+
+constexpr unsigned BUCKET_BITS = 16; ///< upperMedianWhere's histogram: 65536 buckets
+
+/// The largest IEEE bits of a non-negative double that is not NaN (+inf's): a
+/// negative value or a NaN has larger ones.
+constexpr std::uint64_t PLAIN_BITS = 0x7ff0000000000000ull;
+
+/// upperMedianWhere's shift for the bits [low, high].
+unsigned bucketShift(std::uint64_t low, std::uint64_t high)
+{
+  unsigned shift = 0;
+  while (((high - low) >> shift) >= (std::uint64_t{1} << BUCKET_BITS))
+    ++shift;
+  return shift;
+}
+
+/// Whether medianOverRows takes its histogram for these stats.
+bool histogramFits(const OwnStats& stats)
+{
+  return stats.count > 4096 && stats.high <= PLAIN_BITS;
+}
+
+} // namespace
+
+void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
+                     const OwnStats& stats, unsigned threads,
+                     std::vector<double>& bound, MedianSelection* histogram)
+{
+  const std::size_t n = own.size();
+  bound.resize(n);
+  const bool count = histogram != nullptr && histogramFits(stats);
+  const unsigned shift = count ? bucketShift(stats.low, stats.high) : 0;
+  const auto parts = static_cast<unsigned>(
+      std::min<std::size_t>(threads, std::max<std::size_t>(1, n >> 16)));
+  // One histogram per range, summed after (the same counts on any threads).
+  std::vector<std::vector<std::size_t>> part_counts(count ? parts : 0);
+  parallelChunks(parts, n, [&](std::size_t begin, std::size_t end, unsigned p) {
+    std::size_t* buckets = nullptr;
+    if (count) {
+      part_counts[p].assign(std::size_t{1} << BUCKET_BITS, 0);
+      buckets = part_counts[p].data();
+    }
+    for (std::size_t v = begin; v < end; ++v) {
+      bound[v] = ringLowerBound(rows, own, v);
+      if (buckets != nullptr && rows.begin(v) != rows.end(v))
+        ++buckets[(bitsOf(own[v]) - stats.low) >> shift];
+    }
+  });
+  if (!count)
+    return;
+  *histogram = MedianSelection{};
+  histogram->low = stats.low;
+  histogram->shift = shift;
+  histogram->count = stats.count;
+  histogram->histogram.swap(part_counts[0]);
+  for (std::size_t p = 1; p < part_counts.size(); ++p)
+    for (std::size_t b = 0; b < histogram->histogram.size(); ++b)
+      histogram->histogram[b] += part_counts[p][b];
+}
+
+double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
+                      const OwnStats& stats, MedianSelection& histogram)
+{
+  if (histogram.histogram.empty() || !histogramFits(stats))
+    return medianOverRows(own, rows, &histogram);
+  // upperMedianWhere's last steps: the bucket holding the rank, its members.
+  std::size_t rank = histogram.count / 2, bucket = 0;
+  while (rank >= histogram.histogram[bucket])
+    rank -= histogram.histogram[bucket++];
+  std::vector<double>& chosen = histogram.members;
+  chosen.clear();
+  chosen.reserve(histogram.histogram[bucket]);
+  for (std::size_t v = 0; v < own.size(); ++v)
+    if (((bitsOf(own[v]) - histogram.low) >> histogram.shift) == bucket &&
+        rows.begin(v) != rows.end(v))
+      chosen.push_back(own[v]);
+  histogram.bucket = bucket;
+  std::vector<double> sorted = chosen;
+  const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>(rank);
+  std::nth_element(sorted.begin(), mid, sorted.end());
+  return *mid;
 }
 
 bool MedianSelection::update(const std::vector<double>& own,

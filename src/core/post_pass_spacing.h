@@ -90,15 +90,34 @@ class VertexRows {
   std::vector<std::size_t> start64_;
 };
 
+/// The IEEE bits' range and the count of own medians over the vertices with a
+/// non-empty row.
+struct OwnStats {
+  std::uint64_t low = ~std::uint64_t{0}, high = 0;
+  std::size_t count = 0;
+};
+
 /// Per vertex the median length of the edges of its row (0 for an empty row), on
-/// `threads` threads (the same figures for any value).
+/// `threads` threads (the same figures for any value); with stats, their OwnStats.
 std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
-                               unsigned threads);
+                               unsigned threads, OwnStats* stats = nullptr);
 
 /// The upper median of own over the vertices with a non-empty row; with keep, its
 /// histogram selection when it takes one.
 double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
                       MedianSelection* keep = nullptr);
+
+/// ringLowerBound of every vertex into bound, on `threads` threads; with histogram,
+/// also the histogram of own over the vertices with a non-empty row that
+/// medianOverRows would count for these stats (ownMedians'), else it is left empty.
+void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
+                     const OwnStats& stats, unsigned threads,
+                     std::vector<double>& bound, MedianSelection* histogram);
+
+/// medianOverRows from the histogram ringLowerBounds built (keeping its selection
+/// in it), or by medianOverRows when it built none.
+double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
+                      const OwnStats& stats, MedianSelection& histogram);
 
 /// The median of own over v and its row (measurePointSpacing's local figure; 0 for
 /// an empty row). values: a buffer.

@@ -281,20 +281,21 @@ std::size_t repairPinches(const TriangleMesh& mesh, const std::vector<TriangleId
 
 /// OVERSIZED / VOID_SEED per triangle, against the largest local spacing of its
 /// corners, and the flood's starts (floodStarts' order). A triangle no larger than
-/// trim_factor times the largest ringMinimum of its corners (a lower bound of their
-/// local spacing) is not oversized, with classifyTriangle's own figures; only the
-/// others need the local medians, and those of their corners alone are computed.
-/// Each triangle its own slot, on any threads.
+/// trim_factor times the largest ringLowerBound of its corners (a lower bound of
+/// their local spacing) is not oversized, with classifyTriangle's own figures; only
+/// the others need the local medians, and those of their corners alone are
+/// computed. Each triangle its own slot, on any threads. The pass of the ring bounds
+/// also counts the global median's histogram (ringLowerBounds).
 std::vector<std::uint8_t>
 classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
-                  const std::vector<double>& own, const TrimOptions& options,
-                  unsigned threads, std::vector<TriangleId>& starts)
+                  const std::vector<double>& own, const detail::OwnStats& stats,
+                  const TrimOptions& options, unsigned threads,
+                  std::vector<TriangleId>& starts, detail::MedianSelection& histogram)
 {
-  const std::size_t n = mesh.vertexCount();
   const std::size_t count = mesh.triangleCount();
-  std::vector<double> scale(n); // ringLowerBound, then the local median where needed
-  parallelFor(threads, n,
-              [&](std::size_t v) { scale[v] = detail::ringLowerBound(rows, own, v); });
+  std::vector<double> scale; // ringLowerBound, then the local median where needed
+  detail::ringLowerBounds(rows, own, stats, threads, scale, &histogram);
+  const std::size_t n = scale.size();
   auto corner = [&](TriangleId t, unsigned k) -> const Point2& {
     return mesh.xy[mesh.triangles[3 * std::size_t{t} + k]];
   };
@@ -508,14 +509,16 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   std::vector<HalfedgeId> boundary;
   detail::VertexRows rows;
   rows.build(mesh, after != nullptr ? &boundary : nullptr);
-  std::vector<double> own = detail::ownMedians(mesh, rows, threads);
+  detail::OwnStats stats;
+  std::vector<double> own = detail::ownMedians(mesh, rows, threads, &stats);
+  // The global median's histogram is counted with the ring bounds (no pass of its
+  // own over the medians).
   detail::MedianSelection selection;
-  const double global_median =
-      detail::medianOverRows(own, rows, after != nullptr ? &selection : nullptr);
-  result.spacing = global_median;
   std::vector<TriangleId> starts;
   std::vector<std::uint8_t> flags =
-      classifyTriangles(mesh, rows, own, options, threads, starts);
+      classifyTriangles(mesh, rows, own, stats, options, threads, starts, selection);
+  const double global_median = detail::medianOverRows(own, rows, stats, selection);
+  result.spacing = global_median;
 
   // The peel and the repair (peelOutwardTriangles), from the starts found.
   std::vector<bool> removed(mesh.triangleCount(), false);
