@@ -604,8 +604,8 @@ class Growth {
         continue;
       const HalfedgeId out = shift + 3 * index[t];
       const VertexId a[3] = {v[3 * t], v[3 * t + 1], v[3 * t + 2]};
+      HalfedgeId twins[3];
       for (std::size_t k = 0; k < 3; ++k) {
-        sink.triangles.push_back(a[k]);
         const VertexId b = a[k == 2 ? 0 : k + 1];
         const HalfedgeId e = h[3 * t + k];
         HalfedgeId twin = HULL;
@@ -620,8 +620,10 @@ class Growth {
               {std::min(a[k], b), std::max(a[k], b), out + static_cast<HalfedgeId>(k)});
           twin = HULL;
         }
-        sink.halfedges.push_back(twin);
+        twins[k] = twin;
       }
+      sink.triangles.insert(sink.triangles.end(), a, a + 3);
+      sink.halfedges.insert(sink.halfedges.end(), twins, twins + 3);
     }
   }
 
