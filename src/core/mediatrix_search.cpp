@@ -99,9 +99,26 @@ VertexId MediatrixSearch::guessThirdPoint(const Query& q) const
   return centre.best;
 }
 
-void MediatrixSearch::testRange(std::uint32_t begin, std::uint32_t end, Query& q)
+void MediatrixSearch::testRow(std::uint32_t j, std::uint32_t i0, std::uint32_t i1,
+                              const Window& skip, Query& q)
 {
-  ++stats_.cells_visited;
+  const CellId row = grid_.cellId(0, j);
+  const auto cells = [&](std::uint32_t first, std::uint32_t last) {
+    testRange(grid_.start(row + first), grid_.start(row + last + 1), q);
+    stats_.cells_visited += last - first;
+  };
+  if (j < skip.j0 || j > skip.j1 || skip.i1 < i0 || skip.i0 > i1) {
+    cells(i0, i1);
+    return;
+  }
+  if (skip.i0 > i0)
+    cells(i0, skip.i0 - 1);
+  if (skip.i1 < i1)
+    cells(skip.i1 + 1, i1);
+}
+
+void MediatrixSearch::testPoints(std::uint32_t begin, std::uint32_t end, Query& q)
+{
   stats_.points_tested += end - begin;
   const Point2* points = grid_.points.data();
   for (std::uint32_t k = begin; k < end; ++k) {
@@ -319,6 +336,7 @@ bool MediatrixSearch::settleInRectangle(Query& q, const Window& w)
     fj = std::clamp(grid_.row(fy), w.j0, w.j1);
     testCell(grid_.cellId(fi, fj), q);
   }
+  const Window foot{fi, fi, fj, fj};
   q.refreshDisk(grid_);
   // Usually the apex is known now and its circle spans only a few of the window's
   // cells: visit just those. Later candidates lie inside this circle and so do their
@@ -327,16 +345,12 @@ bool MediatrixSearch::settleInRectangle(Query& q, const Window& w)
     const Window r = diskCells(q.disk);
     if (r.i0 >= w.i0 && r.i1 <= w.i1 && r.j0 >= w.j0 && r.j1 <= w.j1) {
       for (std::uint32_t j = r.j0; j <= r.j1; ++j)
-        for (std::uint32_t i = r.i0; i <= r.i1; ++i)
-          if (i != fi || j != fj)
-            testCell(grid_.cellId(i, j), q);
+        testRow(j, r.i0, r.i1, foot, q);
       return true;
     }
   }
   for (std::uint32_t j = w.j0; j <= w.j1; ++j)
-    for (std::uint32_t i = w.i0; i <= w.i1; ++i)
-      if (i != fi || j != fj)
-        testCell(grid_.cellId(i, j), q);
+    testRow(j, w.i0, w.i1, foot, q);
   return false;
 }
 
@@ -350,9 +364,7 @@ bool MediatrixSearch::settleInDiskCells(Query& q, const Window& done)
   if (cellCount(r) > MAX_DISK_CELLS || windowHasCrowdedCell(r))
     return false;
   for (std::uint32_t j = r.j0; j <= r.j1; ++j)
-    for (std::uint32_t i = r.i0; i <= r.i1; ++i)
-      if (!done.contains(i, j))
-        testCell(grid_.cellId(i, j), q);
+    testRow(j, r.i0, r.i1, done, q);
   return true;
 }
 

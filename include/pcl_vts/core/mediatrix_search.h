@@ -77,11 +77,23 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
     return static_cast<std::size_t>(w.i1 - w.i0 + 1) *
            static_cast<std::size_t>(w.j1 - w.j0 + 1);
   }
-  void testRange(std::uint32_t begin, std::uint32_t end, Query& q);
+  /// Counts a visited cell and tests the points [begin, end) (none: most cells met
+  /// around clustered input's voids are empty).
+  void testRange(std::uint32_t begin, std::uint32_t end, Query& q)
+  {
+    ++stats_.cells_visited;
+    if (begin < end)
+      testPoints(begin, end, q);
+  }
+  void testPoints(std::uint32_t begin, std::uint32_t end, Query& q);
   void testCell(CellId cell, Query& q)
   {
     testRange(grid_.start(cell), grid_.start(cell + 1), q);
   }
+  /// Cells i0..i1 of row j but those of `skip`: one range of points per run of
+  /// cells (a row's cells are contiguous), in the same order as cell by cell.
+  void testRow(std::uint32_t j, std::uint32_t i0, std::uint32_t i1, const Window& skip,
+               Query& q);
   bool windowHasCrowdedCell(const Window& w) const;
   Window diskCells(const SafeDisk& disk) const;
   /// The phases of findThirdPoint, in order; each returns true when it settled the
