@@ -168,23 +168,24 @@ int main(int argc, char** argv)
   }
   if (args.size() < 2) {
     std::fprintf(stderr,
-                 "usage: %s jittered|uniform|clustered|grid N [BLOCK [RING "
+                 "usage: %s jittered|uniform|clustered|grid|raster N [BLOCK [RING "
                  "[SEED]]] [--check]\n",
                  argv[0]);
     return 1;
   }
-  const auto n = static_cast<std::size_t>(std::atof(args[1].c_str()));
+  const auto requested = static_cast<std::size_t>(std::atof(args[1].c_str()));
   const auto block =
       static_cast<std::uint32_t>(args.size() > 2 ? std::atoi(args[2].c_str()) : 32);
   const auto ring =
       static_cast<std::uint32_t>(args.size() > 3 ? std::atoi(args[3].c_str()) : 1);
   const auto seed =
       static_cast<unsigned>(args.size() > 4 ? std::atoi(args[4].c_str()) : 1);
-  if (n < 3 || block < 1) {
+  if (requested < 3 || block < 1) {
     std::fprintf(stderr, "bench_cache_blocks: need N >= 3 and BLOCK >= 1\n");
     return 1;
   }
-  const std::vector<double> xyz = pcl_vts::bench::generate(args[0], n, seed);
+  const std::vector<double> xyz = pcl_vts::bench::generate(args[0], requested, seed);
+  const std::size_t n = xyz.size() / 3; // raster: fewer (its NODATA cells)
   std::vector<Point2> xy(n);
   for (std::size_t k = 0; k < n; ++k)
     xy[k] = {xyz[3 * k], xyz[3 * k + 1]};
