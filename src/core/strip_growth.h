@@ -7,6 +7,8 @@
 // but the strip: the output is the same for every thread count.
 #pragma once
 
+#include "local_delaunay.h"
+
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/cell_pyramid.h>
 #include <pcl_vts/core/mediatrix_search.h>
@@ -89,9 +91,10 @@ struct BorderHalfedge {
 /// What one strip grew; its halfedge slots are in the HalfedgeSlot table. Once grown:
 /// the owned triangles only, strip-local ids from 0 in the order grown.
 struct StripMesh {
-  std::vector<VertexId> triangles;   ///< 3 per triangle (grown, then owned)
-  std::vector<HalfedgeId> halfedges; ///< 1 per halfedge, see above
-  std::vector<std::uint8_t> owned;   ///< 1 per triangle grown: 1 owned, 0 not
+  /// 3 per triangle (grown, then owned); resized without a fill (written after).
+  std::vector<VertexId, UninitAllocator<VertexId>> triangles;
+  std::vector<HalfedgeId, UninitAllocator<HalfedgeId>> halfedges; ///< 1 per halfedge
+  std::vector<std::uint8_t> owned; ///< 1 per triangle grown: 1 owned, 0 not
   std::size_t owned_count = 0;
   std::vector<BorderHalfedge> border; ///< once grown: the halfedges left HULL for this
 };
