@@ -65,7 +65,8 @@ bool strictlyInside(const std::vector<Point2>& p, const std::vector<VertexId>& p
 
 } // namespace
 
-std::vector<VertexId> gridHullCandidates(const CellGrid& grid)
+std::vector<VertexId> gridHullCandidates(const CellGrid& grid,
+                                         const CellPyramid* pyramid)
 {
   // A cell with filled cells two or more steps away on both sides in its row (at
   // columns i - a and i + b, a, b >= 2) and in its column (rows j - c and j + d) lies
@@ -78,41 +79,51 @@ std::vector<VertexId> gridHullCandidates(const CellGrid& grid)
   // column's from the bottom and top rows over the columns not found yet, and only the
   // cells within one step of those ends are read: about the perimeter's cells, not
   // every cell (the same cells, in the same row-major order, as a test of every cell).
+  // The ends are found 64 cells at a time in the occupancy bits (the pyramid's level
+  // 0): clustered input has long empty runs at the ends of its rows and columns.
   const std::uint32_t nx = grid.nx, ny = grid.ny;
-  const auto filled = [&grid](CellId c) {
-    return grid.cell_start[c + 1] > grid.cell_start[c];
+  CellPyramid own;
+  if (pyramid == nullptr) {
+    buildCellPyramid(grid, own);
+    pyramid = &own;
+  }
+  const CellPyramid::Level& bits = pyramid->levels[0];
+  const std::size_t words = bits.row_words;
+  const auto rowBits = [&bits, words](std::uint32_t j) {
+    return &bits.occupied[j * words];
   };
   std::vector<std::uint32_t> row_first(ny, nx), row_last(ny, 0), column_first(nx, ny),
       column_last(nx, 0);
   for (std::uint32_t j = 0; j < ny; ++j) {
-    std::uint32_t i = 0;
-    while (i < nx && !filled(grid.cellId(i, j)))
-      ++i;
-    if (i == nx)
+    const std::uint64_t* row = rowBits(j);
+    std::size_t k = 0;
+    while (k < words && row[k] == 0)
+      ++k;
+    if (k == words)
       continue; // an empty row
-    row_first[j] = i;
-    i = nx - 1;
-    while (!filled(grid.cellId(i, j)))
-      --i;
-    row_last[j] = i;
+    row_first[j] = static_cast<std::uint32_t>(
+        64 * k + static_cast<unsigned>(__builtin_ctzll(row[k])));
+    k = words - 1;
+    while (row[k] == 0)
+      --k;
+    row_last[j] = static_cast<std::uint32_t>(
+        64 * k + 63 - static_cast<unsigned>(__builtin_clzll(row[k])));
   }
-  std::vector<std::uint32_t> open(nx); // columns whose end is not found yet
+  // The columns whose end is not found yet, a bit each (bits past nx are 0 in rows).
+  std::vector<std::uint64_t> open(words);
   for (int from_top = 0; from_top < 2; ++from_top) {
-    std::iota(open.begin(), open.end(), 0u);
+    std::fill(open.begin(), open.end(), ~std::uint64_t{0});
     std::size_t left = nx;
+    std::vector<std::uint32_t>& end = from_top != 0 ? column_last : column_first;
     for (std::uint32_t step = 0; step < ny && left > 0; ++step) {
       const std::uint32_t j = from_top != 0 ? ny - 1 - step : step;
-      if (row_first[j] == nx)
-        continue; // an empty row
-      std::size_t kept = 0;
-      for (std::size_t k = 0; k < left; ++k) {
-        const std::uint32_t i = open[k];
-        if (!filled(grid.cellId(i, j)))
-          open[kept++] = i;
-        else
-          (from_top != 0 ? column_last : column_first)[i] = j;
+      const std::uint64_t* row = rowBits(j);
+      for (std::size_t k = 0; k < words; ++k) {
+        std::uint64_t found = open[k] & row[k];
+        open[k] &= ~found;
+        for (; found != 0; found &= found - 1, --left)
+          end[64 * k + static_cast<unsigned>(__builtin_ctzll(found))] = j;
       }
-      left = kept;
     }
   }
   // The columns whose first or last two rows include row j, listed per row.

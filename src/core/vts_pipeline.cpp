@@ -154,7 +154,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
 
   watch.restart();
   { // the candidates released before the triangulation allocates
-    const std::vector<VertexId> hull_candidates = gridHullCandidates(grid);
+    const std::vector<VertexId> hull_candidates =
+        gridHullCandidates(grid, &stage.pyramid);
     if (Status s = convexHull(grid.points, result.hull, &hull_candidates); !s.ok()) {
       result.input_to_vertex.clear();
       return s;

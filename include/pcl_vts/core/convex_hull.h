@@ -5,6 +5,7 @@
 #pragma once
 
 #include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/cell_pyramid.h>
 #include <pcl_vts/core/export.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/status.h>
@@ -27,7 +28,10 @@ convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull,
 
 /// Points of the grid that may lie on the hull boundary: those in cells without a
 /// filled cell two or more steps away in each of the four axis directions (in their
-/// row and column), so about the perimeter's cells. Two passes over the cells.
-PCL_VTS_CORE_EXPORT std::vector<VertexId> gridHullCandidates(const CellGrid& grid);
+/// row and column), so about the perimeter's cells. The row and column ends are read
+/// from the occupancy bits of `pyramid` (the grid's, buildCellPyramid), built here
+/// when it is null.
+PCL_VTS_CORE_EXPORT std::vector<VertexId>
+gridHullCandidates(const CellGrid& grid, const CellPyramid* pyramid = nullptr);
 
 } // namespace pcl_vts
