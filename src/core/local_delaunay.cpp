@@ -45,7 +45,7 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   v[0] = 0;
   v[1] = 1;
   v[2] = 2;
-  adj[0] = adj[1] = adj[2] = -1;
+  rec_[0] = {{p[0], p[1], p[2]}, {-1, -1, -1}, 0};
   triangles_ = 1;
   last_ = 0;
   p.resize(3 + n);
@@ -88,11 +88,20 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   }
   v.resize(3 * triangles_);
   adj.resize(3 * triangles_);
+  // The twins renumbered: halfedge 4t + i is 3t + i.
+  const Record* r = rec_.data();
+  for (std::int32_t *A = adj.data(), *end = A + adj.size(); A != end; A += 3, ++r)
+    for (std::size_t i = 0; i < 3; ++i) {
+      const std::int32_t o = r->adj[i];
+      A[i] = o < 0 ? -1 : 3 * (o >> 2) + (o & 3);
+    }
   return true;
 }
 
 void LocalDelaunay::reserveTriangles(std::size_t count)
 {
+  if (rec_.size() < count)
+    rec_.resize(count);
   v.resize(3 * count);
   adj.resize(3 * count);
   if (bad_.size() < count + 2) { // a cavity holds at most every triangle
@@ -118,63 +127,61 @@ void LocalDelaunay::insert(std::int32_t k)
   const Point2* const P = p.data();
   const Point2 q = P[k];
   std::int32_t* V = v.data();
-  std::int32_t* A = adj.data();
+  Record* R = rec_.data();
   std::uint32_t* const bad = bad_.data();
   std::pair<std::int32_t, std::int32_t>* const boundary = boundary_.data();
   const double orient_bound = orient_bound_;
   // Visibility walk from the last new triangle (it ends in a Delaunay mesh); the edge
-  // it came in by is not tested again. Halfedge ids are non-negative here: unsigned
-  // division by 3 is cheaper.
+  // it came in by is not tested again.
   std::uint32_t t = static_cast<std::uint32_t>(last_);
   std::uint32_t entry = 3;
   for (;;) {
-    const std::int32_t* tv = V + 3 * t;
-    const Point2 &a = P[tv[0]], &b = P[tv[1]], &c = P[tv[2]];
+    const Record& r = R[t];
     std::uint32_t e;
-    if (entry != 0 && orient2dInBox(a, b, q, orient_bound) == Sign::NEGATIVE)
+    if (entry != 0 && orient2dInBox(r.p[0], r.p[1], q, orient_bound) == Sign::NEGATIVE)
       e = 0;
-    else if (entry != 1 && orient2dInBox(b, c, q, orient_bound) == Sign::NEGATIVE)
+    else if (entry != 1 &&
+             orient2dInBox(r.p[1], r.p[2], q, orient_bound) == Sign::NEGATIVE)
       e = 1;
-    else if (entry != 2 && orient2dInBox(c, a, q, orient_bound) == Sign::NEGATIVE)
+    else if (entry != 2 &&
+             orient2dInBox(r.p[2], r.p[0], q, orient_bound) == Sign::NEGATIVE)
       e = 2;
     else
       break;
-    const auto o = static_cast<std::uint32_t>(A[3 * t + e]);
-    t = o / 3;
-    entry = o - 3 * t;
+    const auto o = static_cast<std::uint32_t>(r.adj[e]);
+    t = o >> 2;
+    entry = o & 3u;
   }
   // Cavity: the triangles whose perturbed circumcircle holds q, depth first from t. It
   // is a disk with every vertex on its boundary (its triangles' adjacency is a tree),
   // so no triangle is reached twice as bad and no marks are needed; entering each bad
-  // triangle by one edge and pushing its other two in counter-clockwise order lists
+  // triangle by one edge and taking its other two in counter-clockwise order lists
   // the boundary edges in counter-clockwise order around q: a closed chain, edge j
-  // from boundary[j].first to boundary[j + 1].first.
+  // from boundary[j].first to boundary[j + 1].first. A triangle's last vertex is the
+  // point whose insertion made it (the first super triangle, the only exception, is
+  // never tested: the first cavity starts there), so `real` picks the bound.
   const double tight = incircle_tight_bound_, wide = incircle_wide_bound_;
   std::uint32_t* const stack = stack_.data();
   std::size_t top = 0, bad_count = 0, boundary_count = 0;
   bad[bad_count++] = t;
-  stack[top++] = 3 * t + 2;
-  stack[top++] = 3 * t + 1;
-  std::uint32_t h = 3 * t;
+  stack[top++] = 4 * t + 2;
+  stack[top++] = 4 * t + 1;
+  std::uint32_t h = 4 * t;
   for (;;) {
-    const std::int32_t o = A[h];
+    const std::int32_t o = R[h >> 2].adj[h & 3u];
     if (o >= 0) {
       const auto uo = static_cast<std::uint32_t>(o);
-      const std::uint32_t nb = uo / 3, base = 3 * nb;
-      const std::int32_t va = V[base], vb = V[base + 1], vc = V[base + 2];
-      // A triangle's last vertex is the point whose insertion made it (the first
-      // super triangle, the only exception, is never tested: the first cavity starts
-      // there).
-      const double bound = std::min(va, vb) >= 3 ? tight : wide;
-      if (incirclePerturbedInBox(P[va], P[vb], P[vc], q, bound) == Sign::POSITIVE) {
-        bad[bad_count++] = nb;
-        const std::uint32_t e = uo - base;
+      const Record& n = R[uo >> 2];
+      if (incirclePerturbedInBox(n.p[0], n.p[1], n.p[2], q,
+                                 n.real != 0 ? tight : wide) == Sign::POSITIVE) {
+        bad[bad_count++] = uo >> 2;
+        const std::uint32_t e = uo & 3u, base = uo - e;
         stack[top++] = base + (e == 0 ? 2 : e - 1); // the edge before e, taken later
         h = base + (e == 2 ? 0 : e + 1);            // the edge after e, taken now
         continue;
       }
     }
-    boundary[boundary_count++] = {V[h], o};
+    boundary[boundary_count++] = {V[3 * (h >> 2) + (h & 3u)], o};
     if (top == 0)
       break;
     h = stack[--top];
@@ -186,9 +193,9 @@ void LocalDelaunay::insert(std::int32_t k)
   triangles_ += boundary_count - bad_count;
   if (3 * triangles_ > v.size()) { // only if the 1 + 2n count were wrong
     v.resize(6 * triangles_);
-    adj.resize(6 * triangles_);
+    rec_.resize(2 * triangles_);
     V = v.data();
-    A = adj.data();
+    R = rec_.data();
   }
   for (std::size_t j = bad_count; j < boundary_count; ++j)
     bad[j] = static_cast<std::uint32_t>(first_new + (j - bad_count));
@@ -196,14 +203,22 @@ void LocalDelaunay::insert(std::int32_t k)
   for (std::size_t j = 0; j < boundary_count; ++j) {
     const std::uint32_t s = bad[j];
     const std::pair<std::int32_t, std::int32_t>& edge = boundary[j];
+    const std::int32_t b = boundary[j + 1].first;
     V[3 * s] = edge.first;
-    V[3 * s + 1] = boundary[j + 1].first;
+    V[3 * s + 1] = b;
     V[3 * s + 2] = k;
-    A[3 * s] = edge.second;
-    if (edge.second >= 0)
-      A[edge.second] = static_cast<std::int32_t>(3 * s);
-    A[3 * s + 2] = static_cast<std::int32_t>(3 * previous + 1);
-    A[3 * previous + 1] = static_cast<std::int32_t>(3 * s + 2);
+    Record& r = R[s];
+    r.p[0] = P[edge.first];
+    r.p[1] = P[b];
+    r.p[2] = q;
+    r.real = std::min(edge.first, b) >= 3 ? 1 : 0;
+    r.adj[0] = edge.second;
+    if (edge.second >= 0) {
+      const auto uo = static_cast<std::uint32_t>(edge.second);
+      R[uo >> 2].adj[uo & 3u] = static_cast<std::int32_t>(4 * s);
+    }
+    r.adj[2] = static_cast<std::int32_t>(4 * previous + 1);
+    R[previous].adj[1] = static_cast<std::int32_t>(4 * s + 2);
     previous = s;
   }
   last_ = static_cast<std::int32_t>(previous);

@@ -56,7 +56,8 @@ struct CellWindow {
 
 /// Bowyer-Watson triangulation of one window, arrays reused from window to window.
 /// Triangle t: vertices v[3t..3t+2] (local indices, CCW), halfedge 3t+i goes
-/// v[3t+i] -> v[3t+(i+1)%3]; adj[3t+i] is its twin or -1. Local vertices 0..2 are the
+/// v[3t+i] -> v[3t+(i+1)%3]; adj[3t+i] is its twin or -1 (written at the end of
+/// triangulate from the working records). Local vertices 0..2 are the
 /// super triangle; vertex k >= 3 is grid point ids[k].
 class LocalDelaunay {
  public:
@@ -98,6 +99,17 @@ class LocalDelaunay {
                               double x_lo, double x_hi, double y_lo, double y_hi,
                               double margin);
 
+  /// What the walk and the cavity search read of a triangle, in one cache line: its
+  /// corners' coordinates (copied: no load through the vertex ids on the search's
+  /// critical path), its twins as halfedges 4t + i (no division by 3; renumbered into
+  /// adj at the end) and whether its first two vertices are real points (the tight
+  /// bound applies; the last one always is).
+  struct alignas(64) Record {
+    std::array<Point2, 3> p;
+    std::array<std::int32_t, 3> adj;
+    std::int32_t real;
+  };
+  std::vector<Record, UninitAllocator<Record>> rec_;
   std::vector<std::uint32_t> bad_, stack_;
   std::vector<std::pair<std::int32_t, std::int32_t>> boundary_;
   std::int32_t last_ = 0;
