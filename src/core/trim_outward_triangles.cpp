@@ -26,11 +26,12 @@ Status validateTrimOptions(const TrimOptions& options)
 
 namespace {
 
-/// Original fan of v as a sequence of triangles, starting at an open end if the fan
-/// is open. out: any halfedge leaving v.
-std::vector<TriangleId> fanOf(const TriangleMesh& mesh, HalfedgeId out, bool& closed)
+/// Original fan of v as a sequence of triangles (into fan, replaced), starting at an
+/// open end if the fan is open. out: any halfedge leaving v.
+void fanOf(const TriangleMesh& mesh, HalfedgeId out, bool& closed,
+           std::vector<TriangleId>& fan)
 {
-  std::vector<TriangleId> fan;
+  fan.clear();
   // Back to the open end: across the edge entering v.
   HalfedgeId f = out;
   closed = false;
@@ -70,7 +71,6 @@ std::vector<TriangleId> fanOf(const TriangleMesh& mesh, HalfedgeId out, bool& cl
         });
     std::rotate(fan.begin(), first, fan.end());
   }
-  return fan;
 }
 
 /// The angle of triangle t at its corner v.
@@ -260,9 +260,10 @@ std::size_t repairPinches(const TriangleMesh& mesh, const std::vector<TriangleId
     std::sort(round.begin(), round.end(), by_vertex);
     round.erase(std::unique(round.begin(), round.end(), same_vertex), round.end());
     restore.clear();
+    std::vector<TriangleId> fan;
     for (const auto& [v, out] : round) {
       bool closed = false;
-      const std::vector<TriangleId> fan = fanOf(mesh, out, closed);
+      fanOf(mesh, out, closed, fan);
       for (const TriangleId t : fanGapsToRestore(mesh, v, fan, closed, removed))
         restore.push_back(t);
     }
@@ -545,34 +546,37 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // The fan from a corner holds all the vertex's triangles when its row (a triangle
   // per halfedge leaving it, and one more entry for an open fan) says so; a vertex
   // with several fans (not from VTS) takes the scan after the compaction.
-  bool fans_whole = true;
-  for (const auto& [v, out] : corners) {
-    bool closed = false;
-    const std::vector<TriangleId> fan = fanOf(mesh, out, closed);
-    fans_whole =
-        fans_whole && fan.size() + (closed ? 0 : 1) == rows.end(v) - rows.begin(v);
-    if (std::all_of(fan.begin(), fan.end(), [&](TriangleId t) { return removed[t]; }))
-      ++result.vertices_lost;
-  }
   // The fill's spacing (post_pass_spacing.h): the rows of the corners on the trimmed
   // mesh are their fans' kept triangles (the halfedge leaving the corner, and the
   // one entering it when the trim leaves it without twin), so their own medians are
-  // measured here, before the compaction; and the vertices without triangles after
-  // the trim are those without before and the lost ones.
-  std::vector<VertexId> without_triangles;
-  std::vector<detail::OwnChange> own_changes;
-  if (after != nullptr && fans_whole && result.triangles_removed > 0) {
+  // measured in the same walk, before the compaction (and kept when every fan is
+  // whole); and the vertices without triangles after the trim are those without
+  // before and the lost ones.
+  bool fans_whole = true;
+  const bool measure = after != nullptr && result.triangles_removed > 0;
+  std::vector<double> trimmed_own(measure ? corners.size() : 0);
+  std::vector<char> lost(corners.size(), 0);
+  {
+    std::vector<TriangleId> fan;
     std::vector<double> lengths;
     auto length = [&](VertexId a, VertexId b) {
       const double dx = mesh.xy[a].x - mesh.xy[b].x, dy = mesh.xy[a].y - mesh.xy[b].y;
       return std::sqrt(dx * dx + dy * dy);
     };
-    for (const auto& [v, out] : corners) {
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const auto [v, out] = corners[k];
       bool closed = false;
+      fanOf(mesh, out, closed, fan);
+      fans_whole =
+          fans_whole && fan.size() + (closed ? 0 : 1) == rows.end(v) - rows.begin(v);
+      lost[k] = 1;
       lengths.clear();
-      for (const TriangleId t : fanOf(mesh, out, closed)) {
+      for (const TriangleId t : fan) {
         if (removed[t])
           continue;
+        lost[k] = 0;
+        if (!measure)
+          break;
         HalfedgeId e = 3 * t;
         while (mesh.triangles[e] != v)
           ++e;
@@ -581,27 +585,37 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
         if (twin == INVALID_ID || removed[triangleOf(twin)])
           lengths.push_back(length(v, mesh.triangles[in]));
       }
-      const double before = own[v];
-      own[v] = lengths.empty() ? 0.0 : medianOf(lengths);
-      own_changes.push_back({before, own[v], !lengths.empty()});
-      if (lengths.empty())
+      result.vertices_lost += lost[k] != 0 ? 1 : 0;
+      if (measure && !lengths.empty())
+        trimmed_own[k] = medianOf(lengths);
+    }
+  }
+  std::vector<VertexId> without_triangles;
+  std::vector<detail::OwnChange> own_changes;
+  const bool own_measured = measure && fans_whole;
+  if (own_measured)
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const VertexId v = corners[k].first;
+      own_changes.push_back({own[v], trimmed_own[k], lost[k] == 0});
+      own[v] = trimmed_own[k];
+      if (lost[k] != 0)
         without_triangles.push_back(v);
     }
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-      if (rows.begin(v) == rows.end(v))
-        without_triangles.push_back(static_cast<VertexId>(v));
-  }
   // Each vertex's triangles in the trimmed mesh, for the fill: its row's entries (a
   // triangle per halfedge leaving it, one more per boundary halfedge entering it),
   // less the latter and its removed triangles; a count that reaches MANY_TRIANGLES
-  // stays there (not trusted).
+  // stays there (not trusted). The same pass lists the vertices without a row.
   std::vector<std::uint8_t> triangle_count;
   if (after != nullptr) {
     constexpr unsigned MANY = detail::MANY_TRIANGLES;
     triangle_count.resize(mesh.vertexCount());
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-      triangle_count[v] = static_cast<std::uint8_t>(
-          std::min<std::size_t>(rows.end(v) - rows.begin(v), MANY));
+    for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+      const std::size_t entries = rows.end(v) - rows.begin(v);
+      triangle_count[v] =
+          static_cast<std::uint8_t>(std::min<std::size_t>(entries, MANY));
+      if (own_measured && entries == 0)
+        without_triangles.push_back(static_cast<VertexId>(v));
+    }
     auto lower = [&](VertexId v) {
       if (triangle_count[v] < MANY)
         --triangle_count[v];
