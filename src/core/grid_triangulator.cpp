@@ -79,7 +79,7 @@ namespace {
 /// the order the strips finish in.
 class StripMerge {
  public:
-  StripMerge(std::uint32_t count, unsigned workers, std::size_t expected,
+  StripMerge(std::uint32_t count, unsigned workers, std::size_t expected, bool release,
              std::vector<VertexId>& triangles, std::vector<HalfedgeId>& halfedges)
       : strips_(count)
       , results_(count)
@@ -87,6 +87,7 @@ class StripMerge {
       , appended_(count, 0)
       , reuse_end_(count - std::min<std::uint32_t>(count, workers))
       , release_above_(6 * expected / std::max<std::uint32_t>(1, count))
+      , release_(release)
       , triangles_(triangles)
       , halfedges_(halfedges)
   {
@@ -144,7 +145,8 @@ class StripMerge {
         failed_ = true;
       if (!failed_ && appended_[next] == 0)
         appendStrip(strips_[next],
-                    last_use || strips_[next].triangles.size() > release_above_,
+                    release_ &&
+                        (last_use || strips_[next].triangles.size() > release_above_),
                     triangles_, halfedges_, border_);
       StripMesh spare = std::move(strips_[next]);
       strips_[next] = StripMesh();
@@ -162,7 +164,8 @@ class StripMerge {
       lock.unlock();
       spare = StripMesh();
       // Else the strips already merged stay resident beside the output.
-      detail::releaseFreedMemory();
+      if (release_)
+        detail::releaseFreedMemory();
       lock.lock();
     }
     merging_ = false;
@@ -172,7 +175,8 @@ class StripMerge {
       spare_.clear();
       lock.unlock();
       spare.clear();
-      detail::releaseFreedMemory();
+      if (release_)
+        detail::releaseFreedMemory();
     }
   }
 
@@ -214,6 +218,7 @@ class StripMerge {
   /// pages back as they are appended: clustered input has strips of a third of the
   /// points, which would stay resident beside the output (and in the spare arrays).
   const std::size_t release_above_;
+  const bool release_;           ///< freed memory handed back (RELEASE_MIN_POINTS)
   std::uint32_t taken_ = 0;      ///< strips handed to the workers
   std::vector<StripMesh> spare_; ///< merged strips' arrays, emptied, for reuse
   std::uint32_t merged_ = 0;
@@ -238,10 +243,11 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
                           const std::function<void()>& grown)
 {
   const unsigned workers = std::max(1u, std::min<unsigned>(threads, layout.count));
-  StripMerge merge(layout.count, workers, expected, triangles, halfedges);
   // Allocated without a fill and filled by the workers' threads (at 1e7 points 40 MB
   // of page faults and writes, 0.016 s on one thread).
   const std::size_t n = grid.points.size();
+  const bool release = n >= detail::RELEASE_MIN_POINTS;
+  StripMerge merge(layout.count, workers, expected, release, triangles, halfedges);
   std::unique_ptr<HalfedgeId[]> open_head(new HalfedgeId[n]);
   parallelRanges(workers, n, [&open_head](std::size_t begin, std::size_t end) {
     std::fill(open_head.get() + begin, open_head.get() + end, detail::UNREACHED);
@@ -261,7 +267,8 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
         open_head.reset();
         if (grown)
           grown();
-        detail::releaseFreedMemory();
+        if (release)
+          detail::releaseFreedMemory();
       }
       merge.grown(s, std::move(result));
     }

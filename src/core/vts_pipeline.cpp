@@ -172,12 +172,14 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   // The cells, the pyramid and the subdivision are not needed once the strips are
   // grown: released (and their pages handed back) before the border pairing, so that
   // they do not add to the peak.
-  const auto release_grid = [&stage, &mesh] {
+  const bool release = grid.points.size() >= detail::RELEASE_MIN_POINTS;
+  const auto release_grid = [&stage, &mesh, release] {
     mesh.xy = std::move(stage.grid.points);
     stage.grid = CellGrid{};
     stage.pyramid = CellPyramid{};
     stage.subdivision = CellSubdivision{};
-    detail::releaseFreedMemory();
+    if (release)
+      detail::releaseFreedMemory();
   };
   Status grown =
       triangulateGrid(grid, stage.pyramid, stage.subdivision, result.hull,
@@ -192,7 +194,8 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
     result.mesh = TriangleMesh{};
     return grown;
   }
-  detail::releaseFreedMemory(); // the merge's border records
+  if (release)
+    detail::releaseFreedMemory(); // the merge's border records
   if (rebuild_input_map && options.input_map) {
     result.input_to_vertex.assign(n, INVALID_ID);
     const std::vector<std::uint32_t>& source = stage.source;
