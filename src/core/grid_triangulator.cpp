@@ -302,7 +302,17 @@ Status triangulateGrid(const CellGrid& grid, const CellPyramid& pyramid,
   const detail::HullEdges hull_edges(n, hull);
   // Strips are grown independently and merged in strip order: the arrays are the
   // same for every thread count.
-  const detail::StripLayout layout = detail::stripLayoutFor(grid, strip_columns);
+  detail::StripLayout layout = detail::stripLayoutFor(grid, strip_columns);
+  // Small inputs: wider strips, at least MIN_STRIP_POINTS points each on average
+  // (still a layout of the grid alone). Each strip border costs triangles grown twice
+  // and blocks cut short (a 5-column last strip of clustered 1e3); at 1e4 one strip
+  // instead of 3 to 5 saved 3 % (jittered) to 11 % (clustered) of the triangulation.
+  constexpr std::size_t MIN_STRIP_POINTS = 8192;
+  if (strip_columns == 0)
+    while (layout.count > 1 && layout.count > n / MIN_STRIP_POINTS) {
+      ++layout.shift;
+      layout.count = ((grid.nx - 1) >> layout.shift) + 1;
+    }
   return growAndMergeStrips(grid, pyramid, subdivision, hull_edges, layout, threads,
                             cache_blocks, 2 * n - h - 2, triangles, halfedges, stats,
                             grown);
