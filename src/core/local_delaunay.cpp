@@ -87,14 +87,6 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
     }
   }
   v.resize(3 * triangles_);
-  adj.resize(3 * triangles_);
-  // The twins renumbered: halfedge 4t + i is 3t + i.
-  const Record* r = rec_.data();
-  for (std::int32_t *A = adj.data(), *end = A + adj.size(); A != end; A += 3, ++r)
-    for (std::size_t i = 0; i < 3; ++i) {
-      const std::int32_t o = r->adj[i];
-      A[i] = o < 0 ? -1 : 3 * (o >> 2) + (o & 3);
-    }
   return true;
 }
 
@@ -103,7 +95,6 @@ void LocalDelaunay::reserveTriangles(std::size_t count)
   if (rec_.size() < count)
     rec_.resize(count);
   v.resize(3 * count);
-  adj.resize(3 * count);
   if (bad_.size() < count + 2) { // a cavity holds at most every triangle
     bad_.resize(count + 2);      // then the star's slots
     boundary_.resize(count + 3); // then the first edge again
@@ -226,14 +217,11 @@ void LocalDelaunay::insert(std::int32_t k)
     reserveTriangles(v.size() / 3);
 }
 
-bool LocalDelaunay::finalTriangle(std::size_t t, double x_lo, double x_hi, double y_lo,
-                                  double y_hi) const
+bool LocalDelaunay::finalTriangle(const Point2& a, const Point2& b, const Point2& c,
+                                  double x_lo, double x_hi, double y_lo, double y_hi)
 {
   // The circumdisk grown by a bound on its rounding (boundCircumdisk of the tiled
   // path, src/tiling/known_space.cpp); a flat triangle proves nothing.
-  const Point2& a = p[static_cast<std::size_t>(v[3 * t])];
-  const Point2& b = p[static_cast<std::size_t>(v[3 * t + 1])];
-  const Point2& c = p[static_cast<std::size_t>(v[3 * t + 2])];
   const double bx = b.x - a.x, by = b.y - a.y;
   const double cx = c.x - a.x, cy = c.y - a.y;
   const double t1 = bx * cy, t2 = by * cx;

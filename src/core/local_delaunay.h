@@ -55,9 +55,9 @@ struct CellWindow {
 };
 
 /// Bowyer-Watson triangulation of one window, arrays reused from window to window.
-/// Triangle t: vertices v[3t..3t+2] (local indices, CCW), halfedge 3t+i goes
-/// v[3t+i] -> v[3t+(i+1)%3]; adj[3t+i] is its twin or -1 (written at the end of
-/// triangulate from the working records). Local vertices 0..2 are the
+/// Triangle t: vertices v[3t..3t+2] (local indices, CCW), halfedge i of t goes
+/// v[3t+i] -> v[3t+(i+1)%3]; twin(t, i) is its twin as 4u + j (halfedge j of u) or -1,
+/// read from the working records (no copy-out). Local vertices 0..2 are the
 /// super triangle; vertex k >= 3 is grid point ids[k].
 class LocalDelaunay {
  public:
@@ -84,8 +84,14 @@ class LocalDelaunay {
   void forEachFinal(const CellGrid& grid, const CellWindow& window, Wanted&& wanted,
                     Keep&& keep) const;
 
+  /// The twin of halfedge i of triangle t: 4u + j for halfedge j of triangle u, or -1.
+  std::int32_t twin(std::size_t t, std::uint32_t i) const { return rec_[t].adj[i]; }
+  /// Corner i of triangle t (p[v[3t + i]], from the triangle's record).
+  const Point2& corner(std::size_t t, std::uint32_t i) const { return rec_[t].p[i]; }
+  std::size_t triangleCount() const { return triangles_; }
+
   std::vector<Point2> p;
-  std::vector<std::int32_t, UninitAllocator<std::int32_t>> v, adj;
+  std::vector<std::int32_t, UninitAllocator<std::int32_t>> v;
   std::vector<std::uint32_t> ids;
   std::vector<std::uint8_t> in_core;
 
@@ -93,8 +99,8 @@ class LocalDelaunay {
   void insert(std::int32_t k);
   void outsideBox(const Point2& q, double cx, double cy, double d);
   void reserveTriangles(std::size_t count);
-  bool finalTriangle(std::size_t t, double x_lo, double x_hi, double y_lo,
-                     double y_hi) const;
+  static bool finalTriangle(const Point2& a, const Point2& b, const Point2& c,
+                            double x_lo, double x_hi, double y_lo, double y_hi);
   static bool finalByVertices(const Point2& a, const Point2& b, const Point2& c,
                               double x_lo, double x_hi, double y_lo, double y_hi,
                               double margin);
@@ -173,13 +179,15 @@ void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
   // window's own coordinates.
   const double margin = 1e-14 * (std::max(std::fabs(x0), std::fabs(x1)) +
                                  std::max(std::fabs(y0), std::fabs(y1)) + 4 * c);
-  const std::int32_t* const tv = v.data();
-  const Point2* const P = p.data();
-  for (std::size_t t = 0; t < v.size() / 3; ++t) {
-    const std::int32_t a = tv[3 * t], b = tv[3 * t + 1], d = tv[3 * t + 2];
-    if (a >= 3 && b >= 3 && d >= 3 && wanted(t) &&
-        (finalByVertices(P[a], P[b], P[d], x_lo, x_hi, y_lo, y_hi, margin) ||
-         finalTriangle(t, x_lo, x_hi, y_lo, y_hi)))
+  // The corners' coordinates from the records (no lookup through the vertex ids).
+  // `real`: the first two vertices are real points; the last one is for every
+  // triangle but the super triangle, whose record says it is not.
+  const Record* const R = rec_.data();
+  for (std::size_t t = 0; t < triangles_; ++t) {
+    const Record& r = R[t];
+    if (r.real != 0 && wanted(t) &&
+        (finalByVertices(r.p[0], r.p[1], r.p[2], x_lo, x_hi, y_lo, y_hi, margin) ||
+         finalTriangle(r.p[0], r.p[1], r.p[2], x_lo, x_hi, y_lo, y_hi)))
       keep(t);
   }
 }

@@ -379,8 +379,8 @@ class Growth {
              : NOT_OURS;
     }
     // Kept: the owner test (cheap) first, then the finality bound. kept_twin_: per
-    // local halfedge, its strip halfedge once kept, else CLOSED.
-    const std::size_t local_triangles = dt.v.size() / 3;
+    // local triangle, its first strip halfedge once kept, else CLOSED.
+    const std::size_t local_triangles = dt.triangleCount();
     const std::int32_t* const tv = dt.v.data();
     kept_.clear();
     dt.forEachFinal(
@@ -394,16 +394,11 @@ class Growth {
     if (kept_.empty())
       return;
     const auto first = static_cast<HalfedgeId>(mesh_.triangles.size());
-    kept_twin_.assign(3 * local_triangles, CLOSED);
+    kept_twin_.assign(local_triangles, CLOSED);
     HalfedgeId* const twin_of = kept_twin_.data();
     const std::size_t added = kept_.size();
-    for (std::size_t i = 0; i < added; ++i) {
-      const std::size_t t = kept_[i];
-      const auto f = first + static_cast<HalfedgeId>(3 * i);
-      twin_of[3 * t] = f;
-      twin_of[3 * t + 1] = f + 1;
-      twin_of[3 * t + 2] = f + 2;
-    }
+    for (std::size_t i = 0; i < added; ++i)
+      twin_of[kept_[i]] = first + static_cast<HalfedgeId>(3 * i);
     mesh_.triangles.resize(mesh_.triangles.size() + 3 * added);
     mesh_.halfedges.resize(mesh_.halfedges.size() + 3 * added);
     mesh_.owned.resize(mesh_.owned.size() + added);
@@ -438,16 +433,17 @@ class Growth {
     // Twins inside the block written in place; the other edges go through the open
     // lists (linkOrOpen leaves the arrays where they are).
     HalfedgeId* const halfedges = mesh_.halfedges.data();
-    const std::int32_t* const adj = dt.adj.data();
     for (std::size_t i = 0; i < added; ++i) {
       const std::size_t t = kept_[i];
       const auto f = first + static_cast<HalfedgeId>(3 * i);
       for (std::uint32_t k = 0; k < 3; ++k) {
-        const std::int32_t o = adj[3 * t + k];
-        const HalfedgeId twin = o >= 0 ? twin_of[o] : HalfedgeId{CLOSED};
+        // The local twin as 4u + j: triangle u's first strip halfedge plus j.
+        const std::int32_t o = dt.twin(t, k);
+        const HalfedgeId base =
+            o >= 0 ? twin_of[static_cast<std::uint32_t>(o) >> 2] : HalfedgeId{CLOSED};
         const HalfedgeId g = f + k;
-        if (twin != CLOSED) {
-          halfedges[g] = twin;
+        if (base != CLOSED) {
+          halfedges[g] = base + (static_cast<std::uint32_t>(o) & 3u);
           continue;
         }
         const auto from = static_cast<std::size_t>(tv[3 * t + k]);
@@ -455,7 +451,7 @@ class Growth {
         const bool from_in = (flags[from] & IN_STRIP) != 0;
         const bool to_in = (flags[to] & IN_STRIP) != 0;
         if (linkOrOpen(g, from_in, to_in) && (from_in || to_in))
-          pool_.push(g, grid_.row(dt.p[from].y));
+          pool_.push(g, grid_.row(dt.corner(t, k).y));
       }
     }
   }

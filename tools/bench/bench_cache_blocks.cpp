@@ -118,11 +118,11 @@ void triangulateBlocks(const pcl_vts::CellGrid& grid, std::uint32_t block,
           continue;
         const auto g = static_cast<std::uint32_t>(kept_as[t]);
         for (std::uint32_t e = 0; e < 3; ++e) {
-          const std::int32_t o = dt.adj[3 * t + e];
-          if (o >= 0 && kept_as[static_cast<std::size_t>(o / 3)] >= 0) {
+          const std::int32_t o = dt.twin(t, e); // 4u + j
+          if (o >= 0 && kept_as[static_cast<std::size_t>(o / 4)] >= 0) {
             out.twins[3 * g + e] = 3 * static_cast<std::uint32_t>(
-                                           kept_as[static_cast<std::size_t>(o / 3)]) +
-                                   static_cast<std::uint32_t>(o % 3);
+                                           kept_as[static_cast<std::size_t>(o / 4)]) +
+                                   static_cast<std::uint32_t>(o % 4);
           } else {
             out.twins[3 * g + e] = pcl_vts::INVALID_ID;
             const std::uint32_t u = out.kept[g][e], w = out.kept[g][(e + 1) % 3];
