@@ -95,15 +95,21 @@ class LocalDelaunay {
   std::vector<std::uint32_t> ids;
   std::vector<std::uint8_t> in_core;
 
- private:
-  void insert(std::int32_t k);
-  void outsideBox(const Point2& q, double cx, double cy, double d);
-  void reserveTriangles(std::size_t count);
+  /// The finality tests of forEachFinal, pure functions of a triangle's corners and
+  /// the window (x_lo..y_hi, already shrunk by the grid slack): true only when the
+  /// circumdisk lies strictly inside it, rounding included (test_block_finality
+  /// checks that against exact arithmetic). finalByVertices is the cheap sufficient
+  /// condition tried first; finalTriangle decides the rest.
   static bool finalTriangle(const Point2& a, const Point2& b, const Point2& c,
                             double x_lo, double x_hi, double y_lo, double y_hi);
   static bool finalByVertices(const Point2& a, const Point2& b, const Point2& c,
                               double x_lo, double x_hi, double y_lo, double y_hi,
                               double margin);
+
+ private:
+  void insert(std::int32_t k);
+  void outsideBox(const Point2& q, double cx, double cy, double d);
+  void reserveTriangles(std::size_t count);
 
   /// What the walk and the cavity search read of a triangle, in one cache line: its
   /// corners' coordinates (copied: no load through the vertex ids on the search's
@@ -124,6 +130,29 @@ class LocalDelaunay {
   std::uint32_t order_width_ = 0, order_height_ = 0;
   double orient_bound_ = 0.0, incircle_wide_bound_ = 0.0, incircle_tight_bound_ = 0.0;
 };
+
+inline bool LocalDelaunay::finalTriangle(const Point2& a, const Point2& b,
+                                         const Point2& c, double x_lo, double x_hi,
+                                         double y_lo, double y_hi)
+{
+  // The circumdisk grown by a bound on its rounding (boundCircumdisk of the tiled
+  // path, src/tiling/known_space.cpp); a flat triangle proves nothing.
+  const double bx = b.x - a.x, by = b.y - a.y;
+  const double cx = c.x - a.x, cy = c.y - a.y;
+  const double t1 = bx * cy, t2 = by * cx;
+  const double det = 2.0 * (t1 - t2);
+  if (!(std::fabs(det) > 1e-6 * (std::fabs(t1) + std::fabs(t2))) || !std::isfinite(det))
+    return false;
+  const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+  const double ux = (cy * b2 - by * c2) / det;
+  const double uy = (bx * c2 - cx * b2) / det;
+  const double r0 = std::sqrt(ux * ux + uy * uy);
+  const double r = r0 + 1e-7 * (r0 + std::sqrt(b2) + std::sqrt(c2)) +
+                   1e-15 * (std::fabs(a.x) + std::fabs(a.y));
+  const double mx = a.x + ux, my = a.y + uy;
+  return std::isfinite(r) && mx - r > x_lo && mx + r < x_hi && my - r > y_lo &&
+         my + r < y_hi;
+}
 
 /// A sufficient condition for finalTriangle's bound without its divisions and square
 /// roots, tried first. Every point of the circumdisk (radius R) lies within 2R of each
