@@ -21,7 +21,8 @@ std::size_t occupancyColumns(double extent, double size);
 double initialCellSize(double cell_size, double width, double height, std::size_t n);
 
 /// The automatic cell size refined for clustered data, given the number of occupied
-/// cells of side `size` anchored at the bounding box's min (occupancyColumns wide).
+/// cells of side `size` anchored at the bounding box's min (occupancyColumns wide);
+/// `size` itself below 2^16 points.
 double refinedCellSize(double width, double height, std::size_t n, double size,
                        std::size_t occupied);
 
