@@ -12,8 +12,13 @@ namespace {
 
 /// Extreme points in 8 directions, in counter-clockwise order (W, SW, S, SE, E, NE,
 /// N, NW). They are input points, so their polygon lies inside the hull.
+/// `inner` (x0, x1, y0, y1): a box whose open interior lies strictly inside the
+/// quadrilateral of the SW, SE, NE and NW extremes, so strictly inside the octagon
+/// (empty when x0 >= x1 or y0 >= y1): the bottom edge SW-SE spans x0 < x < x1 below
+/// y0, and so on around.
 std::vector<VertexId> extremeOctagon(const std::vector<Point2>& p,
-                                     const std::vector<VertexId>& ids)
+                                     const std::vector<VertexId>& ids,
+                                     std::array<double, 4>& inner)
 {
   std::array<VertexId, 8> ext{};
   std::array<double, 8> best{};
@@ -46,6 +51,9 @@ std::vector<VertexId> extremeOctagon(const std::vector<Point2>& p,
         ext[d] = v;
       }
     }
+  const Point2 &sw = p[ext[1]], &se = p[ext[3]], &ne = p[ext[5]], &nw = p[ext[7]];
+  inner = {std::max(sw.x, nw.x), std::min(se.x, ne.x), std::max(sw.y, se.y),
+           std::min(nw.y, ne.y)};
   std::vector<VertexId> poly;
   for (VertexId v : ext)
     if (poly.empty() || (v != poly.back() && v != poly.front()))
@@ -212,10 +220,15 @@ Status convexHull(const std::vector<Point2>& points, std::vector<VertexId>& hull
                              "needs points off that line");
 
   std::vector<VertexId> candidates;
-  const std::vector<VertexId> octagon = extremeOctagon(points, *candidate_ids);
+  std::array<double, 4> inner{};
+  const std::vector<VertexId> octagon = extremeOctagon(points, *candidate_ids, inner);
   const bool filter = octagon.size() >= 3;
+  // Most candidates of a small grid are inside: the box (plain comparisons) first.
+  const auto inBox = [&inner](const Point2& q) {
+    return q.x > inner[0] && q.x < inner[1] && q.y > inner[2] && q.y < inner[3];
+  };
   for (const VertexId v : *candidate_ids)
-    if (!filter || !strictlyInside(points, octagon, points[v]))
+    if (!filter || (!inBox(points[v]) && !strictlyInside(points, octagon, points[v])))
       candidates.push_back(v);
   std::sort(candidates.begin(), candidates.end(), [&points](VertexId a, VertexId b) {
     return lexLess(points[a], points[b]);
