@@ -11,6 +11,11 @@
 #include <limits>
 #include <utility>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+
 namespace pcl_vts {
 
 namespace {
@@ -140,6 +145,30 @@ double medianInPlace(std::vector<double>& values)
   return *mid;
 }
 
+/// Backs [begin, end) of a fresh allocation, not yet written, with huge pages where
+/// the system lends them on request (Linux transparent huge pages in "madvise" mode)
+/// and faults it in by one call. The rows' scatter and the medians' gathers spread
+/// over tens of MB: with 4 KB pages each page faulted on its first write (a trap
+/// apiece) and most of the gathers missed the TLB. Ranges below a huge page are left
+/// alone (no system call for small meshes).
+void bigPages(const void* begin, const void* end)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE) && defined(MADV_POPULATE_WRITE)
+  constexpr std::uintptr_t HUGE_PAGE = std::uintptr_t{1} << 21;
+  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  const std::uintptr_t first =
+      (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
+  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
+  if (last < first + HUGE_PAGE)
+    return;
+  ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+  ::madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
+#else
+  (void)begin;
+  (void)end;
+#endif
+}
+
 std::uint64_t bitsOf(double value)
 {
   std::uint64_t bits = 0;
@@ -172,6 +201,11 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
   // counts row v, then holds its end, and the scatter moves it back to its
   // beginning. A row's order does not matter: only its medians are read.
   // Per triangle, its three halfedges at once (no remainder by 3 per halfedge).
+  if (start.capacity() < n + 1) {
+    std::vector<Index>().swap(start);
+    start.reserve(n + 1);
+    bigPages(start.data(), start.data() + n + 1);
+  }
   start.assign(n + 1, 0);
   const VertexId* corner = mesh.triangles.data();
   const HalfedgeId* twin = mesh.halfedges.data();
@@ -194,7 +228,8 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
   for (std::size_t v = 1; v < n; ++v)
     start[v] += start[v - 1];
   const Index total = n > 0 ? start[n - 1] : 0;
-  ring.resize(total);
+  ring.reset(new VertexId[total]);
+  bigPages(ring.get(), ring.get() + total);
   for (std::size_t e = 0; e + 2 < corners; e += 3) {
     const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
     ring[--start[a]] = b;
@@ -258,7 +293,10 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
   // Each vertex's median is its own slot's: ranges of vertices on any threads, each
   // with its slot of the stats, joined in range order.
   const std::size_t n = mesh.vertexCount();
-  std::vector<double> own(n, 0.0);
+  std::vector<double> own;
+  own.reserve(n);
+  bigPages(own.data(), own.data() + n);
+  own.assign(n, 0.0);
   const auto parts = static_cast<unsigned>(
       std::min<std::size_t>(threads, std::max<std::size_t>(1, n >> 16)));
   std::vector<OwnStats> part_stats(parts);
@@ -398,6 +436,11 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
                      std::vector<double>& bound, MedianSelection* histogram)
 {
   const std::size_t n = own.size();
+  if (bound.capacity() < n) {
+    std::vector<double>().swap(bound);
+    bound.reserve(n);
+    bigPages(bound.data(), bound.data() + n);
+  }
   bound.resize(n);
   const bool count = histogram != nullptr && histogramFits(stats);
   const unsigned shift = count ? bucketShift(stats.low, stats.high) : 0;

@@ -12,6 +12,7 @@
 #include <pcl_vts/core/trim_outward_triangles.h>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace pcl_vts::detail {
@@ -80,7 +81,7 @@ class VertexRows {
     return start64_.empty() ? start32_[v] : start64_[v];
   }
   std::size_t end(std::size_t v) const { return begin(v + 1); }
-  std::vector<VertexId> ring;
+  std::unique_ptr<VertexId[]> ring; // NOLINT: uninitialised, written by build
 
  private:
   template <typename Index>
