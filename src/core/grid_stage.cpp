@@ -1,4 +1,5 @@
 #include "grid_internals.h"
+#include "release_memory.h"
 
 #include <pcl_vts/core/grid_stage.h>
 #include <pcl_vts/core/parallel_for.h>
@@ -255,15 +256,17 @@ void GridBuilder::run(const Input& in, std::size_t inputs,
                              spare(source_bytes + (fillers == 2 ? map_bytes : 0)));
   const std::size_t share2 =
       fillers < 3 ? 0 : std::min(records_bytes - share1, spare(map_bytes));
+  // Each array faulted in a chunk ahead of its fill (fillPopulated) instead of a
+  // trap per page.
   runTeam(fillers, [&](unsigned w) {
     if (w == 0)
-      grid_.points.resize(m);
+      detail::fillPopulated(grid_.points, m);
     if (w == (fillers > 1 ? 1u : 0u)) {
-      stage_.source.resize(m);
-      grid_.cell_start.resize(grid_.cellCount() + 1);
+      detail::fillPopulated(stage_.source, m);
+      detail::fillPopulated(grid_.cell_start, grid_.cellCount() + 1);
     }
     if (w == fillers - 1)
-      input_to_vertex_.assign(inputs, INVALID_ID);
+      detail::fillPopulated(input_to_vertex_, inputs, VertexId{INVALID_ID});
     if (w > 0) { // a write to each page of the thread's share of the vertices
       const std::size_t begin = w == 1 ? 0 : share1;
       const std::size_t end = w == 1 ? share1 : share1 + share2;

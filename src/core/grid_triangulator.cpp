@@ -29,16 +29,22 @@ void appendStrip(const StripMesh& strip, bool release, std::vector<VertexId>& tr
   // Copied (insert: no zeroing first) and shifted a cache-sized chunk at a time.
   constexpr std::size_t CHUNK = 1u << 14;
   const VertexId* vertices = strip.triangles.data();
+  const void* populated = nullptr;
   for (std::size_t begin = 0; begin < strip.triangles.size(); begin += CHUNK) {
     const std::size_t end = std::min(strip.triangles.size(), begin + CHUNK);
+    // The output's slots (reserved for the whole mesh, written in full) faulted in a
+    // chunk ahead (populateAhead) instead of a trap per page.
+    detail::populateAhead(triangles, end - begin, populated);
     triangles.insert(triangles.end(), vertices + begin, vertices + end);
     if (release)
       detail::releasePages(vertices + begin, vertices + end);
   }
   const HalfedgeId* local = strip.halfedges.data();
+  populated = nullptr;
   for (std::size_t begin = 0; begin < strip.halfedges.size(); begin += CHUNK) {
     const std::size_t end = std::min(strip.halfedges.size(), begin + CHUNK);
     const std::size_t at = halfedges.size();
+    detail::populateAhead(halfedges, end - begin, populated);
     halfedges.insert(halfedges.end(), local + begin, local + end);
     for (std::size_t k = at; k < halfedges.size(); ++k)
       if (halfedges[k] != INVALID_ID)

@@ -91,5 +91,51 @@ inline void populatePages(const void* begin, const void* end)
 #endif
 }
 
+/// Faults in the pages of an array written from its start on, a chunk ahead of the
+/// writes (populatePages): the next `count` elements appended to `v` (within its
+/// capacity) are resident after the call. `populated` (start it at nullptr, again
+/// whenever v is reallocated) marks where the pages populated so far end. Chunks of
+/// 64 KiB: the pages stay in cache between the kernel's zeroing and the writes, which
+/// populating a large array at once would lose (a second trip to memory).
+template <class Vector>
+inline void populateAhead(const Vector& v, std::size_t count, const void*& populated)
+{
+  constexpr std::size_t CHUNK = std::size_t{1} << 16;
+  const char* const begin = reinterpret_cast<const char*>(v.data());
+  const char* const end = reinterpret_cast<const char*>(v.data() + v.capacity());
+  const char* const need = reinterpret_cast<const char*>(
+      v.data() + (v.size() + count < v.capacity() ? v.size() + count : v.capacity()));
+  const char* from = static_cast<const char*>(populated);
+  if (from == nullptr || from < begin || from > end)
+    from = reinterpret_cast<const char*>(v.data() + v.size());
+  if (need <= from)
+    return;
+  const char* const upto =
+      static_cast<std::size_t>(end - need) > CHUNK ? need + CHUNK : end;
+  populatePages(from, upto);
+  populated = upto;
+}
+
+/// v.resize(count), or v.assign(count, value) when `value` is given, with the pages
+/// faulted in a chunk ahead of the fill (populateAhead) instead of a trap per page.
+template <class Vector, class... Value>
+inline void fillPopulated(Vector& v, std::size_t count, const Value&... value)
+{
+  static_assert(sizeof...(Value) <= 1, "one value at most");
+  if constexpr (sizeof...(Value) == 1)
+    v.clear();
+  v.reserve(count);
+  const void* populated = nullptr;
+  constexpr std::size_t STEP =
+      (std::size_t{1} << 16) / sizeof(typename Vector::value_type);
+  while (v.size() < count) {
+    const std::size_t next = count - v.size() > STEP ? v.size() + STEP : count;
+    populateAhead(v, next - v.size(), populated);
+    v.resize(next, value...);
+  }
+  if (v.size() > count)
+    v.resize(count);
+}
+
 } // namespace detail
 } // namespace pcl_vts

@@ -202,6 +202,7 @@ class Growth {
                  mesh_.halfedges.data() + mesh_.halfedges.capacity());
     releasePages(mesh_.owned.data() + expected,
                  mesh_.owned.data() + mesh_.owned.capacity());
+    populated_triangles_ = populated_halfedges_ = populated_owned_ = nullptr;
   }
 
   HalfedgeId addTriangle(VertexId a, VertexId b, VertexId c)
@@ -399,6 +400,10 @@ class Growth {
     const std::size_t added = kept_.size();
     for (std::size_t i = 0; i < added; ++i)
       twin_of[kept_[i]] = first + static_cast<HalfedgeId>(3 * i);
+    // Faulted in a chunk ahead (populateAhead) instead of a trap per page.
+    populateAhead(mesh_.triangles, 3 * added, populated_triangles_);
+    populateAhead(mesh_.halfedges, 3 * added, populated_halfedges_);
+    populateAhead(mesh_.owned, added, populated_owned_);
     mesh_.triangles.resize(mesh_.triangles.size() + 3 * added);
     mesh_.halfedges.resize(mesh_.halfedges.size() + 3 * added);
     mesh_.owned.resize(mesh_.owned.size() + added);
@@ -595,7 +600,16 @@ class Growth {
     const VertexId* const v = mesh_.triangles.data();
     const HalfedgeId* const h = mesh_.halfedges.data();
     const auto shift = static_cast<HalfedgeId>(sink.halfedges.size());
+    // The output's slots (reserved for the whole mesh, written in full) faulted in a
+    // chunk ahead (populateAhead) instead of a trap per page.
+    constexpr std::size_t STEP = 1u << 10;
+    const void* populated_triangles = nullptr;
+    const void* populated_halfedges = nullptr;
     for (std::size_t t = 0; t < grown; ++t) {
+      if (t % STEP == 0) {
+        populateAhead(sink.triangles, 3 * STEP, populated_triangles);
+        populateAhead(sink.halfedges, 3 * STEP, populated_halfedges);
+      }
       if (index[t] == INVALID_ID)
         continue;
       const HalfedgeId out = shift + 3 * index[t];
@@ -646,8 +660,12 @@ class Growth {
   std::vector<std::uint64_t> owner_key_;   ///< per local vertex of the block
   std::vector<TriangleId>& index_; ///< per triangle grown: its owned number (finish)
   const std::function<StripSink*()>& claim_; ///< see growStrip
-  std::size_t strip_vertices_ = 0;           ///< grid points in the strip's columns
-  std::size_t reached_ = 0; ///< of them, those whose open_head_ is not UNREACHED
+  /// Where the pages of the strip's arrays populated ahead end (populateAhead).
+  const void* populated_triangles_ = nullptr;
+  const void* populated_halfedges_ = nullptr;
+  const void* populated_owned_ = nullptr;
+  std::size_t strip_vertices_ = 0; ///< grid points in the strip's columns
+  std::size_t reached_ = 0;        ///< of them, those whose open_head_ is not UNREACHED
 };
 
 } // namespace
