@@ -256,17 +256,24 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
   StripMerge merge(layout.count, workers, expected, release, triangles, halfedges);
   std::unique_ptr<HalfedgeId[]> open_head(new HalfedgeId[n]);
   parallelRanges(workers, n, [&open_head](std::size_t begin, std::size_t end) {
-    std::fill(open_head.get() + begin, open_head.get() + end, detail::UNREACHED);
+    // Faulted in a chunk ahead of the fill instead of a trap per page.
+    constexpr std::size_t CHUNK = (std::size_t{1} << 16) / sizeof(HalfedgeId);
+    for (std::size_t at = begin; at < end; at += CHUNK) {
+      const std::size_t upto = std::min(end, at + CHUNK);
+      detail::populatePages(open_head.get() + at, open_head.get() + upto);
+      std::fill(open_head.get() + at, open_head.get() + upto, detail::UNREACHED);
+    }
   });
   std::vector<SearchStats> worker_stats(workers);
   std::atomic<std::uint32_t> next_strip{0}, strips_grown{0};
   const auto work = [&](unsigned w) {
     MediatrixSearch search(grid, pyramid, subdivision);
     std::vector<TriangleId> index;
+    detail::LocalDelaunay blocks; // reused strip after strip
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++) {
       Status result = detail::growStrip(
           grid, pyramid, layout, s, hull_edges, search, open_head.get(), merge.strip(s),
-          index, cache_blocks, [&merge, s] { return merge.claim(s); });
+          index, cache_blocks, [&merge, s] { return merge.claim(s); }, &blocks);
       if (++strips_grown == layout.count) {
         // No strip reads the grid or open_head any more: both released before the
         // last strips are merged, when the output is nearly full (the peak).

@@ -97,7 +97,8 @@ class Growth {
   Growth(const CellGrid& grid, const CellPyramid& pyramid, const StripLayout& layout,
          std::uint32_t strip, const HullEdges& hull, MediatrixSearch& search,
          HalfedgeId* open_head, StripMesh& mesh, bool cache_blocks,
-         std::vector<TriangleId>& index, const std::function<StripSink*()>& claim)
+         std::vector<TriangleId>& index, const std::function<StripSink*()>& claim,
+         LocalDelaunay* blocks)
       : grid_(grid)
       , pyramid_(pyramid)
       , hull_(hull)
@@ -113,6 +114,7 @@ class Growth {
       , cache_blocks_(cache_blocks)
       , index_(index)
       , claim_(claim)
+      , blocks_dt_(blocks)
   {}
 
   Status run()
@@ -322,7 +324,8 @@ class Growth {
   Status addProvenTriangles()
   {
     constexpr std::uint32_t BLOCK = 32, RING = 1;
-    LocalDelaunay dt;
+    LocalDelaunay strip_dt;
+    LocalDelaunay& dt = blocks_dt_ != nullptr ? *blocks_dt_ : strip_dt;
     for (std::uint32_t cj0 = 0; cj0 < grid_.ny; cj0 += BLOCK)
       for (std::uint32_t ci0 = first_column_; ci0 < end_column_; ci0 += BLOCK) {
         const CellWindow core{ci0, std::min(end_column_, ci0 + BLOCK), cj0,
@@ -660,6 +663,7 @@ class Growth {
   std::vector<std::uint64_t> owner_key_;   ///< per local vertex of the block
   std::vector<TriangleId>& index_; ///< per triangle grown: its owned number (finish)
   const std::function<StripSink*()>& claim_; ///< see growStrip
+  LocalDelaunay* const blocks_dt_;           ///< see growStrip; nullptr: one per strip
   /// Where the pages of the strip's arrays populated ahead end (populateAhead).
   const void* populated_triangles_ = nullptr;
   const void* populated_halfedges_ = nullptr;
@@ -703,10 +707,10 @@ Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
                  std::vector<TriangleId>& index, bool cache_blocks,
-                 const std::function<StripSink*()>& claim)
+                 const std::function<StripSink*()>& claim, LocalDelaunay* blocks)
 {
   return Growth(grid, pyramid, layout, strip, hull, search, open_head, mesh,
-                cache_blocks, index, claim)
+                cache_blocks, index, claim, blocks)
       .run();
 }
 

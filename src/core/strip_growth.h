@@ -116,11 +116,14 @@ struct StripSink {
 /// `index`: the caller's buffer (one per worker: its pages stay resident). `claim`,
 /// when set, is asked once the strip is grown: a sink it returns receives the owned
 /// triangles (`mesh` is then left as grown), else they are compacted in `mesh`.
+/// `blocks`, when set: the caller's block triangulator (one per worker, reused strip
+/// after strip: its arrays' pages stay resident); else one of the strip's own.
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
                  std::vector<TriangleId>& index, bool cache_blocks = false,
-                 const std::function<StripSink*()>& claim = {});
+                 const std::function<StripSink*()>& claim = {},
+                 LocalDelaunay* blocks = nullptr);
 
 } // namespace detail
 } // namespace pcl_vts
