@@ -1,5 +1,6 @@
 // Point spacing: median incident edge per vertex, then a one-ring median.
 #include "post_pass_spacing.h"
+#include "release_memory.h"
 
 #include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/point_spacing.h>
@@ -10,11 +11,6 @@
 #include <cstring>
 #include <limits>
 #include <utility>
-
-#if defined(__linux__)
-#include <sys/mman.h>
-#include <unistd.h>
-#endif
 
 namespace pcl_vts {
 
@@ -145,30 +141,6 @@ double medianInPlace(std::vector<double>& values)
   return *mid;
 }
 
-/// Backs [begin, end) of a fresh allocation, not yet written, with huge pages where
-/// the system lends them on request (Linux transparent huge pages in "madvise" mode)
-/// and faults it in by one call. The rows' scatter and the medians' gathers spread
-/// over tens of MB: with 4 KB pages each page faulted on its first write (a trap
-/// apiece) and most of the gathers missed the TLB. Ranges below a huge page are left
-/// alone (no system call for small meshes).
-void bigPages(const void* begin, const void* end)
-{
-#if defined(__linux__) && defined(MADV_HUGEPAGE) && defined(MADV_POPULATE_WRITE)
-  constexpr std::uintptr_t HUGE_PAGE = std::uintptr_t{1} << 21;
-  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const std::uintptr_t first =
-      (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
-  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
-  if (last < first + HUGE_PAGE)
-    return;
-  ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-  ::madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
-#else
-  (void)begin;
-  (void)end;
-#endif
-}
-
 std::uint64_t bitsOf(double value)
 {
   std::uint64_t bits = 0;
@@ -204,7 +176,7 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
   if (start.capacity() < n + 1) {
     std::vector<Index>().swap(start);
     start.reserve(n + 1);
-    bigPages(start.data(), start.data() + n + 1);
+    detail::populateHugePages(start.data(), start.data() + n + 1);
   }
   start.assign(n + 1, 0);
   const VertexId* corner = mesh.triangles.data();
@@ -229,7 +201,7 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     start[v] += start[v - 1];
   const Index total = n > 0 ? start[n - 1] : 0;
   ring.reset(new VertexId[total]);
-  bigPages(ring.get(), ring.get() + total);
+  detail::populateHugePages(ring.get(), ring.get() + total);
   for (std::size_t e = 0; e + 2 < corners; e += 3) {
     const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
     ring[--start[a]] = b;
@@ -295,7 +267,7 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
   const std::size_t n = mesh.vertexCount();
   std::vector<double> own;
   own.reserve(n);
-  bigPages(own.data(), own.data() + n);
+  detail::populateHugePages(own.data(), own.data() + n);
   own.assign(n, 0.0);
   const auto parts = static_cast<unsigned>(
       std::min<std::size_t>(threads, std::max<std::size_t>(1, n >> 16)));
@@ -439,7 +411,7 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
   if (bound.capacity() < n) {
     std::vector<double>().swap(bound);
     bound.reserve(n);
-    bigPages(bound.data(), bound.data() + n);
+    detail::populateHugePages(bound.data(), bound.data() + n);
   }
   bound.resize(n);
   const bool count = histogram != nullptr && histogramFits(stats);
