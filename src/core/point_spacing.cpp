@@ -176,7 +176,7 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
   if (start.capacity() < n + 1) {
     std::vector<Index>().swap(start);
     start.reserve(n + 1);
-    detail::populateHugePages(start.data(), start.data() + n + 1);
+    detail::populatePages(start.data(), start.data() + n + 1);
   }
   start.assign(n + 1, 0);
   const VertexId* corner = mesh.triangles.data();
@@ -201,7 +201,7 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     start[v] += start[v - 1];
   const Index total = n > 0 ? start[n - 1] : 0;
   ring.reset(new VertexId[total]);
-  detail::populateHugePages(ring.get(), ring.get() + total);
+  detail::populatePages(ring.get(), ring.get() + total);
   for (std::size_t e = 0; e + 2 < corners; e += 3) {
     const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
     ring[--start[a]] = b;
@@ -267,7 +267,7 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
   const std::size_t n = mesh.vertexCount();
   std::vector<double> own;
   own.reserve(n);
-  detail::populateHugePages(own.data(), own.data() + n);
+  detail::populatePages(own.data(), own.data() + n);
   own.assign(n, 0.0);
   const auto parts = static_cast<unsigned>(
       std::min<std::size_t>(threads, std::max<std::size_t>(1, n >> 16)));
@@ -411,7 +411,7 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
   if (bound.capacity() < n) {
     std::vector<double>().swap(bound);
     bound.reserve(n);
-    detail::populateHugePages(bound.data(), bound.data() + n);
+    detail::populatePages(bound.data(), bound.data() + n);
   }
   bound.resize(n);
   const bool count = histogram != nullptr && histogramFits(stats);

@@ -91,29 +91,6 @@ inline void populatePages(const void* begin, const void* end)
 #endif
 }
 
-/// populatePages for a fresh allocation not yet written, backed by huge pages where
-/// the system lends them on request (Linux transparent huge pages, "madvise" mode):
-/// for arrays that later passes gather from at random (the post-passes' vertex rows
-/// and medians, tens of MB), where 4 KiB pages missed the TLB on most reads. Ranges
-/// under one huge page are left alone (no system call for small meshes).
-inline void populateHugePages(const void* begin, const void* end)
-{
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t HUGE_PAGE = std::uintptr_t{1} << 21;
-  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const std::uintptr_t first =
-      (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
-  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
-  if (last < first + HUGE_PAGE)
-    return;
-  ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-  populatePages(begin, end);
-#else
-  (void)begin;
-  (void)end;
-#endif
-}
-
 /// Faults in the pages of an array written from its start on, a chunk ahead of the
 /// writes (populatePages): the next `count` elements appended to `v` (within its
 /// capacity) are resident after the call. `populated` (start it at nullptr, again
