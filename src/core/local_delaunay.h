@@ -8,6 +8,7 @@
 #pragma once
 
 #include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/error_bounds.h>
 #include <pcl_vts/core/point2.h>
 
 #include <algorithm>
@@ -135,23 +136,12 @@ inline bool LocalDelaunay::finalTriangle(const Point2& a, const Point2& b,
                                          const Point2& c, double x_lo, double x_hi,
                                          double y_lo, double y_hi)
 {
-  // The circumdisk grown by a bound on its rounding (boundCircumdisk of the tiled
-  // path, src/tiling/known_space.cpp); a flat triangle proves nothing.
-  const double bx = b.x - a.x, by = b.y - a.y;
-  const double cx = c.x - a.x, cy = c.y - a.y;
-  const double t1 = bx * cy, t2 = by * cx;
-  const double det = 2.0 * (t1 - t2);
-  if (!(std::fabs(det) > 1e-6 * (std::fabs(t1) + std::fabs(t2))) || !std::isfinite(det))
-    return false;
-  const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
-  const double ux = (cy * b2 - by * c2) / det;
-  const double uy = (bx * c2 - cx * b2) / det;
-  const double r0 = std::sqrt(ux * ux + uy * uy);
-  const double r = r0 + 1e-7 * (r0 + std::sqrt(b2) + std::sqrt(c2)) +
-                   1e-15 * (std::fabs(a.x) + std::fabs(a.y));
-  const double mx = a.x + ux, my = a.y + uy;
-  return std::isfinite(r) && mx - r > x_lo && mx + r < x_hi && my - r > y_lo &&
-         my + r < y_hi;
+  // The circumdisk grown by a bound on its rounding, the tiles' rule too
+  // (error_bounds.h); a flat triangle proves nothing.
+  const CircumdiskBound disk = boundCircumdisk(a, b, c);
+  return !disk.unbounded && disk.center.x - disk.radius > x_lo &&
+         disk.center.x + disk.radius < x_hi && disk.center.y - disk.radius > y_lo &&
+         disk.center.y + disk.radius < y_hi;
 }
 
 /// A sufficient condition for finalTriangle's bound without its divisions and square

@@ -8,34 +8,6 @@
 
 namespace pcl_vts {
 
-CircumdiskBound boundCircumdisk(const Point2& a, const Point2& b, const Point2& c)
-{
-  CircumdiskBound disk;
-  const double bx = b.x - a.x, by = b.y - a.y;
-  const double cx = c.x - a.x, cy = c.y - a.y;
-  const double t1 = bx * cy, t2 = by * cx;
-  const double det = 2.0 * (t1 - t2);
-  // The determinant's relative error is a few ulps of |t1| + |t2| over |det|; below
-  // this ratio the centre could be anywhere, so nothing is claimed.
-  if (!(std::fabs(det) > 1e-6 * (std::fabs(t1) + std::fabs(t2))) ||
-      !std::isfinite(det)) {
-    disk.unbounded = true;
-    return disk;
-  }
-  const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
-  const double ux = (cy * b2 - by * c2) / det;
-  const double uy = (bx * c2 - cx * b2) / det;
-  disk.center = {a.x + ux, a.y + uy};
-  const double r = std::sqrt(ux * ux + uy * uy);
-  // Relative error of the offset: well under 1e-9 given the test above; the sum
-  // a + u adds an ulp of |a|. 1e-7 covers both with a wide margin.
-  disk.radius = r + 1e-7 * (r + std::sqrt(b2) + std::sqrt(c2)) +
-                1e-15 * (std::fabs(a.x) + std::fabs(a.y));
-  if (!std::isfinite(disk.radius))
-    disk.unbounded = true;
-  return disk;
-}
-
 /// Distance from p to a convex polygon (0 inside); +inf for an empty polygon.
 static double distanceToPolygon(const std::vector<Point2>& polygon, const Point2& p)
 {

@@ -6,6 +6,7 @@
 #pragma once
 #include "global_hull.h"
 
+#include <pcl_vts/core/error_bounds.h>
 #include <pcl_vts/core/point2.h>
 #include <pcl_vts/tiling/tile_frame.h>
 
@@ -14,20 +15,6 @@
 #include <vector>
 
 namespace pcl_vts {
-
-/// A disk that contains the exact circumdisk of a triangle, or "unbounded" when
-/// the triangle is too flat for floating point to bound its circle. Not the core's
-/// SafeDisk (error_bounds.h), which takes counter-clockwise triangles and, when it
-/// cannot bound, lets a search prune nothing: here any orientation, and the proof
-/// must then claim the whole plane.
-struct CircumdiskBound {
-  Point2 center;
-  double radius = 0;
-  bool unbounded = false;
-};
-
-/// The circumdisk of (a, b, c) grown by a bound on the rounding of its computation.
-CircumdiskBound boundCircumdisk(const Point2& a, const Point2& b, const Point2& c);
 
 /// Per worker: which blocks the tile being meshed has loaded (1 byte per block).
 using LoadedBlocks = std::vector<std::uint8_t>;

@@ -2,7 +2,8 @@
 // window (src/core/local_delaunay.h): a wrong "final" would put a triangle into the
 // mesh that an unloaded point invalidates, and the oracle tests would only notice if
 // some input put a point there. So the two finality tests are checked here directly,
-// against the exact circumcircle (CGAL, exact constructions): sound on random,
+// against the exact circumcircle (CGAL, exact constructions; finalTriangle is the
+// tiles' boundCircumdisk of error_bounds.h too): sound on random,
 // flat and near-touching triangles at small and UTM magnitudes, and not vacuous.
 #include "../../src/core/local_delaunay.h"
 
