@@ -35,18 +35,27 @@ inline void releaseFreedMemory()
 #endif
 }
 
+#if defined(__linux__)
+/// madvise(advice) over the whole pages inside [begin, end) (none when it holds no
+/// whole page): the partial pages at either end belong to neighbouring data.
+inline void adviseWholePages(const void* begin, const void* end, int advice)
+{
+  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  const std::uintptr_t first =
+      (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
+  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
+  if (last > first)
+    ::madvise(reinterpret_cast<void*>(first), last - first, advice);
+}
+#endif
+
 /// Hands the whole pages inside [begin, end) of a live allocation back to the system
 /// (Linux): they read as zeros afterwards and count in the resident set again only
 /// once written. A no-op elsewhere.
 inline void releasePages(const void* begin, const void* end)
 {
 #if defined(__linux__)
-  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const std::uintptr_t first =
-      (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
-  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
-  if (last > first)
-    ::madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+  adviseWholePages(begin, end, MADV_DONTNEED);
 #else
   (void)begin;
   (void)end;
@@ -79,12 +88,7 @@ inline const void* releasePagesUpTo(const void* begin, const void* end)
 inline void populatePages(const void* begin, const void* end)
 {
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
-  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const std::uintptr_t first =
-      (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
-  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
-  if (last > first)
-    ::madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
+  adviseWholePages(begin, end, MADV_POPULATE_WRITE);
 #else
   (void)begin;
   (void)end;
