@@ -652,7 +652,7 @@ void emitCompleteCells(Lattice& lat, unsigned threads, std::vector<VertexId>& tr
   // both ends: no bounds work per cell). Row j's halfedges are [6 row_start[j],
   // 6 row_start[j + 1]): one thread grows the arrays row by row (no pass zeroing
   // them first: the zeros of a row are in cache when it is written), with their
-  // pages faulted in a chunk ahead (populatePages) and the lattice rows no longer
+  // pages faulted in a chunk ahead (populateAhead) and the lattice rows no longer
   // read handed back (releasePages: the peak holds the cells' arrays, not vertex_at
   // too).
   const auto emitRows = [&lat, &triangles,
@@ -662,19 +662,16 @@ void emitCompleteCells(Lattice& lat, unsigned threads, std::vector<VertexId>& tr
     std::vector<HalfedgeId> below, at, above;
     indexCellRow(lat, static_cast<std::int64_t>(begin) - 1, below);
     indexCellRow(lat, static_cast<std::int64_t>(begin), at);
-    std::size_t populated = 0; // elements of triangles and halfedges faulted in
+    const void* populated_triangles = nullptr; // populateAhead's marks
+    const void* populated_halfedges = nullptr;
     const void* released = lat.vertex_at.data();
-    constexpr std::size_t CHUNK = std::size_t{1} << 18; // elements (1 MiB)
+    constexpr std::ptrdiff_t RELEASE_STEP = std::ptrdiff_t{1} << 18; // bytes at a time
     for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j) {
       indexCellRow(lat, static_cast<std::int64_t>(j) + 1, above);
       const std::size_t size = 6 * lat.row_start[j + 1];
       if (grow && size > triangles.size()) {
-        if (size > populated) {
-          const std::size_t upto = std::min(triangles.capacity(), size + CHUNK);
-          detail::populatePages(triangles.data() + populated, triangles.data() + upto);
-          detail::populatePages(halfedges.data() + populated, halfedges.data() + upto);
-          populated = upto;
-        }
+        detail::populateAhead(triangles, size - triangles.size(), populated_triangles);
+        detail::populateAhead(halfedges, size - halfedges.size(), populated_halfedges);
         triangles.resize(size);
         halfedges.resize(size);
       }
@@ -716,7 +713,7 @@ void emitCompleteCells(Lattice& lat, unsigned threads, std::vector<VertexId>& tr
       if (grow) { // lattice rows up to j are read no more
         const void* done = lat.vertex_at.data() + lat.position(0, j + 1);
         if (static_cast<const char*>(done) - static_cast<const char*>(released) >=
-            static_cast<std::ptrdiff_t>(CHUNK))
+            RELEASE_STEP)
           released = detail::releasePagesUpTo(released, done);
       }
       std::swap(below, at);
