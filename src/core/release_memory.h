@@ -109,8 +109,13 @@ inline void populateAhead(const Vector& v, std::size_t count, const void*& popul
   const char* const end = reinterpret_cast<const char*>(v.data() + v.capacity());
   const char* const need = reinterpret_cast<const char*>(
       v.data() + (v.size() + count < v.capacity() ? v.size() + count : v.capacity()));
+  // `populated` may point into an earlier allocation of v: compared as addresses
+  // (comparing unrelated pointers with < is unspecified).
+  const auto address = [](const void* pointer) {
+    return reinterpret_cast<std::uintptr_t>(pointer);
+  };
   const char* from = static_cast<const char*>(populated);
-  if (from == nullptr || from < begin || from > end)
+  if (from == nullptr || address(from) < address(begin) || address(from) > address(end))
     from = reinterpret_cast<const char*>(v.data() + v.size());
   if (need <= from)
     return;
