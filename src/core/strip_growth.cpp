@@ -381,12 +381,21 @@ class Growth {
       key[k] =
           in ? ((std::uint64_t{dt.ids[k]} + 1) << 1 | (dt.in_core[k] != 0 ? 0u : 1u))
              : NOT_OURS;
+      // Its open-list head, read once its triangles are kept: asked for now, so that
+      // the line is in cache by then (a strip vertex's head is far from the others').
+      if (in)
+        __builtin_prefetch(open_head_ + dt.ids[k]);
     }
-    // Kept: the owner test (cheap) first, then the finality bound. kept_twin_: per
-    // local triangle, its first strip halfedge once kept, else CLOSED.
+    // Kept: the owner test (cheap) first, then the finality bound. Each kept triangle
+    // gets its first strip halfedge at once (twin_of, CLOSED for the others) and its
+    // corners are marked USED.
     const std::size_t local_triangles = dt.triangleCount();
     const std::int32_t* const tv = dt.v.data();
+    const auto first = static_cast<HalfedgeId>(mesh_.triangles.size());
+    kept_twin_.assign(local_triangles, CLOSED);
+    HalfedgeId* const twin_of = kept_twin_.data();
     kept_.clear();
+    HalfedgeId next = first;
     dt.forEachFinal(
         grid_, window,
         [&](std::size_t t) {
@@ -394,15 +403,27 @@ class Growth {
                               k2 = key[tv[3 * t + 2]];
           return (std::min(k0, std::min(k1, k2)) & 1u) == 0;
         },
-        [&](std::size_t t) { kept_.push_back(t); });
+        [&](std::size_t t) {
+          kept_.push_back(static_cast<std::uint32_t>(t));
+          twin_of[t] = next;
+          next += 3;
+          flags[tv[3 * t]] |= USED;
+          flags[tv[3 * t + 1]] |= USED;
+          flags[tv[3 * t + 2]] |= USED;
+        });
     if (kept_.empty())
       return;
-    const auto first = static_cast<HalfedgeId>(mesh_.triangles.size());
-    kept_twin_.assign(local_triangles, CLOSED);
-    HalfedgeId* const twin_of = kept_twin_.data();
     const std::size_t added = kept_.size();
-    for (std::size_t i = 0; i < added; ++i)
-      twin_of[kept_[i]] = first + static_cast<HalfedgeId>(3 * i);
+    const VertexId* const ids = dt.ids.data();
+    // The strip vertices of the kept triangles are reached (their stars will be
+    // grown): tested once per vertex, not once per corner, before any open list is
+    // read.
+    for (std::size_t k = 3; k < vertices; ++k)
+      if ((flags[k] & (IN_STRIP | USED)) == (IN_STRIP | USED) &&
+          open_head_[ids[k]] == UNREACHED) {
+        open_head_[ids[k]] = OPEN_LIST_END;
+        ++reached_;
+      }
     // Faulted in a chunk ahead (populateAhead) instead of a trap per page.
     populateAhead(mesh_.triangles, 3 * added, populated_triangles_);
     populateAhead(mesh_.halfedges, 3 * added, populated_halfedges_);
@@ -410,58 +431,50 @@ class Growth {
     mesh_.triangles.resize(mesh_.triangles.size() + 3 * added);
     mesh_.halfedges.resize(mesh_.halfedges.size() + 3 * added);
     mesh_.owned.resize(mesh_.owned.size() + added);
-    VertexId* out = mesh_.triangles.data() + first;
+    VertexId* const out = mesh_.triangles.data();
+    HalfedgeId* const halfedges = mesh_.halfedges.data();
     std::uint8_t* owned = mesh_.owned.data() + first / 3;
-    const VertexId* const ids = dt.ids.data();
     std::size_t owned_count = 0;
-    for (const std::size_t t : kept_) {
-      const auto l0 = static_cast<std::size_t>(tv[3 * t]),
-                 l1 = static_cast<std::size_t>(tv[3 * t + 1]),
-                 l2 = static_cast<std::size_t>(tv[3 * t + 2]);
-      out[0] = ids[l0];
-      out[1] = ids[l1];
-      out[2] = ids[l2];
-      out += 3;
+    // One pass in the order kept: corners, ownership, and the twins inside the block,
+    // written in place; the other edges are listed and then go through the open lists
+    // in the same order (an open list never holds an edge paired in the block).
+    HalfedgeId f = first;
+    open_edges_.clear();
+    for (const std::uint32_t t : kept_) {
+      const std::int32_t* const c = tv + 3 * static_cast<std::size_t>(t);
+      const auto l0 = static_cast<std::size_t>(c[0]),
+                 l1 = static_cast<std::size_t>(c[1]),
+                 l2 = static_cast<std::size_t>(c[2]);
+      out[f] = ids[l0];
+      out[f + 1] = ids[l1];
+      out[f + 2] = ids[l2];
       const std::uint8_t all = flags[l0] & flags[l1] & flags[l2] & NOT_LEFT;
-      flags[l0] |= USED;
-      flags[l1] |= USED;
-      flags[l2] |= USED;
       *owned++ = all != 0 ? 1 : 0;
       owned_count += all != 0 ? 1 : 0;
+      // The local twins as 4u + j: triangle u's first strip halfedge plus j.
+      const std::int32_t o[3] = {dt.twin(t, 0), dt.twin(t, 1), dt.twin(t, 2)};
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const HalfedgeId base = o[k] >= 0
+                                    ? twin_of[static_cast<std::uint32_t>(o[k]) >> 2]
+                                    : HalfedgeId{CLOSED};
+        if (base != CLOSED)
+          halfedges[f + k] = base + (static_cast<std::uint32_t>(o[k]) & 3u);
+        else
+          open_edges_.push_back({t, k});
+      }
+      f += 3;
+    }
+    for (const auto& [t, k] : open_edges_) {
+      const std::int32_t* const c = tv + 3 * static_cast<std::size_t>(t);
+      const auto from = static_cast<std::size_t>(c[k]);
+      const auto to = static_cast<std::size_t>(c[k == 2 ? 0 : k + 1]);
+      const bool from_in = (flags[from] & IN_STRIP) != 0;
+      const bool to_in = (flags[to] & IN_STRIP) != 0;
+      const HalfedgeId g = static_cast<HalfedgeId>(twin_of[t] + k);
+      if (linkOrOpen(g, from_in, to_in) && (from_in || to_in))
+        pool_.push(g, grid_.row(dt.corner(t, k).y));
     }
     mesh_.owned_count += owned_count;
-    // The strip vertices of the kept triangles are reached (their stars will be
-    // grown): tested once per vertex, not once per corner.
-    for (std::size_t k = 3; k < vertices; ++k)
-      if ((flags[k] & (IN_STRIP | USED)) == (IN_STRIP | USED) &&
-          open_head_[ids[k]] == UNREACHED) {
-        open_head_[ids[k]] = OPEN_LIST_END;
-        ++reached_;
-      }
-    // Twins inside the block written in place; the other edges go through the open
-    // lists (linkOrOpen leaves the arrays where they are).
-    HalfedgeId* const halfedges = mesh_.halfedges.data();
-    for (std::size_t i = 0; i < added; ++i) {
-      const std::size_t t = kept_[i];
-      const auto f = first + static_cast<HalfedgeId>(3 * i);
-      for (std::uint32_t k = 0; k < 3; ++k) {
-        // The local twin as 4u + j: triangle u's first strip halfedge plus j.
-        const std::int32_t o = dt.twin(t, k);
-        const HalfedgeId base =
-            o >= 0 ? twin_of[static_cast<std::uint32_t>(o) >> 2] : HalfedgeId{CLOSED};
-        const HalfedgeId g = f + k;
-        if (base != CLOSED) {
-          halfedges[g] = base + (static_cast<std::uint32_t>(o) & 3u);
-          continue;
-        }
-        const auto from = static_cast<std::size_t>(tv[3 * t + k]);
-        const auto to = static_cast<std::size_t>(tv[3 * t + (k == 2 ? 0 : k + 1)]);
-        const bool from_in = (flags[from] & IN_STRIP) != 0;
-        const bool to_in = (flags[to] & IN_STRIP) != 0;
-        if (linkOrOpen(g, from_in, to_in) && (from_in || to_in))
-          pool_.push(g, grid_.row(dt.corner(t, k).y));
-      }
-    }
   }
 
   /// Points near v sorted by floating-point distance; the exact nearest neighbour is
@@ -658,7 +671,9 @@ class Growth {
   const bool cache_blocks_;
   /// Per local halfedge of the block: its strip halfedge once added, or CLOSED.
   std::vector<HalfedgeId> kept_twin_;
-  std::vector<std::size_t> kept_;          ///< local triangles added, in order
+  std::vector<std::uint32_t> kept_; ///< local triangles added, in order
+  /// Halfedges (local triangle, edge) of the block's kept triangles left unpaired.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> open_edges_;
   std::vector<std::uint8_t> vertex_flags_; ///< per local vertex of the block
   std::vector<std::uint64_t> owner_key_;   ///< per local vertex of the block
   std::vector<TriangleId>& index_; ///< per triangle grown: its owned number (finish)
