@@ -116,7 +116,6 @@ double refinedCellSize(double width, double height, std::size_t n, double size,
   // more triangles left to the search at block borders). Clustered 1e3 (37 x 39 cells
   // refined, 23 x 23 not: one block), a repeated call 315 -> 222 us; 1e4 3652 -> 3118
   // us (1e5 40.7 -> 38.1 ms, 1e6 a wash: left to the measurements at those sizes).
-  constexpr std::size_t REFINE_MIN_POINTS = std::size_t{1} << 16;
   if (n < REFINE_MIN_POINTS)
     return size;
   const double per_cell = static_cast<double>(n) / static_cast<double>(occupied);

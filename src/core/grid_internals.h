@@ -20,9 +20,12 @@ std::size_t occupancyColumns(double extent, double size);
 /// The cell size asked for (clamped to the extent), or defaultCellSize when 0.
 double initialCellSize(double cell_size, double width, double height, std::size_t n);
 
+/// Inputs below this many points keep the area-based cell size (refinedCellSize).
+constexpr std::size_t REFINE_MIN_POINTS = std::size_t{1} << 16;
+
 /// The automatic cell size refined for clustered data, given the number of occupied
 /// cells of side `size` anchored at the bounding box's min (occupancyColumns wide);
-/// `size` itself below 2^16 points.
+/// `size` itself below REFINE_MIN_POINTS points.
 double refinedCellSize(double width, double height, std::size_t n, double size,
                        std::size_t occupied);
 

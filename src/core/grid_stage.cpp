@@ -105,6 +105,7 @@ struct Bands {
 /// What one band hands back.
 struct BandResult {
   std::uint32_t distinct = 0;
+  std::uint32_t occupied = 0; ///< its cells that hold a point
   std::vector<SubCell> nodes; ///< its quadtrees; first_child into this vector
   std::vector<std::pair<CellId, std::uint32_t>> roots; ///< crowded cell, its root
 };
@@ -123,6 +124,41 @@ struct BandScratch {
   std::vector<Point2> moved;
 };
 
+/// Whether a sample of the points (every SAMPLE_STRIDE-th) says that the automatic
+/// cell size `size` stays (refinedCellSize), so that the band sort may count the
+/// occupied cells: the share of cells of SAMPLE_STRIDE times the area that hold a
+/// sampled point estimates the share of cells of `size` that hold a point. A wrong
+/// guess costs time (a second grid, or the count first), never a different grid.
+bool sampleKeepsCellSize(const Input& in, double xmin, double ymin, double width,
+                         double height, double size)
+{
+  constexpr std::size_t SAMPLE_STRIDE = 64;
+  constexpr unsigned SAMPLE_SHIFT = 3; // 8 x 8 cells a sample cell
+  const std::size_t cx = detail::occupancyColumns(width, size);
+  const std::size_t cy = detail::occupancyColumns(height, size);
+  const std::size_t sx = (cx >> SAMPLE_SHIFT) + 1, sy = (cy >> SAMPLE_SHIFT) + 1;
+  std::vector<std::uint64_t> bits((sx * sy + 63) / 64, 0);
+  std::size_t occupied = 0;
+  const double inv = 1.0 / size;
+  for (std::size_t k = 0; k < in.count; k += SAMPLE_STRIDE) {
+    const std::size_t i =
+        std::min(static_cast<std::size_t>((in.x(k) - xmin) * inv), cx - 1);
+    const std::size_t j =
+        std::min(static_cast<std::size_t>((in.y(k) - ymin) * inv), cy - 1);
+    const std::size_t c = (j >> SAMPLE_SHIFT) * sx + (i >> SAMPLE_SHIFT);
+    const std::uint64_t bit = std::uint64_t{1} << (c & 63);
+    occupied += (bits[c >> 6] & bit) == 0 ? 1 : 0;
+    bits[c >> 6] |= bit;
+  }
+  // The size stays while the occupied cells hold at most 2 * DEFAULT_POINTS_PER_CELL
+  // points on average; guess so below 1.4 times that (a wrong "stays" costs more).
+  const double cells = static_cast<double>(cx) * static_cast<double>(cy);
+  const double expected =
+      cells * static_cast<double>(occupied) / static_cast<double>(sx * sy);
+  return static_cast<double>(in.count) <=
+         expected * 2.0 * DEFAULT_POINTS_PER_CELL / 1.4;
+}
+
 class GridBuilder {
  public:
   GridBuilder(const double* xyz, DuplicateRule rule, unsigned threads, GridStage& stage,
@@ -140,7 +176,8 @@ class GridBuilder {
   /// \param rows points per row per chunk of usefulThreads(threads, in.count)
   ///        chunks, when the occupancy count already made them on this grid; else
   ///        empty
-  void run(const Input& in, std::size_t inputs, std::vector<std::uint32_t> rows);
+  /// \return the cells that hold a point
+  std::size_t run(const Input& in, std::size_t inputs, std::vector<std::uint32_t> rows);
 
  private:
   void makeBands(const Input& in, unsigned chunks, std::vector<std::uint32_t>& rows,
@@ -222,8 +259,8 @@ void GridBuilder::makeBands(const Input& in, unsigned chunks,
   }
 }
 
-void GridBuilder::run(const Input& in, std::size_t inputs,
-                      std::vector<std::uint32_t> rows)
+std::size_t GridBuilder::run(const Input& in, std::size_t inputs,
+                             std::vector<std::uint32_t> rows)
 {
   const std::size_t m = in.count;
   const unsigned chunks = usefulThreads(threads_, m);
@@ -298,8 +335,12 @@ void GridBuilder::run(const Input& in, std::size_t inputs,
     for (std::size_t b = next++; b < band_count; b = next++)
       sortBand(b, scratch);
   });
+  std::size_t occupied = 0;
+  for (const BandResult& result : results_)
+    occupied += result.occupied;
   finish();
   vertex_.reset();
+  return occupied;
 }
 
 template <typename Assign>
@@ -419,6 +460,7 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
     const std::size_t column = c - row_first;
     level0.occupied[row * level0.row_words + (column >> 6)] |= std::uint64_t{1}
                                                                << (column & 63u);
+    ++result.occupied;
     if (end - begin == 1) {
       const std::uint32_t r = slot[begin];
       vertex_of[r] = out;
@@ -629,58 +671,81 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
     in = Input{kept_xyz.data(), kept_source.data(), m};
   }
 
-  // The cell size: automatic, refined by a count of the occupied cells (in parallel:
-  // one bit per cell per chunk, then or-ed), or the one asked for. The count's pass
-  // also counts the points per row: the bands' histogram when the size stays (the
-  // same rows as grid.row's).
+  // The cell size: automatic, refined by a count of the occupied cells, or the one
+  // asked for. The count (in parallel: one bit per cell per chunk, then or-ed) shares
+  // its pass with the count of the points per row, the bands' histogram when the size
+  // stays (the same rows as grid.row's). Where the size cannot change (a size asked
+  // for, fewer than REFINE_MIN_POINTS points) or a sample says it stays, that pass
+  // counts the rows alone and the band sort counts the occupied cells of the grid it
+  // builds (the same cells); should they refine the size after all, the grid is
+  // built again at the refined size: the same grid as the count first would give.
   CellGrid& grid = stage.grid;
-  double size = detail::initialCellSize(cell_size, width, height, m);
-  std::vector<std::uint32_t> rows;
-  std::size_t rows_ny = 0;
-  if (cell_size == 0.0 && width > 0.0 && height > 0.0) {
-    const std::size_t cx = detail::occupancyColumns(width, size);
-    const std::size_t cy = detail::occupancyColumns(height, size);
-    const std::size_t words = (cx * cy + 63) / 64;
-    const unsigned parts = usefulThreads(threads, m);
-    std::vector<std::vector<std::uint64_t>> bits(parts);
-    rows.assign(parts * cy, 0);
-    rows_ny = cy;
-    const double inv = 1.0 / size, xmin = all.xmin, ymin = all.ymin;
-    parallelChunks(parts, m, [&](std::size_t begin, std::size_t end, unsigned t) {
-      std::vector<std::uint64_t>& mine = bits[t];
-      mine.assign(words, 0);
-      std::uint32_t* row_count = &rows[t * cy];
-      for (std::size_t k = begin; k < end; ++k) {
-        const auto i =
-            std::min(static_cast<std::size_t>((in.x(k) - xmin) * inv), cx - 1);
-        const auto j =
-            std::min(static_cast<std::size_t>((in.y(k) - ymin) * inv), cy - 1);
-        const std::size_t c = j * cx + i;
-        mine[c >> 6] |= std::uint64_t{1} << (c & 63);
-        ++row_count[j];
+  const double initial = detail::initialCellSize(cell_size, width, height, m);
+  const bool automatic = cell_size == 0.0 && width > 0.0 && height > 0.0;
+  const bool may_refine = automatic && m >= detail::REFINE_MIN_POINTS;
+  bool count_first = may_refine && !sampleKeepsCellSize(in, all.xmin, all.ymin, width,
+                                                        height, initial);
+  for (;;) {
+    double size = initial;
+    std::vector<std::uint32_t> rows;
+    std::size_t rows_ny = 0;
+    if (automatic) {
+      const std::size_t cx = detail::occupancyColumns(width, size);
+      const std::size_t cy = detail::occupancyColumns(height, size);
+      const std::size_t words = count_first ? (cx * cy + 63) / 64 : 0;
+      const unsigned parts = usefulThreads(threads, m);
+      std::vector<std::vector<std::uint64_t>> bits(parts);
+      rows.assign(parts * cy, 0);
+      rows_ny = cy;
+      const double inv = 1.0 / size, xmin = all.xmin, ymin = all.ymin;
+      parallelChunks(parts, m, [&](std::size_t begin, std::size_t end, unsigned t) {
+        std::uint32_t* row_count = &rows[t * cy];
+        if (!count_first) {
+          for (std::size_t k = begin; k < end; ++k)
+            ++row_count[std::min(static_cast<std::size_t>((in.y(k) - ymin) * inv),
+                                 cy - 1)];
+          return;
+        }
+        std::vector<std::uint64_t>& mine = bits[t];
+        mine.assign(words, 0);
+        for (std::size_t k = begin; k < end; ++k) {
+          const auto i =
+              std::min(static_cast<std::size_t>((in.x(k) - xmin) * inv), cx - 1);
+          const auto j =
+              std::min(static_cast<std::size_t>((in.y(k) - ymin) * inv), cy - 1);
+          const std::size_t c = j * cx + i;
+          mine[c >> 6] |= std::uint64_t{1} << (c & 63);
+          ++row_count[j];
+        }
+      });
+      if (count_first) {
+        std::size_t occupied = 0;
+        for (std::size_t w = 0; w < words; ++w) {
+          std::uint64_t word = 0;
+          for (const auto& part : bits)
+            word |= part[w];
+          occupied += std::bitset<64>(word).count();
+        }
+        size = detail::refinedCellSize(width, height, m, size, occupied);
+        if (size != initial)
+          std::vector<std::uint32_t>().swap(rows);
       }
-    });
-    std::size_t occupied = 0;
-    for (std::size_t w = 0; w < words; ++w) {
-      std::uint64_t word = 0;
-      for (const auto& part : bits)
-        word |= part[w];
-      occupied += std::bitset<64>(word).count();
     }
-    bits.clear();
-    const double counted = size;
-    size = detail::refinedCellSize(width, height, m, size, occupied);
-    if (size != counted)
+    if (Status s =
+            detail::setGridGeometry(all.xmin, all.ymin, width, height, m, size, grid);
+        !s.ok())
+      return s;
+    if (grid.ny != rows_ny)
       std::vector<std::uint32_t>().swap(rows);
+    const std::size_t occupied = GridBuilder(xyz, rule, threads, stage, input_to_vertex)
+                                     .run(in, n, std::move(rows));
+    if (!may_refine || count_first ||
+        detail::refinedCellSize(width, height, m, initial, occupied) == initial)
+      break;
+    stage = GridStage{}; // the sample was wrong: count first
+    input_to_vertex.clear();
+    count_first = true;
   }
-  if (Status s =
-          detail::setGridGeometry(all.xmin, all.ymin, width, height, m, size, grid);
-      !s.ok())
-    return s;
-  if (grid.ny != rows_ny)
-    std::vector<std::uint32_t>().swap(rows);
-
-  GridBuilder(xyz, rule, threads, stage, input_to_vertex).run(in, n, std::move(rows));
   diag.duplicates_merged = m - grid.points.size();
   diag.distinct_points = grid.points.size();
   diag.cells = grid.cellCount();

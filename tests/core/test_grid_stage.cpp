@@ -224,6 +224,42 @@ TEST(GridStage, SameAsTheReferenceOnOtherShapesAndCellSizes)
   }
 }
 
+/// The grid stage guesses from every 64th point whether the automatic cell size stays
+/// and then lets the band sort count the occupied cells. Here that sample is uniform
+/// while the other points pile up in a small patch: the count refines the size after
+/// all, and the stage must build the grid again at the refined size (the reference's).
+TEST(GridStage, SameAsTheReferenceWhenTheSampleMisleads)
+{
+  const std::size_t n = 80000; // above 2^16 points: the size may be refined
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> xyz;
+  for (std::size_t k = 0; k < n; ++k) {
+    const bool sampled = k % 64 == 0;
+    const double x = sampled ? 1000.0 * unit(rng) : 400.0 + 20.0 * unit(rng);
+    const double y = sampled ? 1000.0 * unit(rng) : 600.0 + 20.0 * unit(rng);
+    xyz.insert(xyz.end(), {x, y, unit(rng)});
+  }
+  xyz[0] = xyz[1] = 0.0; // the bounding box: 1000 x 1000
+  xyz[3 * 64] = xyz[3 * 64 + 1] = 1000.0;
+  GridStage expected;
+  std::vector<VertexId> expected_map;
+  ASSERT_TRUE(
+      referenceStage(xyz, 0.0, DuplicateRule::LOWEST_Z, expected, expected_map).ok());
+  ASSERT_LT(expected.grid.cell_size,
+            0.9 * defaultCellSize(1000.0, 1000.0, n)); // refined
+  for (const unsigned threads : {1u, 2u}) {
+    GridStage stage;
+    std::vector<VertexId> map;
+    Diagnostics diag;
+    ASSERT_TRUE(buildGridStage(xyz.data(), n, 0.0, DuplicateRule::LOWEST_Z, threads,
+                               stage, map, diag)
+                    .ok());
+    expectSameStage(stage, map, expected, expected_map,
+                    "threads " + std::to_string(threads) + " ");
+  }
+}
+
 TEST(GridStage, ErrorsNameTheFirstBadPoint)
 {
   GridStage stage;
