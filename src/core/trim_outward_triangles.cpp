@@ -318,35 +318,49 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
   const double max_edge2 = options.max_edge > 0.0
                                ? options.max_edge * options.max_edge
                                : std::numeric_limits<double>::infinity();
-  auto cleared = [&](TriangleId t, double corner_scale) {
-    constexpr double LOW = 1e-60, HIGH = 1e60, MARGIN = 1.0 - 1e-12;
-    auto square = [](const Point2& p, const Point2& q) {
-      const double dx = p.x - q.x, dy = p.y - q.y;
-      return dx * dx + dy * dy;
-    };
-    auto in_range = [](double x) { return x >= LOW && x <= HIGH; };
-    const Point2 &a = corner(t, 0), &b = corner(t, 1), &c = corner(t, 2);
-    const double ab = square(a, b), bc = square(b, c), ca = square(c, a);
-    const double twice_area =
-        std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
-    const double limit = options.trim_factor * corner_scale;
-    if (!(in_range(ab) && in_range(bc) && in_range(ca) && in_range(twice_area) &&
-          in_range(limit)))
-      return false;
-    const double limit2 = limit * limit * MARGIN;
-    const double longest = std::max({ab, bc, ca});
-    return longest <= limit2 && longest <= max_edge2 * MARGIN &&
-           ab * bc * ca <= 4.0 * twice_area * twice_area * limit2;
-  };
   std::vector<std::vector<TriangleId>> unclear(parts);
   parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
-    for (std::size_t k = begin; k < end; ++k) {
-      const auto t = static_cast<TriangleId>(k);
-      const double scale_t = largest(t);
-      if (!cleared(t, scale_t) &&
-          classifyTriangle(corner(t, 0), corner(t, 1), corner(t, 2), scale_t, options)
-              .oversized)
-        unclear[p].push_back(t);
+    constexpr double LOW = 1e-60, HIGH = 1e60, MARGIN = 1.0 - 1e-12;
+    // The corners' bounds and points are read a few triangles ahead (a triangle's
+    // corners are far apart in the vertex arrays; the loads would otherwise wait).
+    constexpr std::size_t AHEAD = 16;
+    auto in_range = [](double x) { return x >= LOW && x <= HIGH; };
+    auto square = [](const Point2& u, const Point2& w) {
+      const double dx = u.x - w.x, dy = u.y - w.y;
+      return dx * dx + dy * dy;
+    };
+    const VertexId* corners = mesh.triangles.data();
+    const Point2* xy = mesh.xy.data();
+    const double* bound = scale.data();
+    const double factor = options.trim_factor, edge_limit2 = max_edge2 * MARGIN;
+    std::vector<TriangleId>& mine = unclear[p];
+    for (std::size_t t = begin; t < end; ++t) {
+      if (t + AHEAD < end)
+        for (std::size_t k = 3 * (t + AHEAD); k < 3 * (t + AHEAD) + 3; ++k) {
+          __builtin_prefetch(bound + corners[k]);
+          __builtin_prefetch(xy + corners[k]);
+        }
+      const VertexId ia = corners[3 * t], ib = corners[3 * t + 1],
+                     ic = corners[3 * t + 2];
+      double corner_scale = 0.0; // largest's order
+      corner_scale = std::max(corner_scale, bound[ia]);
+      corner_scale = std::max(corner_scale, bound[ib]);
+      corner_scale = std::max(corner_scale, bound[ic]);
+      const Point2 &a = xy[ia], &b = xy[ib], &c = xy[ic];
+      const double ab = square(a, b), bc = square(b, c), ca = square(c, a);
+      const double twice_area =
+          std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+      const double limit = factor * corner_scale;
+      const double limit2 = limit * limit * MARGIN;
+      const double longest = std::max({ab, bc, ca});
+      // Every condition evaluated (no branch per condition): out of range, the
+      // others' figures are not used.
+      const bool cleared = in_range(ab) & in_range(bc) & in_range(ca) &
+                           in_range(twice_area) & in_range(limit) &
+                           (longest <= limit2) & (longest <= edge_limit2) &
+                           (ab * bc * ca <= 4.0 * twice_area * twice_area * limit2);
+      if (!cleared && classifyTriangle(a, b, c, corner_scale, options).oversized)
+        mine.push_back(static_cast<TriangleId>(t));
     }
   });
   std::vector<TriangleId> hard;
@@ -391,13 +405,14 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
 }
 
 /// Drops the removed triangles: the survivors keep their order, twins are remapped.
-/// A survivor's new id is its id less the removed triangles before it, counted from
-/// a bit per triangle and a prefix count per 64 of them (cache-resident, unlike an
-/// id per triangle). In place, on contiguous ranges of triangles (one per thread): a
-/// survivor only moves down, over triangles already moved or dropped. The first
-/// survivors of a range whose new place lies in an earlier range are set aside while
-/// every range moves its others within itself, then written: no range writes where
-/// another reads.
+/// A survivor's new id is its id less the removed triangles before it: the same for
+/// a run of survivors between two removed triangles, and for a twin into the run
+/// (two comparisons); a twin elsewhere counts them from a bit per triangle and a
+/// prefix count per 64 of them (cache-resident, unlike an id per triangle). In place,
+/// on contiguous ranges of triangles (one per thread): a survivor only moves down, over
+/// triangles already moved or dropped. The first survivors of a range whose new place
+/// lies in an earlier range are set aside while every range moves its others within
+/// itself, then written: no range writes where another reads.
 void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped,
                       unsigned threads, std::vector<HalfedgeId>* boundary)
 {
@@ -435,28 +450,58 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
   };
   std::vector<std::vector<Moved>> aside(parts);
   std::vector<std::vector<HalfedgeId>> open_edges(parts); // new ids, increasing
+  // The removed triangles in increasing order: between two of them (a run) the
+  // survivors move down by the same count, and so do the twins into the run, which
+  // are most twins (a twin outside it takes new_id).
+  std::vector<TriangleId> removed_in_order;
+  removed_in_order.reserve(before.back());
+  for (std::size_t w = 0; w < bits.size(); ++w)
+    for (std::uint64_t word = bits[w]; word != 0; word &= word - 1)
+      removed_in_order.push_back(static_cast<TriangleId>(
+          64 * w + static_cast<unsigned>(__builtin_ctzll(word))));
+  const TriangleId* removed_at = removed_in_order.data();
+  const std::size_t removed_count = removed_in_order.size();
   parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
     std::vector<HalfedgeId>* open = boundary != nullptr ? &open_edges[p] : nullptr;
-    for (std::size_t t = begin; t < end; ++t) {
-      const TriangleId to = new_id(t);
-      if (to == INVALID_ID)
-        continue;
-      Moved moved{to, {}, {}};
-      for (std::size_t k = 0; k < 3; ++k) {
-        const HalfedgeId twin = twins[3 * t + k];
-        moved.corners[k] = corners[3 * t + k];
-        const TriangleId across = twin == INVALID_ID ? INVALID_ID : new_id(twin / 3);
-        moved.twins[k] = across == INVALID_ID ? INVALID_ID : 3 * across + twin % 3;
-        if (across == INVALID_ID && open != nullptr)
-          open->push_back(3 * to + static_cast<HalfedgeId>(k));
-      }
-      if (to < begin) {
-        aside[p].push_back(moved);
+    // j: the removed triangles before t.
+    std::size_t j = static_cast<std::size_t>(
+        std::lower_bound(removed_at, removed_at + removed_count, begin) - removed_at);
+    for (std::size_t t = begin; t < end;) {
+      if (j < removed_count && removed_at[j] == t) {
+        ++j;
+        ++t;
         continue;
       }
-      for (std::size_t k = 0; k < 3; ++k) {
-        corners[3 * std::size_t{to} + k] = moved.corners[k];
-        twins[3 * std::size_t{to} + k] = moved.twins[k];
+      const std::size_t stop =
+          std::min<std::size_t>(end, j < removed_count ? removed_at[j] : count);
+      const std::size_t shift = j;
+      // The run's halfedges [first, first + size): a twin among them moves by shift.
+      const std::size_t first = j > 0 ? 3 * std::size_t{removed_at[j - 1]} + 3 : 0;
+      const std::size_t size =
+          (j < removed_count ? 3 * std::size_t{removed_at[j]} : 3 * count) - first;
+      for (; t < stop; ++t) {
+        const std::size_t to = t - shift;
+        Moved moved{static_cast<TriangleId>(to), {}, {}};
+        for (std::size_t k = 0; k < 3; ++k) {
+          const HalfedgeId twin = twins[3 * t + k];
+          moved.corners[k] = corners[3 * t + k];
+          if (std::size_t{twin} - first < size) {
+            moved.twins[k] = static_cast<HalfedgeId>(twin - 3 * shift);
+            continue;
+          }
+          const TriangleId across = twin == INVALID_ID ? INVALID_ID : new_id(twin / 3);
+          moved.twins[k] = across == INVALID_ID ? INVALID_ID : 3 * across + twin % 3;
+          if (across == INVALID_ID && open != nullptr)
+            open->push_back(static_cast<HalfedgeId>(3 * to + k));
+        }
+        if (to < begin) {
+          aside[p].push_back(moved);
+          continue;
+        }
+        for (std::size_t k = 0; k < 3; ++k) {
+          corners[3 * to + k] = moved.corners[k];
+          twins[3 * to + k] = moved.twins[k];
+        }
       }
     }
   });
