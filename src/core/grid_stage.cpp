@@ -37,6 +37,36 @@ unsigned usefulThreads(unsigned threads, std::size_t n)
       std::max(1u, threads), std::max<std::size_t>(1, n / MIN_POINTS_PER_THREAD)));
 }
 
+/// CellGrid::column and row (the same values) on local copies of the grid's geometry:
+/// a loop that stores 32-bit counts would otherwise reload nx and ny (such stores may
+/// alias them) and convert them to double again at each point.
+struct CellLookup {
+  double origin_x, origin_y, inv, columns, rows;
+  std::uint32_t nx, ny;
+  explicit CellLookup(const CellGrid& grid)
+      : origin_x(grid.origin_x)
+      , origin_y(grid.origin_y)
+      , inv(grid.inv_cell_size)
+      , columns(static_cast<double>(grid.nx))
+      , rows(static_cast<double>(grid.ny))
+      , nx(grid.nx)
+      , ny(grid.ny)
+  {}
+  static std::uint32_t clamp(double t, double limit, std::uint32_t n)
+  {
+    if (!(t > 0.0))
+      return 0;
+    if (t >= limit)
+      return n - 1;
+    return static_cast<std::uint32_t>(t);
+  }
+  std::uint32_t column(double x) const
+  {
+    return clamp((x - origin_x) * inv, columns, nx);
+  }
+  std::uint32_t row(double y) const { return clamp((y - origin_y) * inv, rows, ny); }
+};
+
 /// The finite points: xyz itself, or a compacted copy when some were dropped.
 struct Input {
   const double* xyz;
@@ -58,12 +88,15 @@ struct Scan {
   std::size_t out_of_range = std::numeric_limits<std::size_t>::max(); ///< first one
 };
 
+/// Cells of up to this many points are sorted by insertion.
+constexpr std::uint32_t INSERTION_SORT_MAX = 16;
+static_assert(INSERTION_SORT_MAX <= CROWDED_CELL_POINTS, "no quadtree below it");
+
 /// Sorts slots [first, last) of (points, record) lexicographically, ties by record
 /// (records are in input order inside a band): buildCellGrid's order inside a cell.
 void sortCell(Point2* points, std::uint32_t* source, std::uint32_t first,
               std::uint32_t last, std::vector<std::pair<Point2, std::uint32_t>>& tmp)
 {
-  constexpr std::uint32_t INSERTION_SORT_MAX = 16;
   const auto less = [](const Point2& p, std::uint32_t o, const Point2& q,
                        std::uint32_t oq) {
     return lexLess(p, q) || (p == q && o < oq);
@@ -92,6 +125,29 @@ void sortCell(Point2* points, std::uint32_t* source, std::uint32_t first,
     points[m] = p;
     source[m] = o;
   }
+}
+
+/// sortCell for a cell of at most INSERTION_SORT_MAX points whose records ascend: an
+/// insertion sort by XY alone (stable, so equal XY keep their records' order, as
+/// sortCell's ties do). Returns whether two points have equal XY.
+bool sortSmallCell(Point2* points, std::uint32_t* records, std::uint32_t first,
+                   std::uint32_t last)
+{
+  for (std::uint32_t k = first + 1; k < last; ++k) {
+    const Point2 p = points[k];
+    const std::uint32_t o = records[k];
+    std::uint32_t m = k;
+    for (; m > first && lexLess(p, points[m - 1]); --m) {
+      points[m] = points[m - 1];
+      records[m] = records[m - 1];
+    }
+    points[m] = p;
+    records[m] = o;
+  }
+  bool equal = false;
+  for (std::uint32_t k = first + 1; k < last; ++k)
+    equal |= points[k] == points[k - 1];
+  return equal;
 }
 
 /// The band partition: bands of consecutive rows.
@@ -216,8 +272,9 @@ void GridBuilder::makeBands(const Input& in, unsigned chunks,
     parallelChunks(chunks, in.count,
                    [&](std::size_t begin, std::size_t end, unsigned t) {
                      std::uint32_t* count = &rows[static_cast<std::size_t>(t) * ny];
+                     const CellLookup lookup(grid_);
                      for (std::size_t k = begin; k < end; ++k)
-                       ++count[grid_.row(in.y(k))];
+                       ++count[lookup.row(in.y(k))];
                    });
   }
   // Greedy bands of consecutive rows.
@@ -316,9 +373,11 @@ std::size_t GridBuilder::run(const Input& in, std::size_t inputs,
   std::uint32_t* staged_source = stage_.source.data();
   parallelChunks(chunks, m, [&](std::size_t begin, std::size_t end, unsigned t) {
     std::uint32_t* at = &offsets[t * band_count];
+    const std::uint32_t* band_of_row = bands_.of_row.data();
+    const CellLookup lookup(grid_);
     for (std::size_t k = begin; k < end; ++k) {
       const double x = in.x(k), y = in.y(k);
-      const std::uint32_t record = at[bands_.of_row[grid_.row(y)]]++;
+      const std::uint32_t record = at[band_of_row[lookup.row(y)]]++;
       const std::uint32_t source = in.sourceOf(k);
       input_to_vertex_[source] = record; // its record, for now
       staged[record] = {x, y};
@@ -409,10 +468,11 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
   std::uint32_t* source = stage_.source.data();
   std::uint32_t* cell = scratch.cell.data();
   std::uint32_t* sources = scratch.sources.data();
+  const CellLookup lookup(grid_);
   for (std::uint32_t r = 0; r < n; ++r) {
     const Point2 p = grid_points[bs + r];
     cell[r] =
-        static_cast<std::uint32_t>((grid_.row(p.y) - r0) * nx) + grid_.column(p.x);
+        static_cast<std::uint32_t>((lookup.row(p.y) - r0) * nx) + lookup.column(p.x);
     sources[r] = source[bs + r];
     ++count[cell[r] + 1];
   }
@@ -438,6 +498,7 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
   // to the next occupied one are rewritten.
   BandResult& result = results_[b];
   std::uint32_t* vertex_of = vertex_.get() + bs;
+  detail::populatePages(vertex_of, vertex_of + n); // not a trap a page
   const auto vertex = [vertex_of](std::uint32_t record, std::uint32_t v) {
     vertex_of[record] = v;
   };
@@ -467,6 +528,17 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
       grid_points[out] = points[begin];
       source[out] = sources[r];
       ++out;
+    } else if (end - begin <= INSERTION_SORT_MAX) { // no quadtree
+      if (sortSmallCell(points, slot, begin, end)) {
+        out = mergeCell(points, slot, sources, begin, end, out, vertex);
+      } else {
+        for (std::uint32_t q = begin; q < end; ++q, ++out) {
+          const std::uint32_t r = slot[q];
+          vertex_of[r] = out;
+          grid_points[out] = points[q];
+          source[out] = sources[r];
+        }
+      }
     } else {
       sortCell(points, slot, begin, end, scratch.sort);
       const std::uint32_t first = out;
