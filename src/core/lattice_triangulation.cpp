@@ -29,10 +29,19 @@
 //    so the loop ends (at worst with S = P); in the last round every candidate is
 //    proven, and every DT triangle of the piece is a candidate: the pieces' triangles
 //    are exactly the rest of DT.
+// 4. Small fringes (Fringe::solveInOneWindow) skip the rounds: S = I for every piece
+//    at once, in one window of the cache blocks' kernel. A DT(I) triangle with its
+//    vertices in one piece's I is a DT triangle when no point of P \ I is inside its
+//    circle under the perturbation (the emptiness test of the perturbed set itself),
+//    or when it spans one incomplete cell (its circle is the cell's, by 1.). Every
+//    kept triangle is proven, so they are all of the fringe exactly when their count
+//    closes up; when it falls short (a triangle lost to the super triangle), 3. runs.
 // The triangle count is checked against 2n - h - 2 and every halfedge is paired.
 #include "lattice_triangulation.h"
+#include "local_delaunay.h"
 #include "release_memory.h"
 
+#include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/grid_triangulator.h>
 #include <pcl_vts/core/mediatrix_search.h>
 #include <pcl_vts/core/parallel_for.h>
@@ -43,7 +52,10 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -741,6 +753,9 @@ void emitCompleteCells(Lattice& lat, unsigned threads, std::vector<VertexId>& tr
   std::vector<VertexId>().swap(lat.vertex_at);
 }
 
+/// Lattice rows per block of Fringe::emptyOutsideI's skip test.
+constexpr std::uint32_t ROW_BLOCK = 16;
+
 class Fringe {
  public:
   Fringe(const Lattice& lat, const TriangleMesh& mesh, const VtsOptions& options,
@@ -753,8 +768,10 @@ class Fringe {
 
   /// The DT triangles that are not complete-cell triangles, CCW vertex triples;
   /// INTERNAL_ERROR when the ordinary path fails on a piece (triangulateLattice then
-  /// checks that the count closes up).
-  Status triangulate(std::vector<std::array<VertexId, 3>>& found, Diagnostics& diag);
+  /// checks that the count closes up). `expected`: how many there are (2n - h - 2
+  /// less the complete cells' triangles): the one-window pass below must reach it.
+  Status triangulate(std::vector<std::array<VertexId, 3>>& found, Diagnostics& diag,
+                     std::size_t expected);
 
  private:
   /// One component of the incomplete cells with its S, triangulated on its own.
@@ -781,6 +798,13 @@ class Fringe {
                : INVALID_ID;
   }
   void solve(Piece& piece) const;
+  /// Every piece but the gaps at once: DT(I) in one LocalDelaunay window (no grid
+  /// stage, pyramid or search per piece, no rounds), its triangles proven one by one
+  /// by emptyOutsideI. False when the window could not be triangulated.
+  bool solveInOneWindow(std::vector<Piece>& pieces, double widening);
+  /// No point of P \ I inside the circle of the CCW lattice triangle p under the
+  /// perturbation (incirclePerturbed).
+  bool emptyOutsideI(const std::array<std::size_t, 3>& p) const;
   /// A piece that is one missing position with its eight neighbours present (a
   /// NODATA cell or a dropout): its six triangles without a search; false otherwise.
   bool solveGap(Piece& piece) const;
@@ -797,6 +821,20 @@ class Fringe {
   /// The present positions within lattice_ring steps of p (p included), appended.
   void ring(std::size_t p, std::vector<std::size_t>& out) const;
   bool isCellTriangle(const std::array<std::size_t, 3>& p) const;
+  /// The three positions are corners of one cell.
+  bool isOneCell(const std::array<std::size_t, 3>& p) const;
+  std::uint32_t minColumn(const std::array<std::size_t, 3>& p) const
+  {
+    return static_cast<std::uint32_t>(
+        std::min({p[0] % lat_.nx, p[1] % lat_.nx, p[2] % lat_.nx}));
+  }
+  std::uint32_t minRow(const std::array<std::size_t, 3>& p) const
+  {
+    return static_cast<std::uint32_t>(
+        std::min({p[0] / lat_.nx, p[1] / lat_.nx, p[2] / lat_.nx}));
+  }
+  /// Present position (i, j) is in I (a corner of an incomplete cell).
+  bool inI(std::uint32_t i, std::uint32_t j) const;
   /// Present positions outside the piece in the closed circumdisk of the CCW
   /// triangle p, appended to inside.
   void pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& p,
@@ -808,6 +846,10 @@ class Fringe {
   unsigned threads_;
   std::vector<std::size_t> i_;       ///< positions in I, sorted
   std::vector<std::uint32_t> label_; ///< the piece of each i_
+  std::size_t window_points_ = 0;    ///< I of the pieces solveInOneWindow solved
+  /// Per block of ROW_BLOCK lattice rows, the least x of its rows' present spans and
+  /// the greatest (lo > hi when they are all empty): emptyOutsideI skips blocks.
+  std::vector<double> block_lo_, block_hi_;
 };
 
 void Fringe::ring(std::size_t p, std::vector<std::size_t>& out) const
@@ -922,6 +964,34 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
       next = std::max(next, run.i1 + 1);
     }
   }
+}
+
+bool Fringe::isOneCell(const std::array<std::size_t, 3>& p) const
+{
+  const auto i = [this](std::size_t q) {
+    return static_cast<std::uint32_t>(q % lat_.nx);
+  };
+  const auto j = [this](std::size_t q) {
+    return static_cast<std::uint32_t>(q / lat_.nx);
+  };
+  const std::uint32_t i0 = std::min({i(p[0]), i(p[1]), i(p[2])}),
+                      i1 = std::max({i(p[0]), i(p[1]), i(p[2])}),
+                      j0 = std::min({j(p[0]), j(p[1]), j(p[2])}),
+                      j1 = std::max({j(p[0]), j(p[1]), j(p[2])});
+  return i1 == i0 + 1 && j1 == j0 + 1;
+}
+
+bool Fringe::inI(std::uint32_t i, std::uint32_t j) const
+{
+  // Present, with an absent position among its eight neighbours inside the lattice:
+  // each of them shares a cell with it.
+  const std::uint32_t i0 = i > 0 ? i - 1 : 0, i1 = std::min(lat_.nx - 1, i + 1);
+  const std::uint32_t j0 = j > 0 ? j - 1 : 0, j1 = std::min(lat_.ny - 1, j + 1);
+  for (std::uint32_t jj = j0; jj <= j1; ++jj)
+    for (std::uint32_t ii = i0; ii <= i1; ++ii)
+      if (!lat_.present(lat_.position(ii, jj)))
+        return true;
+  return false;
 }
 
 bool Fringe::isCellTriangle(const std::array<std::size_t, 3>& p) const
@@ -1160,18 +1230,221 @@ void Fringe::grow(Piece& piece, const std::vector<std::size_t>& inside) const
                     piece.added.end());
 }
 
+/// Fringes with more points than this in S go piece by piece (parallel, one ordinary
+/// triangulation each) instead of through one window.
+constexpr std::size_t ONE_WINDOW_MAX_POINTS = std::size_t{1} << 18;
+/// solveInOneWindow's cell: this many times the points' extent (its super triangle
+/// ten times that away), then, when a triangle of DT(I) was lost to the super
+/// triangle (its circle reaches a corner: flat triangles along the hull; 1 of 228 on
+/// west_bijou_gully at 1, none on the test rasters at 2), the second. The wider the
+/// cell, the weaker the semi-static filters (raster 1e6: 26 M instructions in the
+/// window at 1, 27 M at 2, 42 M at 64).
+constexpr std::array<double, 2> WINDOW_WIDENING = {2.0, 64.0};
+
+bool Fringe::emptyOutsideI(const std::array<std::size_t, 3>& p) const
+{
+  const Point2 a = lat_.point(p[0]), b = lat_.point(p[1]), c = lat_.point(p[2]);
+  const SafeDisk disk = safeCircumdisk(a, b, c);
+  // Widened once more for the rounding of the row and column bounds below.
+  const double reach = disk.valid
+                           ? disk.radius * (1.0 + 1e-9) +
+                                 1e-12 * (std::fabs(disk.cx) + std::fabs(disk.cy))
+                           : 0.0;
+  // A point of P \ I of row j inside the circle.
+  const auto inside = [&](std::uint32_t j) {
+    std::uint32_t i0 = lat_.row_first[j], i1 = lat_.row_end[j];
+    if (i0 >= i1)
+      return false;
+    if (disk.valid) {
+      const double dy = lat_.ys[j] - disk.cy;
+      const double h2 = reach * reach - dy * dy;
+      // The row's present span too far from the centre (no square root).
+      const double dx =
+          std::max({0.0, lat_.xs[i0] - disk.cx, disk.cx - lat_.xs[i1 - 1]});
+      if (h2 < 0.0 || dx * dx > h2)
+        return false;
+      const double h = std::sqrt(h2);
+      const auto within = indicesWithin(lat_.xs, disk.cx - h, disk.cx + h);
+      i0 = std::max(i0, within.first);
+      i1 = std::min(i1, within.second);
+    }
+    const std::size_t row = lat_.position(0, j);
+    for (std::uint32_t i = i0; i < i1; ++i)
+      if (lat_.present(row + i) && !inI(i, j) &&
+          incirclePerturbed(a, b, c, {lat_.xs[i], lat_.ys[j]}) == Sign::POSITIVE)
+        return true;
+    return false;
+  };
+  if (!disk.valid) { // a flat triangle: every row
+    for (std::uint32_t j = 0; j < lat_.ny; ++j)
+      if (inside(j))
+        return false;
+    return true;
+  }
+  const auto [j0, j1] = indicesWithin(lat_.ys, disk.cy - reach, disk.cy + reach);
+  if (j0 >= j1)
+    return true;
+  // Blocks of ROW_BLOCK rows from the centre's outward (a triangle across complete
+  // cells, not a Delaunay triangle, usually has a point near its circle's centre),
+  // each skipped when the x range of its rows' present spans misses the disk over
+  // its y range (large disks over NODATA: most of their rows).
+  const auto centre = static_cast<std::uint32_t>(
+      std::lower_bound(lat_.ys.begin() + j0, lat_.ys.begin() + j1, disk.cy) -
+      lat_.ys.begin());
+  const std::uint32_t first = j0 / ROW_BLOCK, last = (j1 - 1) / ROW_BLOCK,
+                      mid = std::min(centre, j1 - 1) / ROW_BLOCK;
+  for (std::uint32_t step = 0; step <= std::max(mid - first, last - mid); ++step)
+    for (unsigned side = 0; side < 2; ++side) {
+      if (side == 0 ? step > mid - first : (step == 0 || step > last - mid))
+        continue;
+      const std::uint32_t block = side == 0 ? mid - step : mid + step;
+      const std::uint32_t r0 = std::max(j0, block * ROW_BLOCK),
+                          r1 = std::min(j1, block * ROW_BLOCK + ROW_BLOCK);
+      const double dy =
+          std::max({0.0, lat_.ys[r0] - disk.cy, disk.cy - lat_.ys[r1 - 1]});
+      const double dx =
+          std::max({0.0, block_lo_[block] - disk.cx, disk.cx - block_hi_[block]});
+      const double h2 = reach * reach - dy * dy;
+      if (h2 < 0.0 || dx * dx > h2)
+        continue;
+      for (std::uint32_t j = r0; j < r1; ++j)
+        if (inside(j))
+          return false;
+    }
+  return true;
+}
+
+bool Fringe::solveInOneWindow(std::vector<Piece>& pieces, double widening)
+{
+  if (i_.size() < 3 || i_.size() > ONE_WINDOW_MAX_POINTS)
+    return false;
+  std::vector<Point2> xy(i_.size());
+  for (std::size_t k = 0; k < i_.size(); ++k)
+    xy[k] = lat_.point(i_[k]);
+  CellGrid cells;
+  std::vector<std::uint32_t> cell_order;
+  if (!buildCellGrid(xy, 0.0, cells, cell_order, 1).ok())
+    return false;
+  // One cell far wider than the points (the super triangle far away: fewer DT(I)
+  // triangles lost to it), its points in the cache blocks' order of the cells
+  // above: multiples of 4, of 2, then the rest, rows in snake order.
+  CellGrid grid;
+  std::vector<std::uint32_t> order;
+  order.reserve(xy.size());
+  grid.points.reserve(xy.size());
+  for (std::uint32_t stride = 4; stride >= 1; stride /= 2)
+    for (std::uint32_t j = 0; j < cells.ny; ++j)
+      for (std::uint32_t m = 0; m < cells.nx; ++m) {
+        const std::uint32_t i = (j & 1u) == 0 ? m : cells.nx - 1 - m;
+        if (i % stride != 0 || j % stride != 0 ||
+            (stride < 4 && i % (2 * stride) == 0 && j % (2 * stride) == 0))
+          continue;
+        const CellId c = cells.cellId(i, j);
+        for (std::uint32_t k = cells.start(c); k < cells.start(c + 1); ++k) {
+          order.push_back(cell_order[k]);
+          grid.points.push_back(cells.points[k]);
+        }
+      }
+  const double extent =
+      std::max(static_cast<double>(cells.nx), static_cast<double>(cells.ny)) *
+      cells.cell_size;
+  grid.cell_size = widening * extent;
+  grid.inv_cell_size = 1.0 / grid.cell_size;
+  grid.origin_x = cells.origin_x - 0.5 * (grid.cell_size - extent);
+  grid.origin_y = cells.origin_y - 0.5 * (grid.cell_size - extent);
+  grid.nx = grid.ny = 1;
+  grid.cell_start = {0, static_cast<std::uint32_t>(grid.points.size())};
+  detail::LocalDelaunay window;
+  const detail::CellWindow all = {0, 1, 0, 1};
+  if (!window.triangulate(grid, all, all))
+    return false;
+  const std::uint32_t blocks = (lat_.ny + ROW_BLOCK - 1) / ROW_BLOCK;
+  block_lo_.assign(blocks, std::numeric_limits<double>::infinity());
+  block_hi_.assign(blocks, -std::numeric_limits<double>::infinity());
+  for (std::uint32_t j = 0; j < lat_.ny; ++j)
+    if (lat_.row_first[j] < lat_.row_end[j]) {
+      block_lo_[j / ROW_BLOCK] =
+          std::min(block_lo_[j / ROW_BLOCK], lat_.xs[lat_.row_first[j]]);
+      block_hi_[j / ROW_BLOCK] =
+          std::max(block_hi_[j / ROW_BLOCK], lat_.xs[lat_.row_end[j] - 1]);
+    }
+  // Every fringe triangle of DT(P) has its vertices in one piece's I, so it is a
+  // triangle of DT(I) (its circle is empty in P, hence in I). Every triangle of real
+  // points here is one of DT(I) (its circle is empty of I and of the super
+  // triangle); it is one of DT(P) when no point of P \ I is inside its circle under
+  // the perturbation (the points of I are not): kept then, unless its vertices are
+  // in different pieces (then it is not) or it is a cell triangle (emitted with the
+  // cells). A DT(I) triangle lost to the super triangle leaves the count short:
+  // triangulate() checks it.
+  const std::int32_t* v = window.v.data();
+  for (std::size_t t = 0; t < window.triangleCount(); ++t) {
+    if (v[3 * t] < 3 || v[3 * t + 1] < 3 || v[3 * t + 2] < 3)
+      continue; // a super triangle corner
+    std::array<std::size_t, 3> k{};
+    for (unsigned m = 0; m < 3; ++m)
+      k[m] = order[window.ids[static_cast<std::size_t>(v[3 * t + m])]];
+    const std::uint32_t label = label_[k[0]];
+    const std::array<std::size_t, 3> p = {i_[k[0]], i_[k[1]], i_[k[2]]};
+    if (label_[k[1]] != label || label_[k[2]] != label || pieces[label].rounds != 0)
+      continue;
+    // Three corners of one cell: a cell triangle when the cell is complete, else its
+    // circle (the cell's) holds no other present point, not even on it (section 7,
+    // 1.): a fringe triangle. Otherwise the disk decides.
+    const bool one_cell = isOneCell(p);
+    if (one_cell ? lat_.complete(minColumn(p), minRow(p)) : !emptyOutsideI(p))
+      continue;
+    pieces[label].found.push_back(
+        {lat_.vertex_at[p[0]], lat_.vertex_at[p[1]], lat_.vertex_at[p[2]]});
+  }
+  window_points_ = 0;
+  for (Piece& piece : pieces)
+    if (piece.rounds == 0) {
+      piece.rounds = 1;
+      piece.points = 0; // counted in window_points_
+      window_points_ += piece.own.size();
+    }
+  return true;
+}
+
 Status Fringe::triangulate(std::vector<std::array<VertexId, 3>>& found,
-                           Diagnostics& diag)
+                           Diagnostics& diag, std::size_t expected)
 {
   std::vector<Piece> pieces;
   labelPieces(pieces);
   if (pieces.empty())
     return Status::success(); // every vertex has its star in complete cells
+  // Small fringes: the gaps alone, the rest in one window; any piece it leaves (and
+  // every piece when the count does not close up) goes through solve().
+  bool one_window = false;
+  if (options_.lattice_one_window && i_.size() <= ONE_WINDOW_MAX_POINTS) {
+    for (Piece& piece : pieces)
+      solveGap(piece);
+    for (const double widening : WINDOW_WIDENING) {
+      one_window = solveInOneWindow(pieces, widening);
+      std::size_t count = 0;
+      for (const Piece& piece : pieces)
+        count += piece.found.size();
+      if (one_window && count > expected) // each of them is proven: a bug
+        return Status::error(StatusCode::INTERNAL_ERROR,
+                             "lattice fast path: " + std::to_string(count) +
+                                 " fringe triangles proven, " +
+                                 std::to_string(expected) + " expected");
+      if (one_window && count == expected)
+        break;
+      for (Piece& piece : pieces) // the window's pieces again
+        if (piece.points == 0) {
+          piece.found.clear();
+          piece.rounds = 0;
+        }
+      one_window = false;
+    }
+  }
   // Pieces are independent: any thread order gives the same pieces' results.
   parallelChunks(threads_, pieces.size(),
                  [&](std::size_t begin, std::size_t end, unsigned) {
                    for (std::size_t k = begin; k < end; ++k)
-                     solve(pieces[k]);
+                     if (pieces[k].rounds == 0)
+                       solve(pieces[k]);
                  });
   for (Piece& piece : pieces) {
     if (!piece.status.ok())
@@ -1184,6 +1457,8 @@ Status Fringe::triangulate(std::vector<std::array<VertexId, 3>>& found,
     diag.lattice_fringe_points += piece.points;
     diag.lattice_fringe_rounds = std::max(diag.lattice_fringe_rounds, piece.rounds);
   }
+  if (one_window)
+    diag.lattice_fringe_points += window_points_;
   diag.lattice_fringe_pieces = pieces.size();
   return Status::success();
 }
@@ -1269,7 +1544,7 @@ Status triangulateLattice(const double* xyz, std::size_t n, const VtsOptions& op
     // Fringe first: its peak memory (the ordinary path on S) comes before the big
     // arrays exist.
     Fringe f(lat, mesh, options, threads);
-    if (Status s = f.triangulate(fringe, diag); !s.ok()) {
+    if (Status s = f.triangulate(fringe, diag, total - cell_triangles); !s.ok()) {
       result.mesh = TriangleMesh{};
       return s;
     }

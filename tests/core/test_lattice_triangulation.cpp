@@ -239,6 +239,7 @@ TEST(LatticeTriangulation, NarrowRingsNeedMoreRoundsNotOtherTriangles)
       SCOPED_TRACE("ring " + std::to_string(ring) + " shape " + std::to_string(k));
       VtsOptions options;
       options.lattice_ring = ring;
+      options.lattice_one_window = false; // the pieces' rounds
       const auto xyz = rasterPoints(xs, ys, shapes[k]);
       expectSameAsOrdinary(xyz, options);
       most_rounds = std::max(
@@ -246,6 +247,53 @@ TEST(LatticeTriangulation, NarrowRingsNeedMoreRoundsNotOtherTriangles)
           test::runPipeline(xyz, options).result.diagnostics.lattice_fringe_rounds);
     }
   EXPECT_GT(most_rounds, 1u); // the disk check rejected something
+}
+
+TEST(LatticeTriangulation, TinyRastersMostlyNodata)
+{
+  // Small DEMs whose points are mostly fringe (a gully, scattered pixels, a thin
+  // diagonal band, a mask with one-pixel bridges): the fringe's pieces in one window
+  // and piece by piece.
+  const auto xs = uniformSteps(23, 559705.5, 3.0),
+             ys = uniformSteps(19, 4380221.5, 3.0);
+  const std::vector<std::pair<const char*, std::function<bool(int, int)>>> cases = {
+      {"gully",
+       [](int i, int j) { return std::abs(i - 6 - (j * j) / 24) <= 2 + (j % 3 == 0); }},
+      {"random 75 percent nodata",
+       [](int i, int j) {
+         const std::uint32_t h = (static_cast<std::uint32_t>(i) * 73856093u ^
+                                  static_cast<std::uint32_t>(j) * 19349663u) *
+                                 2654435761u;
+         return (h >> 16) % 100 >= 75;
+       }},
+      {"thin diagonal band", [](int i, int j) { return std::abs(2 * i - 3 * j) <= 5; }},
+      {"blobs and bridges", [](int i, int j) {
+         return (i - 5) * (i - 5) + (j - 5) * (j - 5) <= 12 ||
+                (i - 16) * (i - 16) + (j - 12) * (j - 12) <= 16 ||
+                (j == 8 && i > 5 && i < 16) || (i == 20 && j % 4 != 1);
+       }}};
+  for (const auto& [name, keep] : cases)
+    for (const bool one_window : {true, false}) {
+      SCOPED_TRACE(std::string(name) + (one_window ? ", one window" : ", by piece"));
+      VtsOptions options;
+      options.lattice_one_window = one_window;
+      expectSameAsOrdinary(rasterPoints(xs, ys, keep), options);
+    }
+}
+
+TEST(LatticeTriangulation, FlatHullTrianglesBeyondTheWindow)
+{
+  // One full row and the last point of the next: the fan from that point has
+  // circles of radius up to width^2 / 2, beyond the one window's super triangle at
+  // its first width (150), and at its second too (3000): the window is done again
+  // wider, then the pieces one by one. The same triangles all the same.
+  for (const int width : {150, 3000}) {
+    SCOPED_TRACE(width);
+    const auto xs = uniformSteps(static_cast<std::size_t>(width) + 1, 0.0, 1.0),
+               ys = uniformSteps(3, 0.0, 1.0);
+    expectSameAsOrdinary(rasterPoints(
+        xs, ys, [width](int i, int j) { return j == 0 || (j == 1 && i == width); }));
+  }
 }
 
 TEST(LatticeTriangulation, OffLatticePointsAddColumnsOrFallBack)
