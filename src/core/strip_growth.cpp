@@ -629,27 +629,32 @@ class Growth {
       if (index[t] == INVALID_ID)
         continue;
       const HalfedgeId out = shift + 3 * index[t];
-      const VertexId a[3] = {v[3 * t], v[3 * t + 1], v[3 * t + 2]};
+      const VertexId* const a = v + 3 * t;
       HalfedgeId twins[3];
       for (std::size_t k = 0; k < 3; ++k) {
-        const VertexId b = a[k == 2 ? 0 : k + 1];
         const HalfedgeId e = h[3 * t + k];
-        HalfedgeId twin = HULL;
-        if (e < OPEN) {
-          const TriangleId o = index[e / 3];
-          twin = o != INVALID_ID ? shift + 3 * o + e % 3 : HalfedgeId{BORDER};
-        } else if (e != CLOSED && !hull_.contains(a[k], b)) {
-          twin = BORDER;
+        if (e < OPEN) { // a twin in the strip: kept if owned
+          const HalfedgeId u = e / 3;
+          const TriangleId o = index[u];
+          if (o != INVALID_ID) {
+            twins[k] = shift + 3 * o + (e - 3 * u);
+            continue;
+          }
         }
-        if (twin == BORDER) {
+        const VertexId b = a[k == 2 ? 0 : k + 1];
+        if (e < OPEN || (e != CLOSED && !hull_.contains(a[k], b))) {
           sink.border.push_back(
               {std::min(a[k], b), std::max(a[k], b), out + static_cast<HalfedgeId>(k)});
-          twin = HULL;
         }
-        twins[k] = twin;
+        twins[k] = HULL;
       }
-      sink.triangles.insert(sink.triangles.end(), a, a + 3);
-      sink.halfedges.insert(sink.halfedges.end(), twins, twins + 3);
+      // One element at a time: insert's range copy called memmove per triangle.
+      sink.triangles.push_back(a[0]);
+      sink.triangles.push_back(a[1]);
+      sink.triangles.push_back(a[2]);
+      sink.halfedges.push_back(twins[0]);
+      sink.halfedges.push_back(twins[1]);
+      sink.halfedges.push_back(twins[2]);
     }
   }
 
