@@ -34,8 +34,12 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
       boxBounds(std::min(cx - 10.0 * d, tx_lo), std::max(cx + 10.0 * d, tx_hi),
                 std::min(cy - 10.0 * d, ty_lo), std::max(cy + 10.0 * d, ty_hi));
   orient_bound_ = wide.orient;
-  incircle_wide_bound_ = wide.incircle;
-  incircle_tight_bound_ = boxBounds(tx_lo, tx_hi, ty_lo, ty_hi).incircle;
+  // The in-circle tests use each triangle's coefficients (predicates.h,
+  // coefficientBound).
+  incircle_wide_bound_ =
+      coefficientBound(std::min(cx - 10.0 * d, tx_lo), std::max(cx + 10.0 * d, tx_hi),
+                       std::min(cy - 10.0 * d, ty_lo), std::max(cy + 10.0 * d, ty_hi));
+  incircle_tight_bound_ = coefficientBound(tx_lo, tx_hi, ty_lo, ty_hi);
   // n points make 1 + 2n triangles (each insertion replaces a cavity of m triangles
   // by m + 2): the arrays are sized once per window, not per insertion.
   std::size_t n = 0;
@@ -45,7 +49,8 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   v[0] = 0;
   v[1] = 1;
   v[2] = 2;
-  rec_[0] = {{p[0], p[1], p[2]}, {-1, -1, -1}, 0};
+  rec_[0] = {p[2], incircleCoefficients(p[0], p[1], p[2]), {-1, -1, -1}, 0};
+  corners_[0] = {{p[0], p[1]}};
   triangles_ = 1;
   last_ = 0;
   p.resize(3 + n);
@@ -82,21 +87,25 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
       ids[k_local] = k;
       in_core[k_local] = inside;
       p[k_local] = q;
-      insert(static_cast<std::int32_t>(k_local));
       ++k_local;
     }
   }
+  // Each walk starts from the triangle of the previous star that faces the point.
+  for (std::size_t k = 3; k < k_local; ++k)
+    insert(static_cast<std::int32_t>(k), p[k + 1 < k_local ? k + 1 : k]);
   v.resize(3 * triangles_);
   return true;
 }
 
 void LocalDelaunay::reserveTriangles(std::size_t count)
 {
-  if (rec_.size() < count)
+  if (rec_.size() < count) {
     rec_.resize(count);
+    corners_.resize(count);
+  }
   v.resize(3 * count);
-  if (bad_.size() < count + 2) { // a cavity holds at most every triangle
-    bad_.resize(count + 2);      // then the star's slots
+  if (bad_.size() < count + 3) { // a cavity holds at most every triangle
+    bad_.resize(count + 3);      // then the star's slots and the first again
     boundary_.resize(count + 3); // then the first edge again
     stack_.resize(2 * count + 3);
   }
@@ -113,29 +122,32 @@ void LocalDelaunay::outsideBox(const Point2& q, double cx, double cy, double d)
     orient_bound_ = incircle_wide_bound_ = incircle_tight_bound_ = inf;
 }
 
-void LocalDelaunay::insert(std::int32_t k)
+void LocalDelaunay::insert(std::int32_t k, const Point2& next)
 {
   const Point2* const P = p.data();
   const Point2 q = P[k];
   std::int32_t* V = v.data();
   Record* R = rec_.data();
+  Corners* C = corners_.data();
   std::uint32_t* const bad = bad_.data();
   std::pair<std::int32_t, std::int32_t>* const boundary = boundary_.data();
   const double orient_bound = orient_bound_;
-  // Visibility walk from the last new triangle (it ends in a Delaunay mesh); the edge
-  // it came in by is not tested again.
+  // Visibility walk from the star triangle the last insertion chose (it ends in a
+  // Delaunay mesh); the edge it came in by is not tested again. (A branch-free walk,
+  // all three sides tested, was slower: the exits are well predicted.)
   std::uint32_t t = static_cast<std::uint32_t>(last_);
   std::uint32_t entry = 3;
   for (;;) {
     const Record& r = R[t];
+    const Corners& c = C[t];
     std::uint32_t e;
-    if (entry != 0 && orient2dInBox(r.p[0], r.p[1], q, orient_bound) == Sign::NEGATIVE)
+    if (entry != 0 && orient2dInBox(c.p[0], c.p[1], q, orient_bound) == Sign::NEGATIVE)
       e = 0;
     else if (entry != 1 &&
-             orient2dInBox(r.p[1], r.p[2], q, orient_bound) == Sign::NEGATIVE)
+             orient2dInBox(c.p[1], r.apex, q, orient_bound) == Sign::NEGATIVE)
       e = 1;
     else if (entry != 2 &&
-             orient2dInBox(r.p[2], r.p[0], q, orient_bound) == Sign::NEGATIVE)
+             orient2dInBox(r.apex, c.p[0], q, orient_bound) == Sign::NEGATIVE)
       e = 2;
     else
       break;
@@ -151,7 +163,7 @@ void LocalDelaunay::insert(std::int32_t k)
   // from boundary[j].first to boundary[j + 1].first. A triangle's last vertex is the
   // point whose insertion made it (the first super triangle, the only exception, is
   // never tested: the first cavity starts there), so `real` picks the bound.
-  const double tight = incircle_tight_bound_, wide = incircle_wide_bound_;
+  const double bounds[2] = {incircle_wide_bound_, incircle_tight_bound_}; // by real
   std::uint32_t* const stack = stack_.data();
   std::size_t top = 0, bad_count = 0, boundary_count = 0;
   bad[bad_count++] = t;
@@ -162,13 +174,19 @@ void LocalDelaunay::insert(std::int32_t k)
     const std::int32_t o = R[h >> 2].adj[h & 3u];
     if (o >= 0) {
       const auto uo = static_cast<std::uint32_t>(o);
-      const Record& n = R[uo >> 2];
-      if (incirclePerturbedInBox(n.p[0], n.p[1], n.p[2], q,
-                                 n.real != 0 ? tight : wide) == Sign::POSITIVE) {
-        bad[bad_count++] = uo >> 2;
+      const std::uint32_t u = uo >> 2;
+      const Record& n = R[u];
+      const double det = incircleFromCoefficients(n.k, n.apex, q);
+      const double bound = bounds[n.real]; // a load, no branch
+      if (det > bound ||
+          (!(-det > bound) && incirclePerturbedOutOfLine(C[u].p[0], C[u].p[1], n.apex,
+                                                         q) == Sign::POSITIVE)) {
+        bad[bad_count++] = u;
+        // The edges before e (taken later) and after e (taken now): (e + 2) % 3 and
+        // (e + 1) % 3 read from 2-bit tables, no branch on e.
         const std::uint32_t e = uo & 3u, base = uo - e;
-        stack[top++] = base + (e == 0 ? 2 : e - 1); // the edge before e, taken later
-        h = base + (e == 2 ? 0 : e + 1);            // the edge after e, taken now
+        stack[top++] = base + ((0x12u >> (2 * e)) & 3u);
+        h = base + ((0x09u >> (2 * e)) & 3u);
         continue;
       }
     }
@@ -179,18 +197,28 @@ void LocalDelaunay::insert(std::int32_t k)
   }
   // The star of q over the chain: the cavity's slots, then new ones (a disk of m
   // boundary edges holds m - 2 triangles: two new slots), listed after the cavity's.
+  // Each record is written once, its neighbours in the star known from the slots.
   boundary[boundary_count] = boundary[0]; // the chain closed
   const std::size_t first_new = triangles_;
   triangles_ += boundary_count - bad_count;
   if (3 * triangles_ > v.size()) { // only if the 1 + 2n count were wrong
     v.resize(6 * triangles_);
     rec_.resize(2 * triangles_);
+    corners_.resize(2 * triangles_);
     V = v.data();
     R = rec_.data();
+    C = corners_.data();
   }
   for (std::size_t j = bad_count; j < boundary_count; ++j)
     bad[j] = static_cast<std::uint32_t>(first_new + (j - bad_count));
+  bad[boundary_count] = bad[0];
   std::uint32_t previous = bad[boundary_count - 1];
+  // The next walk's start: the star triangle whose wedge at q holds the next point
+  // (left of or on the ray from q through its first corner, right of the one through
+  // its second), the last one if none does (the next point is q's neighbour in the
+  // insertion order, mostly within a cell or two). Rounding only changes the start.
+  const double nx = next.x - q.x, ny = next.y - q.y;
+  std::uint32_t start = previous;
   for (std::size_t j = 0; j < boundary_count; ++j) {
     const std::uint32_t s = bad[j];
     const std::pair<std::int32_t, std::int32_t>& edge = boundary[j];
@@ -198,22 +226,26 @@ void LocalDelaunay::insert(std::int32_t k)
     V[3 * s] = edge.first;
     V[3 * s + 1] = b;
     V[3 * s + 2] = k;
+    const Point2 pa = P[edge.first], pb = P[b];
     Record& r = R[s];
-    r.p[0] = P[edge.first];
-    r.p[1] = P[b];
-    r.p[2] = q;
+    r.apex = q;
+    r.k = incircleCoefficients(pa, pb, q);
+    r.adj = {edge.second, static_cast<std::int32_t>(4 * bad[j + 1] + 2),
+             static_cast<std::int32_t>(4 * previous + 1)};
     r.real = std::min(edge.first, b) >= 3 ? 1 : 0;
-    r.adj[0] = edge.second;
+    C[s] = {{pa, pb}};
+    const auto in_wedge =
+        static_cast<std::uint32_t>((pa.x - q.x) * ny - (pa.y - q.y) * nx >= 0.0) &
+        static_cast<std::uint32_t>((pb.x - q.x) * ny - (pb.y - q.y) * nx < 0.0);
+    start ^= (start ^ s) & (0u - in_wedge); // s where in the wedge, without a branch
     if (edge.second >= 0) {
       const auto uo = static_cast<std::uint32_t>(edge.second);
       R[uo >> 2].adj[uo & 3u] = static_cast<std::int32_t>(4 * s);
     }
-    r.adj[2] = static_cast<std::int32_t>(4 * previous + 1);
-    R[previous].adj[1] = static_cast<std::int32_t>(4 * s + 2);
     previous = s;
   }
-  last_ = static_cast<std::int32_t>(previous);
-  if (bad_.size() < triangles_ + 2) // the next cavity's arrays (as above: not expected)
+  last_ = static_cast<std::int32_t>(start);
+  if (bad_.size() < triangles_ + 3) // the next cavity's arrays (as above: not expected)
     reserveTriangles(v.size() / 3);
 }
 

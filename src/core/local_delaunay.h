@@ -10,6 +10,7 @@
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/error_bounds.h>
 #include <pcl_vts/core/point2.h>
+#include <pcl_vts/core/predicates.h>
 
 #include <algorithm>
 #include <array>
@@ -91,8 +92,11 @@ class LocalDelaunay {
 
   /// The twin of halfedge i of triangle t: 4u + j for halfedge j of triangle u, or -1.
   std::int32_t twin(std::size_t t, std::uint32_t i) const { return rec_[t].adj[i]; }
-  /// Corner i of triangle t (p[v[3t + i]], from the triangle's record).
-  const Point2& corner(std::size_t t, std::uint32_t i) const { return rec_[t].p[i]; }
+  /// Corner i of triangle t (p[v[3t + i]], from the triangle's records).
+  const Point2& corner(std::size_t t, std::uint32_t i) const
+  {
+    return i < 2 ? corners_[t].p[i] : rec_[t].apex;
+  }
   std::size_t triangleCount() const { return triangles_; }
 
   std::vector<Point2> p;
@@ -112,21 +116,29 @@ class LocalDelaunay {
                               double margin);
 
  private:
-  void insert(std::int32_t k);
+  void insert(std::int32_t k, const Point2& next);
   void outsideBox(const Point2& q, double cx, double cy, double d);
   void reserveTriangles(std::size_t count);
 
-  /// What the walk and the cavity search read of a triangle, in one cache line: its
-  /// corners' coordinates (copied: no load through the vertex ids on the search's
-  /// critical path), its twins as halfedges 4t + i (no division by 3; renumbered into
-  /// adj at the end) and whether its first two vertices are real points (the tight
-  /// bound applies; the last one always is).
+  /// What the cavity search reads of a triangle, in one cache line: its last corner
+  /// (the point whose insertion made it) and its in-circle coefficients about that
+  /// corner (predicates.h, incircleCoefficients: computed once, when the triangle is
+  /// made), its twins as halfedges 4t + i (no division by 3) and whether its first two
+  /// vertices are real points (the tight bound applies; the last one always is). The
+  /// first two corners' coordinates (copied: no load through the vertex ids on the
+  /// walk's critical path) are in corners_, read by the walk, the exact fallback and
+  /// the finality pass.
   struct alignas(64) Record {
-    std::array<Point2, 3> p;
+    Point2 apex;
+    IncircleCoefficients k;
     std::array<std::int32_t, 3> adj;
     std::int32_t real;
   };
+  struct Corners {
+    std::array<Point2, 2> p;
+  };
   std::vector<Record, UninitAllocator<Record>> rec_;
+  std::vector<Corners, UninitAllocator<Corners>> corners_;
   std::vector<std::uint32_t> bad_, stack_;
   std::vector<std::pair<std::int32_t, std::int32_t>> boundary_;
   std::int32_t last_ = 0;
@@ -231,11 +243,13 @@ void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
   // `real`: the first two vertices are real points; the last one is for every
   // triangle but the super triangle, whose record says it is not.
   const Record* const R = rec_.data();
+  const Corners* const C = corners_.data();
   for (std::size_t t = 0; t < triangles_; ++t) {
     const Record& r = R[t];
+    const Corners& f = C[t];
     if (r.real != 0 && wanted(t) &&
-        (finalByVertices(r.p[0], r.p[1], r.p[2], x_lo, x_hi, y_lo, y_hi, margin) ||
-         finalTriangle(r.p[0], r.p[1], r.p[2], x_lo, x_hi, y_lo, y_hi)))
+        (finalByVertices(f.p[0], f.p[1], r.apex, x_lo, x_hi, y_lo, y_hi, margin) ||
+         finalTriangle(f.p[0], f.p[1], r.apex, x_lo, x_hi, y_lo, y_hi)))
       keep(t);
   }
 }

@@ -841,5 +841,160 @@ TEST(BoxFilters, WideBoxesAndSmallIntegerGrids)
   EXPECT_EQ(detail::orient2dInBox(a, b, c, huge.orient), Sign::POSITIVE);
 }
 
+// The cache blocks' in-circle filter from per-triangle coefficients
+// (incircleCoefficients, incircleFromCoefficients, coefficientBound): on each family
+// the computed determinant is compared with the exact one in rational arithmetic, its
+// error must stay below the bound of the family's tightest box, and the filtered
+// predicate must return incirclePerturbed's sign. The families are adversarial for the
+// bound: points spread over the whole box with the fourth one within ulps of the
+// circle, so the error reaches a sizeable share of the bound (max_ratio: 1/64 of it;
+// dividing the bound by 64 makes this test fail, tried when it was written).
+struct CoefficientCheck {
+  int tested = 0;
+  int filtered = 0;       ///< signs the filter decided alone
+  double max_ratio = 0.0; ///< the largest |computed - exact| / bound (power of 2 below)
+};
+
+Rational incircleValue(const Point2& a, const Point2& b, const Point2& c,
+                       const Point2& d)
+{
+  const Rational adx = exact(a.x) - exact(d.x), ady = exact(a.y) - exact(d.y);
+  const Rational bdx = exact(b.x) - exact(d.x), bdy = exact(b.y) - exact(d.y);
+  const Rational cdx = exact(c.x) - exact(d.x), cdy = exact(c.y) - exact(d.y);
+  return (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) +
+         (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy) +
+         (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+}
+
+void checkCoefficients(const std::vector<std::array<Point2, 4>>& quads,
+                       CoefficientCheck& out)
+{
+  double x_lo = quads[0][0].x, x_hi = x_lo, y_lo = quads[0][0].y, y_hi = y_lo;
+  for (const auto& q : quads)
+    for (const Point2& point : q) {
+      x_lo = std::min(x_lo, point.x);
+      x_hi = std::max(x_hi, point.x);
+      y_lo = std::min(y_lo, point.y);
+      y_hi = std::max(y_hi, point.y);
+    }
+  const double bound = detail::coefficientBound(x_lo, x_hi, y_lo, y_hi);
+  ASSERT_TRUE(std::isfinite(bound));
+  for (const auto& q : quads)
+    for (int r = 0; r < 3; ++r) { // each corner as the origin c, and both orientations
+      const Point2 a = q[r], b = q[(r + 1) % 3], c = q[(r + 2) % 3], d = q[3];
+      for (const bool flip : {false, true}) {
+        const Point2& u = flip ? b : a;
+        const Point2& w = flip ? a : b;
+        const detail::IncircleCoefficients k = detail::incircleCoefficients(u, w, c);
+        const double det = detail::incircleFromCoefficients(k, c, d);
+        const Rational value = incircleValue(u, w, c, d);
+        // |error| / bound, to a power of two (2^-16 at least).
+        const Rational error = exact(det) - value, minus = value - exact(det);
+        for (double ratio = 1.0; ratio > out.max_ratio && ratio >= 0x1p-16; ratio /= 2)
+          if (error > exact(ratio * bound) || minus > exact(ratio * bound)) {
+            out.max_ratio = ratio;
+            break;
+          }
+        const Sign expected = incirclePerturbed(u, w, c, d);
+        EXPECT_EQ(detail::incirclePerturbedFromCoefficients(k, u, w, c, d, bound),
+                  expected)
+            << "a=(" << u.x << "," << u.y << ") b=(" << w.x << "," << w.y << ") c=("
+            << c.x << "," << c.y << ") d=(" << d.x << "," << d.y << ")";
+        if (value.sign() != 0) {
+          EXPECT_EQ(expected, toSign(value.sign()));
+        }
+        out.filtered += std::fabs(det) > bound;
+        ++out.tested;
+      }
+    }
+}
+
+TEST(BoxFilters, CoefficientsBoundTheErrorNearCircles)
+{
+  CoefficientCheck check;
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  // Circles spanning the box at UTM magnitudes, three corners on the rounded circle
+  // and the fourth point within a few ulps of it: the error bound's worst case.
+  for (const double radius : {0.3, 40.0, 2500.0}) {
+    std::vector<std::array<Point2, 4>> quads;
+    const double cx = 5.0e5 + 0.37, cy = 5.4e6 - 0.61;
+    const auto on = [&](double t) {
+      return Point2{cx + radius * std::cos(t), cy + radius * std::sin(t)};
+    };
+    for (int k = 0; k < 700; ++k) {
+      const double t0 = 6.283 * unit(rng);
+      const Point2 d0 = on(t0 + 3.1 + 0.2 * unit(rng));
+      quads.push_back({on(t0), on(t0 + 2.0 + 0.3 * unit(rng)),
+                       on(t0 + 4.0 + 0.3 * unit(rng)),
+                       Point2{stepUlps(d0.x, k % 7 - 3), stepUlps(d0.y, k % 5 - 2)}});
+    }
+    checkCoefficients(quads, check);
+  }
+  // Exactly cocircular lattice points at UTM magnitudes (the perturbation decides)
+  // and d one ulp off the circle.
+  const std::vector<double> xy =
+      test::latticeCircle(5LL * 13 * 17 * 29 * 37 * 41 * 53 * 61);
+  const double U = 0x1p-30;
+  const auto at = [&](std::size_t i) {
+    return Point2{5.0e5 + 2049.0 * xy[2 * i] * U, 5.4e6 + 2049.0 * xy[2 * i + 1] * U};
+  };
+  std::uniform_int_distribution<std::size_t> pick(0, xy.size() / 2 - 1);
+  std::vector<std::array<Point2, 4>> lattice;
+  while (lattice.size() < 600) {
+    const std::size_t i = pick(rng), j = pick(rng), l = pick(rng), m = pick(rng);
+    if (i == j || i == l || i == m || j == l || j == m || l == m)
+      continue;
+    const Point2 d = at(m);
+    lattice.push_back({at(i), at(j), at(l), d});
+    lattice.push_back({at(i), at(j), at(l), Point2{stepUlps(d.x, 1), d.y}});
+    lattice.push_back({at(i), at(j), at(l), Point2{d.x, stepUlps(d.y, -1)}});
+  }
+  checkCoefficients(lattice, check);
+  // A 1e-3 m grid at UTM offsets: nearly cocircular unit squares after rounding.
+  std::vector<std::array<Point2, 4>> grid;
+  const auto g = [&](int i, int j) {
+    return Point2{5.0e5 + 1e-3 * i, 5.0e6 + 1e-3 * j};
+  };
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) {
+      grid.push_back({g(i, j), g(i + 1, j), g(i + 1, j + 1), g(i, j + 1)});
+      grid.push_back({g(i, j), g(i + 3, j + 1), g(i + 2, j + 4), g(i - 1, j + 3)});
+    }
+  checkCoefficients(grid, check);
+  // Random points of a window (the common case): the filter decides nearly all.
+  std::vector<std::array<Point2, 4>> random;
+  for (int k = 0; k < 1000; ++k) {
+    std::array<Point2, 4> quad;
+    for (Point2& point : quad)
+      point = {5.0e5 + 64.0 * unit(rng), 5.4e6 + 64.0 * unit(rng)};
+    random.push_back(quad);
+  }
+  const int filtered_before = check.filtered;
+  checkCoefficients(random, check);
+  EXPECT_GT(check.filtered - filtered_before, 5900);
+  EXPECT_GT(check.tested, 20000);
+  EXPECT_LT(check.max_ratio, 1.0); // the bound holds
+  // Not vacuous: the computed determinant's error comes within a factor 128 of it
+  // (1/64 here: with the bound divided by 64 the error check fails, by 128 wrong signs
+  // come out too; both tried).
+  EXPECT_GE(check.max_ratio, 1.0 / 128.0) << check.max_ratio;
+}
+
+TEST(BoxFilters, CoefficientBoundOfHugeBoxesCertifiesNothing)
+{
+  const double big = std::numeric_limits<double>::max();
+  EXPECT_FALSE(std::isfinite(detail::coefficientBound(-big, big, -big, big)));
+  EXPECT_FALSE(std::isfinite(detail::coefficientBound(0.0, 1e300, 0.0, 1.0)));
+  const Point2 a{0, 0}, b{1, 0}, c{1, 1}, d{0, 1};
+  const double huge = detail::coefficientBound(-big, big, -big, big);
+  EXPECT_EQ(detail::incirclePerturbedFromCoefficients(
+                detail::incircleCoefficients(a, b, c), a, b, c, d, huge),
+            incirclePerturbed(a, b, c, d));
+  EXPECT_EQ(detail::incirclePerturbedFromCoefficients(
+                detail::incircleCoefficients(a, b, c), a, b, c, Point2{0.5, 0.5}, huge),
+            Sign::POSITIVE);
+}
+
 } // namespace
 } // namespace pcl_vts

@@ -239,6 +239,127 @@ inline Sign incirclePerturbedInBox(const Point2& a, const Point2& b, const Point
     return Sign::NEGATIVE;
   return incirclePerturbedOutOfLine(a, b, c, d);
 }
+
+/// The in-circle determinant of a fixed triangle as a function of the fourth point
+/// (the cache blocks' cavity search tests each triangle against several points):
+/// with c the origin, u = a - c, w = b - c, q' = q - c,
+///   incircle(a, b, c, q) = Bx q'x + By q'y - A |q'|^2,
+///   A = ux wy - uy wx (= orient2d(a, b, c)), Bx = |u|^2 wy - |w|^2 uy,
+///   By = |w|^2 ux - |u|^2 wx
+/// (the lifted 4 x 4 determinant | x y x^2+y^2 1 | of rows a, b, c, q is invariant
+/// under translation; with c at the origin its row is (0 0 0 1) and the expansion
+/// along q's row gives these cofactors). A and B are computed once per triangle; a
+/// test is then a difference, two products, a difference, two products and a sum.
+struct alignas(16) IncircleCoefficients {
+  double b[2]; ///< (Bx, By)
+  double a[2]; ///< (A, A)
+};
+
+inline IncircleCoefficients incircleCoefficients(const Point2& a, const Point2& b,
+                                                 const Point2& c)
+{
+  IncircleCoefficients k;
+#if defined(__SSE2__)
+  const __m128d cc = _mm_loadu_pd(&c.x);
+  const __m128d u = _mm_sub_pd(_mm_loadu_pd(&a.x), cc); // (ux, uy)
+  const __m128d w = _mm_sub_pd(_mm_loadu_pd(&b.x), cc); // (wx, wy)
+  const __m128d uu = _mm_mul_pd(u, u), ww = _mm_mul_pd(w, w);
+  const __m128d lifts = _mm_add_pd(_mm_unpacklo_pd(uu, ww), _mm_unpackhi_pd(uu, ww));
+  const __m128d lu = _mm_unpacklo_pd(lifts, lifts), lw = _mm_unpackhi_pd(lifts, lifts);
+  const __m128d negate_high = _mm_set_pd(-0.0, 0.0);
+  const __m128d wperp = _mm_xor_pd(_mm_shuffle_pd(w, w, 1), negate_high); // (wy, -wx)
+  const __m128d uperp = _mm_xor_pd(_mm_shuffle_pd(u, u, 1), negate_high); // (uy, -ux)
+  // (|u|^2 wy - |w|^2 uy, |w|^2 ux - |u|^2 wx): negations are exact
+  _mm_store_pd(k.b, _mm_sub_pd(_mm_mul_pd(lu, wperp), _mm_mul_pd(lw, uperp)));
+  const __m128d cross = _mm_mul_pd(u, wperp); // (ux wy, -(uy wx))
+  const __m128d area = _mm_add_sd(cross, _mm_unpackhi_pd(cross, cross));
+  _mm_store_pd(k.a, _mm_unpacklo_pd(area, area));
+#else
+  const double ux = a.x - c.x, uy = a.y - c.y, wx = b.x - c.x, wy = b.y - c.y;
+  const double lu = ux * ux + uy * uy, lw = wx * wx + wy * wy;
+  k.b[0] = lu * wy - lw * uy;
+  k.b[1] = lw * ux - lu * wx;
+  k.a[0] = k.a[1] = ux * wy - uy * wx;
+#endif
+  return k;
+}
+
+/// The determinant from the coefficients of the triangle (a, b, c) and its corner c:
+/// (Bx - A q'x) q'x + (By - A q'y) q'y.
+inline double incircleFromCoefficients(const IncircleCoefficients& k, const Point2& c,
+                                       const Point2& q)
+{
+#if defined(__SSE2__)
+  const __m128d d = _mm_sub_pd(_mm_loadu_pd(&q.x), _mm_loadu_pd(&c.x));
+  const __m128d e =
+      _mm_mul_pd(_mm_sub_pd(_mm_load_pd(k.b), _mm_mul_pd(_mm_load_pd(k.a), d)), d);
+  return _mm_cvtsd_f64(_mm_add_sd(e, _mm_unpackhi_pd(e, e)));
+#else
+  const double dx = q.x - c.x, dy = q.y - c.y;
+  return (k.b[0] - k.a[0] * dx) * dx + (k.b[1] - k.a[1] * dy) * dy;
+#endif
+}
+
+/// The bound for incircleFromCoefficients when a, b, c and q lie inside [x_lo, x_hi] x
+/// [y_lo, y_hi]: |det - incircle(a, b, c, q)| <= bound, so det > bound certifies
+/// POSITIVE and -det > bound NEGATIVE (incirclePerturbedInBoxFromCoefficients).
+///
+/// Proof. Let u = a - c, w = b - c, d = q - c (real differences). Expanded, the
+/// determinant is a signed sum of 12 monomials of degree 4 in ux..dy:
+///   d_x (ux^2 wy + uy^2 wy - uy wx^2 - uy wy^2) + d_y (ux wx^2 + ux wy^2 - ux^2 wx
+///   - uy^2 wx) - (ux wy - uy wx)(d_x^2 + d_y^2).
+/// Without underflow, every floating-point operation is exact times (1 + e), |e| <=
+/// u = 2^-53 (negation exact). Following each monomial through the evaluation
+/// (incircleCoefficients, then incircleFromCoefficients) it collects at most 11 such
+/// factors: ux^2 wy d_x gets 2 from ux's difference, 1 from the square, 1 from the sum
+/// |u|^2, 1 from wy's difference and 1 from the product |u|^2 wy, 1 from Bx's
+/// difference, 1 from Bx - A d_x, 1 from d_x's difference and 1 from the product with
+/// d_x, 1 from the final sum (11); uy wx^2 d_x the same count; ux wy d_x^2 gets 2 from
+/// the differences, 1 from the product, 1 from A's sum, 2 from A d_x (difference,
+/// product), 1 from Bx - A d_x, 2 from the product with d_x, 1 from the sum (10). So
+/// the computed value is sum_m s_m M_m (1 + t_m), |t_m| <= gamma_11 = 11u / (1 - 11u)
+/// (Higham, Accuracy and Stability, lemma 3.1), and |det - exact| <= gamma_11
+/// sum_m |M_m|. With every |coordinate difference| <= W: each of the six groups
+/// |d_x| |u|^2 |wy|, |d_x| |uy| |w|^2, |d_y| |ux| |w|^2, |d_y| |u|^2 |wx|,
+/// |ux wy| |d|^2, |uy wx| |d|^2 is at most W W 2W^2, so sum_m |M_m| <= 12 W^4.
+/// The real widths are at most fl(x_hi - x_lo) (1 + u) (rounding to nearest loses at
+/// most a relative u), so W <= m (1 + u), m the larger computed width; 12 W^4 gamma_11
+/// <= 132.01 u m^4 (1 + u)^4, below the computed 144 u m^4 (three roundings, each at
+/// most a relative u low). Underflow: a product that underflows adds an absolute
+/// error of at most 2^-1075 (sums of subnormals are exact), which the later operations
+/// multiply by at most two differences (m^2 each way, at most 12 such errors per
+/// monomial path), far below UNDERFLOW_SLACK (1 + 4 m^2). Overflow: every intermediate
+/// (differences <= m, lifts <= 2m^2, B <= 4m^3, A d <= 2m^3, the terms <= 6m^4, the
+/// sum <= 12m^4, rounding included) is below 16 max(m, 1)^4; where that is not finite
+/// the bound is infinite and certifies nothing (nor does a NaN). Independent of how the
+/// exact sign is obtained, the certified sign is incircle's, so incirclePerturbed's
+/// (its tie-break only acts on ZERO). test_predicates (BoxFilters.Coefficients...)
+/// checks it against exact arithmetic near circles at UTM magnitudes.
+inline double coefficientBound(double x_lo, double x_hi, double y_lo, double y_hi)
+{
+  const double m = std::fmax(x_hi - x_lo, y_hi - y_lo);
+  const double m1 = std::fmax(m, 1.0);
+  const double guard = 16.0 * ((m1 * m1) * (m1 * m1));
+  if (!std::isfinite(guard) || std::isnan(m))
+    return HUGE_VAL;
+  const double m2 = m * m;
+  return 144.0 * UNIT_ROUNDOFF * (m2 * m2) + UNDERFLOW_SLACK * (1.0 + 4.0 * m2);
+}
+
+/// incirclePerturbed(a, b, c, q) from k = incircleCoefficients(a, b, c), for points
+/// inside the box of `bound` (coefficientBound).
+inline Sign incirclePerturbedFromCoefficients(const IncircleCoefficients& k,
+                                              const Point2& a, const Point2& b,
+                                              const Point2& c, const Point2& q,
+                                              double bound)
+{
+  const double det = incircleFromCoefficients(k, c, q);
+  if (det > bound)
+    return Sign::POSITIVE;
+  if (-det > bound)
+    return Sign::NEGATIVE;
+  return incirclePerturbedOutOfLine(a, b, c, q);
+}
 } // namespace detail
 
 } // namespace pcl_vts
