@@ -408,6 +408,30 @@ bool histogramFits(const OwnStats& stats)
   return stats.count > 4096 && stats.high <= PLAIN_BITS;
 }
 
+/// ringLowerBound of v, whose row is ring[begin, end).
+inline double rowLowerBound(const double* own, const VertexId* ring, std::size_t v,
+                            std::size_t begin, std::size_t end)
+{
+  // The three smallest of the values, kept sorted (s0 <= s1 <= s2) by
+  // compare-exchanges; localMedian's index (the upper median of size values) is
+  // size / 2, so the value of sorted index min(size / 2, 2) is at most it.
+  constexpr double INF = std::numeric_limits<double>::infinity();
+  double s0 = own[v], s1 = INF, s2 = INF;
+  bool nan = std::isnan(s0);
+  for (std::size_t k = begin; k < end; ++k) {
+    const double x = own[ring[k]];
+    nan = nan || std::isnan(x);
+    s2 = std::min(s2, std::max(s1, x));
+    s1 = std::min(s1, std::max(s0, x));
+    s0 = std::min(s0, x);
+  }
+  const std::size_t index = (end - begin + 1) / 2;
+  return nan          ? std::numeric_limits<double>::quiet_NaN()
+         : index == 0 ? s0
+         : index == 1 ? s1
+                      : s2;
+}
+
 } // namespace
 
 void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
@@ -433,11 +457,17 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
       part_counts[p].assign(std::size_t{1} << BUCKET_BITS, 0);
       buckets = part_counts[p].data();
     }
-    for (std::size_t v = begin; v < end; ++v) {
-      bound[v] = ringLowerBound(rows, own, v);
-      if (buckets != nullptr && rows.begin(v) != rows.end(v))
-        ++buckets[(bitsOf(own[v]) - stats.low) >> shift];
-    }
+    // On the starts' own type (no test of their width per vertex).
+    rows.visitStarts([&](const auto* start) {
+      const VertexId* ring = rows.ring.get();
+      const double* values = own.data();
+      double* out = bound.data();
+      for (std::size_t v = begin; v < end; ++v) {
+        out[v] = rowLowerBound(values, ring, v, start[v], start[v + 1]);
+        if (buckets != nullptr && start[v] != start[v + 1])
+          ++buckets[(bitsOf(values[v]) - stats.low) >> shift];
+      }
+    });
   });
   if (!count)
     return;
@@ -548,25 +578,7 @@ double localMedian(const VertexRows& rows, const std::vector<double>& own,
 double ringLowerBound(const VertexRows& rows, const std::vector<double>& own,
                       std::size_t v)
 {
-  // The three smallest of the values, kept sorted (s0 <= s1 <= s2) by
-  // compare-exchanges; localMedian's index (the upper median of size values) is
-  // size / 2, so the value of sorted index min(size / 2, 2) is at most it.
-  const std::size_t begin = rows.begin(v), end = rows.end(v);
-  constexpr double INF = std::numeric_limits<double>::infinity();
-  double s0 = own[v], s1 = INF, s2 = INF;
-  bool nan = std::isnan(s0);
-  for (std::size_t k = begin; k < end; ++k) {
-    const double x = own[rows.ring[k]];
-    nan = nan || std::isnan(x);
-    s2 = std::min(s2, std::max(s1, x));
-    s1 = std::min(s1, std::max(s0, x));
-    s0 = std::min(s0, x);
-  }
-  const std::size_t index = (end - begin + 1) / 2;
-  return nan          ? std::numeric_limits<double>::quiet_NaN()
-         : index == 0 ? s0
-         : index == 1 ? s1
-                      : s2;
+  return rowLowerBound(own.data(), rows.ring.get(), v, rows.begin(v), rows.end(v));
 }
 
 } // namespace detail

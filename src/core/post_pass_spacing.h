@@ -81,6 +81,16 @@ class VertexRows {
     return start64_.empty() ? start32_[v] : start64_[v];
   }
   std::size_t end(std::size_t v) const { return begin(v + 1); }
+  /// f(starts), starts[v] being begin(v), as a pointer to their own type (a loop
+  /// over the rows then tests the width once).
+  template <typename F>
+  void visitStarts(F&& f) const
+  {
+    if (start64_.empty())
+      f(start32_.data());
+    else
+      f(start64_.data());
+  }
   std::unique_ptr<VertexId[]> ring; // NOLINT: uninitialised, written by build
 
  private:

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -324,7 +325,6 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
     // The corners' bounds and points are read a few triangles ahead (a triangle's
     // corners are far apart in the vertex arrays; the loads would otherwise wait).
     constexpr std::size_t AHEAD = 16;
-    auto in_range = [](double x) { return x >= LOW && x <= HIGH; };
     auto square = [](const Point2& u, const Point2& w) {
       const double dx = u.x - w.x, dy = u.y - w.y;
       return dx * dx + dy * dy;
@@ -353,11 +353,16 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
       const double limit = factor * corner_scale;
       const double limit2 = limit * limit * MARGIN;
       const double longest = std::max({ab, bc, ca});
-      // Every condition evaluated (no branch per condition): out of range, the
-      // others' figures are not used.
-      const bool cleared = in_range(ab) & in_range(bc) & in_range(ca) &
-                           in_range(twice_area) & in_range(limit) &
-                           (longest <= limit2) & (longest <= edge_limit2) &
+      // Every condition evaluated (no branch per condition; out of range, the
+      // others' figures are not used), the range test on the smallest and the
+      // largest figure: min and max may pass over a NaN, but a NaN figure makes the
+      // last comparison false anyway.
+      const double low =
+          std::min(std::min(ab, bc), std::min(ca, std::min(twice_area, limit)));
+      const double high =
+          std::max(std::max(ab, bc), std::max(ca, std::max(twice_area, limit)));
+      const bool cleared = (low >= LOW) & (high <= HIGH) & (longest <= limit2) &
+                           (longest <= edge_limit2) &
                            (ab * bc * ca <= 4.0 * twice_area * twice_area * limit2);
       if (!cleared && classifyTriangle(a, b, c, corner_scale, options).oversized)
         mine.push_back(static_cast<TriangleId>(t));
@@ -653,14 +658,26 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   std::vector<std::uint8_t> triangle_count;
   if (after != nullptr) {
     constexpr unsigned MANY = detail::MANY_TRIANGLES;
-    triangle_count.resize(mesh.vertexCount());
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
-      const std::size_t entries = rows.end(v) - rows.begin(v);
-      triangle_count[v] =
-          static_cast<std::uint8_t>(std::min<std::size_t>(entries, MANY));
-      if (own_measured && entries == 0)
-        without_triangles.push_back(static_cast<VertexId>(v));
-    }
+    const std::size_t n = mesh.vertexCount();
+    triangle_count.resize(n);
+    std::uint8_t* counts = triangle_count.data();
+    rows.visitStarts([&](const auto* start) { // a loop the compiler vectorises
+      for (std::size_t v = 0; v < n; ++v) {
+        const std::size_t entries = start[v + 1] - start[v];
+        counts[v] = static_cast<std::uint8_t>(entries < MANY ? entries : MANY);
+      }
+    });
+    if (own_measured) // the vertices without a row: eight counts at a time
+      for (std::size_t v = 0; v < n; v += 8) {
+        std::uint64_t word = ~std::uint64_t{0};
+        std::memcpy(&word, counts + v, std::min<std::size_t>(8, n - v));
+        constexpr std::uint64_t ONES = 0x0101010101010101ull;
+        if (((word - ONES) & ~word & (ONES << 7)) == 0)
+          continue; // no zero byte
+        for (std::size_t u = v; u < std::min(n, v + 8); ++u)
+          if (counts[u] == 0)
+            without_triangles.push_back(static_cast<VertexId>(u));
+      }
     auto lower = [&](VertexId v) {
       if (triangle_count[v] < MANY)
         --triangle_count[v];
