@@ -29,13 +29,18 @@
 //    so the loop ends (at worst with S = P); in the last round every candidate is
 //    proven, and every DT triangle of the piece is a candidate: the pieces' triangles
 //    are exactly the rest of DT.
-// 4. Small fringes (Fringe::solveInOneWindow) skip the rounds: S = I for every piece
-//    at once, in one window of the cache blocks' kernel. A DT(I) triangle with its
-//    vertices in one piece's I is a DT triangle when no point of P \ I is inside its
-//    circle under the perturbation (the emptiness test of the perturbed set itself),
-//    or when it spans one incomplete cell (its circle is the cell's, by 1.). Every
-//    kept triangle is proven, so they are all of the fringe exactly when their count
-//    closes up; when it falls short (a triangle lost to the super triangle), 3. runs.
+// 4. Small fringes (Fringe::solveInOneWindow) skip the rounds. An incomplete cell
+//    with three corners gives the triangle of them (its circle is the cell's, by
+//    1.). A vertex of I inside the lattice with its four axis neighbours present
+//    has every cell complete or missing the opposite corner, so its star is those
+//    triangles alone. W = I less those vertices, for every piece at once, is
+//    triangulated in one window of the cache blocks' kernel; every other fringe
+//    triangle has its vertices in W, so it is a DT(W) triangle, and a DT(W)
+//    triangle with its vertices in one piece is a DT triangle when no point of P \ W
+//    is inside its circle under the perturbation (the emptiness test of the
+//    perturbed set itself). Every kept triangle is proven, so they are all of the
+//    fringe exactly when their count closes up; when it falls short (a triangle lost
+//    to the super triangle), 3. runs.
 // The triangle count is checked against 2n - h - 2 and every halfedge is paired.
 #include "lattice_triangulation.h"
 #include "local_delaunay.h"
@@ -320,9 +325,11 @@ bool readRows(const double* xyz, std::size_t n, const YRuns& runs, std::size_t f
     Point2* xy = mesh.xy.data();
     double* z = mesh.z.data();
     std::uint32_t allowed = 0; // the smallest x rank the run may take next
+    const bool all_finite = count == end - run.first; // nothing to skip
     for (std::size_t k = run.first; k < end; ++k) {
       const double* p = xyz + 3 * k;
-      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      if (!all_finite &&
+          (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])))
         continue; // dropped by pass 1
       std::uint32_t i = allowed;
       if (!(i < nx && xs[i] == p[0])) {
@@ -753,7 +760,7 @@ void emitCompleteCells(Lattice& lat, unsigned threads, std::vector<VertexId>& tr
   std::vector<VertexId>().swap(lat.vertex_at);
 }
 
-/// Lattice rows per block of Fringe::emptyOutsideI's skip test.
+/// Lattice rows per block of Fringe::emptyOutsideWindow's skip test.
 constexpr std::uint32_t ROW_BLOCK = 16;
 
 class Fringe {
@@ -798,13 +805,13 @@ class Fringe {
                : INVALID_ID;
   }
   void solve(Piece& piece) const;
-  /// Every piece but the gaps at once: DT(I) in one LocalDelaunay window (no grid
+  /// Every piece but the gaps at once: DT(W) in one LocalDelaunay window (no grid
   /// stage, pyramid or search per piece, no rounds), its triangles proven one by one
-  /// by emptyOutsideI. False when the window could not be triangulated.
+  /// by emptyOutsideWindow. False when the window could not be triangulated.
   bool solveInOneWindow(std::vector<Piece>& pieces, double widening);
-  /// No point of P \ I inside the circle of the CCW lattice triangle p under the
+  /// No point of P \ W inside the circle of the CCW lattice triangle p under the
   /// perturbation (incirclePerturbed).
-  bool emptyOutsideI(const std::array<std::size_t, 3>& p) const;
+  bool emptyOutsideWindow(const std::array<std::size_t, 3>& p) const;
   /// A piece that is one missing position with its eight neighbours present (a
   /// NODATA cell or a dropout): its six triangles without a search; false otherwise.
   bool solveGap(Piece& piece) const;
@@ -823,18 +830,13 @@ class Fringe {
   bool isCellTriangle(const std::array<std::size_t, 3>& p) const;
   /// The three positions are corners of one cell.
   bool isOneCell(const std::array<std::size_t, 3>& p) const;
-  std::uint32_t minColumn(const std::array<std::size_t, 3>& p) const
-  {
-    return static_cast<std::uint32_t>(
-        std::min({p[0] % lat_.nx, p[1] % lat_.nx, p[2] % lat_.nx}));
-  }
-  std::uint32_t minRow(const std::array<std::size_t, 3>& p) const
-  {
-    return static_cast<std::uint32_t>(
-        std::min({p[0] / lat_.nx, p[1] / lat_.nx, p[2] / lat_.nx}));
-  }
   /// Present position (i, j) is in I (a corner of an incomplete cell).
   bool inI(std::uint32_t i, std::uint32_t j) const;
+  /// Present position (i, j) is in W, solveInOneWindow's points: I less the corners
+  /// inside the lattice whose four axis neighbours are present. Each cell of such a
+  /// corner is complete or misses the opposite corner, so its star is the cells'
+  /// triangles and the three-corner triangles with their right angle at it.
+  bool inWindow(std::uint32_t i, std::uint32_t j) const;
   /// Present positions outside the piece in the closed circumdisk of the CCW
   /// triangle p, appended to inside.
   void pointsInDisk(const Piece& piece, const std::array<std::size_t, 3>& p,
@@ -847,8 +849,10 @@ class Fringe {
   std::vector<std::size_t> i_;       ///< positions in I, sorted
   std::vector<std::uint32_t> label_; ///< the piece of each i_
   std::size_t window_points_ = 0;    ///< I of the pieces solveInOneWindow solved
-  /// Per block of ROW_BLOCK lattice rows, the least x of its rows' present spans and
-  /// the greatest (lo > hi when they are all empty): emptyOutsideI skips blocks.
+  /// Per lattice row, the columns [first, end) holding its points of P \ W; per
+  /// block of ROW_BLOCK rows, the least x of them and the greatest (lo > hi when
+  /// there are none): emptyOutsideWindow skips rows and blocks.
+  std::vector<std::uint32_t> inner_first_, inner_end_;
   std::vector<double> block_lo_, block_hi_;
 };
 
@@ -979,6 +983,17 @@ bool Fringe::isOneCell(const std::array<std::size_t, 3>& p) const
                       j0 = std::min({j(p[0]), j(p[1]), j(p[2])}),
                       j1 = std::max({j(p[0]), j(p[1]), j(p[2])});
   return i1 == i0 + 1 && j1 == j0 + 1;
+}
+
+bool Fringe::inWindow(std::uint32_t i, std::uint32_t j) const
+{
+  if (i == 0 || j == 0 || i + 1 == lat_.nx || j + 1 == lat_.ny)
+    return inI(i, j);
+  // Inside the lattice: in I, unless its four axis neighbours are present (then each
+  // of its cells is complete or has it as the corner opposite the missing one).
+  const std::size_t p = lat_.position(i, j);
+  return !lat_.present(p - 1) || !lat_.present(p + 1) || !lat_.present(p - lat_.nx) ||
+         !lat_.present(p + lat_.nx);
 }
 
 bool Fringe::inI(std::uint32_t i, std::uint32_t j) const
@@ -1234,14 +1249,14 @@ void Fringe::grow(Piece& piece, const std::vector<std::size_t>& inside) const
 /// triangulation each) instead of through one window.
 constexpr std::size_t ONE_WINDOW_MAX_POINTS = std::size_t{1} << 18;
 /// solveInOneWindow's cell: this many times the points' extent (its super triangle
-/// ten times that away), then, when a triangle of DT(I) was lost to the super
+/// ten times that away), then, when a triangle of DT(W) was lost to the super
 /// triangle (its circle reaches a corner: flat triangles along the hull; 1 of 228 on
 /// west_bijou_gully at 1, none on the test rasters at 2), the second. The wider the
 /// cell, the weaker the semi-static filters (raster 1e6: 26 M instructions in the
 /// window at 1, 27 M at 2, 42 M at 64).
 constexpr std::array<double, 2> WINDOW_WIDENING = {2.0, 64.0};
 
-bool Fringe::emptyOutsideI(const std::array<std::size_t, 3>& p) const
+bool Fringe::emptyOutsideWindow(const std::array<std::size_t, 3>& p) const
 {
   const Point2 a = lat_.point(p[0]), b = lat_.point(p[1]), c = lat_.point(p[2]);
   const SafeDisk disk = safeCircumdisk(a, b, c);
@@ -1250,15 +1265,15 @@ bool Fringe::emptyOutsideI(const std::array<std::size_t, 3>& p) const
                            ? disk.radius * (1.0 + 1e-9) +
                                  1e-12 * (std::fabs(disk.cx) + std::fabs(disk.cy))
                            : 0.0;
-  // A point of P \ I of row j inside the circle.
+  // A point of P \ W of row j inside the circle.
   const auto inside = [&](std::uint32_t j) {
-    std::uint32_t i0 = lat_.row_first[j], i1 = lat_.row_end[j];
+    std::uint32_t i0 = inner_first_[j], i1 = inner_end_[j];
     if (i0 >= i1)
       return false;
     if (disk.valid) {
       const double dy = lat_.ys[j] - disk.cy;
       const double h2 = reach * reach - dy * dy;
-      // The row's present span too far from the centre (no square root).
+      // The row's span of P \ W too far from the centre (no square root).
       const double dx =
           std::max({0.0, lat_.xs[i0] - disk.cx, disk.cx - lat_.xs[i1 - 1]});
       if (h2 < 0.0 || dx * dx > h2)
@@ -1270,7 +1285,7 @@ bool Fringe::emptyOutsideI(const std::array<std::size_t, 3>& p) const
     }
     const std::size_t row = lat_.position(0, j);
     for (std::uint32_t i = i0; i < i1; ++i)
-      if (lat_.present(row + i) && !inI(i, j) &&
+      if (lat_.present(row + i) && !inWindow(i, j) &&
           incirclePerturbed(a, b, c, {lat_.xs[i], lat_.ys[j]}) == Sign::POSITIVE)
         return true;
     return false;
@@ -1286,7 +1301,7 @@ bool Fringe::emptyOutsideI(const std::array<std::size_t, 3>& p) const
     return true;
   // Blocks of ROW_BLOCK rows from the centre's outward (a triangle across complete
   // cells, not a Delaunay triangle, usually has a point near its circle's centre),
-  // each skipped when the x range of its rows' present spans misses the disk over
+  // each skipped when the x range of its rows' spans of P \ W misses the disk over
   // its y range (large disks over NODATA: most of their rows).
   const auto centre = static_cast<std::uint32_t>(
       std::lower_bound(lat_.ys.begin() + j0, lat_.ys.begin() + j1, disk.cy) -
@@ -1318,14 +1333,27 @@ bool Fringe::solveInOneWindow(std::vector<Piece>& pieces, double widening)
 {
   if (i_.size() < 3 || i_.size() > ONE_WINDOW_MAX_POINTS)
     return false;
-  std::vector<Point2> xy(i_.size());
-  for (std::size_t k = 0; k < i_.size(); ++k)
-    xy[k] = lat_.point(i_[k]);
+  // W: I less the corners whose four axis neighbours are present (inWindow), by
+  // their indices in i_.
+  std::vector<std::uint32_t> w;
+  std::vector<Point2> xy;
+  w.reserve(i_.size());
+  xy.reserve(i_.size());
+  for (std::size_t k = 0; k < i_.size(); ++k) {
+    const auto i = static_cast<std::uint32_t>(i_[k] % lat_.nx),
+               j = static_cast<std::uint32_t>(i_[k] / lat_.nx);
+    if (inWindow(i, j)) {
+      w.push_back(static_cast<std::uint32_t>(k));
+      xy.push_back(lat_.point(i_[k]));
+    }
+  }
+  if (w.size() < 3)
+    return false;
   CellGrid cells;
   std::vector<std::uint32_t> cell_order;
   if (!buildCellGrid(xy, 0.0, cells, cell_order, 1).ok())
     return false;
-  // One cell far wider than the points (the super triangle far away: fewer DT(I)
+  // One cell far wider than the points (the super triangle far away: fewer DT(W)
   // triangles lost to it), its points in the cache blocks' order of the cells
   // above: multiples of 4, of 2, then the rest, rows in snake order.
   CellGrid grid;
@@ -1358,43 +1386,87 @@ bool Fringe::solveInOneWindow(std::vector<Piece>& pieces, double widening)
   const detail::CellWindow all = {0, 1, 0, 1};
   if (!window.triangulate(grid, all, all))
     return false;
+  // Each row's span of P \ W (the points emptyOutsideWindow looks for), from its ends
+  // inward, and the blocks' x ranges of them.
+  inner_first_.assign(lat_.ny, 0);
+  inner_end_.assign(lat_.ny, 0);
   const std::uint32_t blocks = (lat_.ny + ROW_BLOCK - 1) / ROW_BLOCK;
   block_lo_.assign(blocks, std::numeric_limits<double>::infinity());
   block_hi_.assign(blocks, -std::numeric_limits<double>::infinity());
-  for (std::uint32_t j = 0; j < lat_.ny; ++j)
-    if (lat_.row_first[j] < lat_.row_end[j]) {
-      block_lo_[j / ROW_BLOCK] =
-          std::min(block_lo_[j / ROW_BLOCK], lat_.xs[lat_.row_first[j]]);
-      block_hi_[j / ROW_BLOCK] =
-          std::max(block_hi_[j / ROW_BLOCK], lat_.xs[lat_.row_end[j] - 1]);
+  for (std::uint32_t j = 0; j < lat_.ny; ++j) {
+    const std::size_t row = lat_.position(0, j);
+    const auto outside = [&](std::uint32_t i) {
+      return lat_.present(row + i) && !inWindow(i, j);
+    };
+    std::uint32_t first = lat_.row_first[j], end = lat_.row_end[j];
+    while (first < end && !outside(first))
+      ++first;
+    while (end > first && !outside(end - 1))
+      --end;
+    inner_first_[j] = first;
+    inner_end_[j] = end;
+    if (first < end) {
+      block_lo_[j / ROW_BLOCK] = std::min(block_lo_[j / ROW_BLOCK], lat_.xs[first]);
+      block_hi_[j / ROW_BLOCK] = std::max(block_hi_[j / ROW_BLOCK], lat_.xs[end - 1]);
     }
-  // Every fringe triangle of DT(P) has its vertices in one piece's I, so it is a
-  // triangle of DT(I) (its circle is empty in P, hence in I). Every triangle of real
-  // points here is one of DT(I) (its circle is empty of I and of the super
-  // triangle); it is one of DT(P) when no point of P \ I is inside its circle under
-  // the perturbation (the points of I are not): kept then, unless its vertices are
-  // in different pieces (then it is not) or it is a cell triangle (emitted with the
-  // cells). A DT(I) triangle lost to the super triangle leaves the count short:
-  // triangulate() checks it.
+  }
+  // Every fringe triangle of DT(P) but the three-corner ones has its vertices in one
+  // piece's W, so it is a triangle of DT(W) (its circle is empty in P, hence in W).
+  // Every triangle of real points here is one of DT(W) (its circle is empty of W and
+  // of the super triangle); it is one of DT(P) when no point of P \ W is inside its
+  // circle under the perturbation (the points of W are not): kept then, unless its
+  // vertices are in different pieces (then it is not) or in one cell (a cell
+  // triangle, or a three-corner one, emitted below). A DT(W) triangle lost to the
+  // super triangle leaves the count short: triangulate() checks it.
   const std::int32_t* v = window.v.data();
   for (std::size_t t = 0; t < window.triangleCount(); ++t) {
     if (v[3 * t] < 3 || v[3 * t + 1] < 3 || v[3 * t + 2] < 3)
       continue; // a super triangle corner
     std::array<std::size_t, 3> k{};
     for (unsigned m = 0; m < 3; ++m)
-      k[m] = order[window.ids[static_cast<std::size_t>(v[3 * t + m])]];
+      k[m] = w[order[window.ids[static_cast<std::size_t>(v[3 * t + m])]]];
     const std::uint32_t label = label_[k[0]];
     const std::array<std::size_t, 3> p = {i_[k[0]], i_[k[1]], i_[k[2]]};
-    if (label_[k[1]] != label || label_[k[2]] != label || pieces[label].rounds != 0)
-      continue;
-    // Three corners of one cell: a cell triangle when the cell is complete, else its
-    // circle (the cell's) holds no other present point, not even on it (section 7,
-    // 1.): a fringe triangle. Otherwise the disk decides.
-    const bool one_cell = isOneCell(p);
-    if (one_cell ? lat_.complete(minColumn(p), minRow(p)) : !emptyOutsideI(p))
+    // Three corners of one cell: a cell triangle or one emitted below.
+    if (label_[k[1]] != label || label_[k[2]] != label || pieces[label].rounds != 0 ||
+        isOneCell(p) || !emptyOutsideWindow(p))
       continue;
     pieces[label].found.push_back(
         {lat_.vertex_at[p[0]], lat_.vertex_at[p[1]], lat_.vertex_at[p[2]]});
+  }
+  // The incomplete cells with three corners: their circle (the cell's) holds no
+  // other lattice point (section 7, 1.), so the triangle of those corners is a
+  // fringe triangle, CCW in the cell's corner order. Each is found once from its
+  // corners in I: from its lower left one, or from its lower right one when the
+  // lower left is missing.
+  const auto threeCorners = [&](std::size_t a) {
+    const std::array<std::size_t, 4> corner = {a, a + 1, a + 1 + lat_.nx, a + lat_.nx};
+    std::array<VertexId, 4> id{};
+    unsigned present = 0;
+    for (unsigned m = 0; m < 4; ++m) {
+      id[m] = lat_.vertex_at[corner[m]];
+      present += id[m] != INVALID_ID ? 1 : 0;
+    }
+    if (present != 3)
+      return;
+    const unsigned missing = id[0] == INVALID_ID   ? 0
+                             : id[1] == INVALID_ID ? 1
+                             : id[2] == INVALID_ID ? 2
+                                                   : 3;
+    Piece& piece = pieces[labelOf(corner[(missing + 1) % 4])];
+    if (piece.rounds == 0)
+      piece.found.push_back(
+          {id[(missing + 1) % 4], id[(missing + 2) % 4], id[(missing + 3) % 4]});
+  };
+  for (const std::size_t q : i_) {
+    const auto i = static_cast<std::uint32_t>(q % lat_.nx),
+               j = static_cast<std::uint32_t>(q / lat_.nx);
+    if (j + 1 == lat_.ny)
+      continue;
+    if (i + 1 < lat_.nx)
+      threeCorners(q);
+    if (i > 0 && !lat_.present(q - 1))
+      threeCorners(q - 1);
   }
   window_points_ = 0;
   for (Piece& piece : pieces)
@@ -1457,8 +1529,11 @@ Status Fringe::triangulate(std::vector<std::array<VertexId, 3>>& found,
     diag.lattice_fringe_points += piece.points;
     diag.lattice_fringe_rounds = std::max(diag.lattice_fringe_rounds, piece.rounds);
   }
-  if (one_window)
+  if (one_window) {
     diag.lattice_fringe_points += window_points_;
+    for (const Piece& piece : pieces)
+      diag.lattice_fringe_window += piece.points == 0 ? piece.found.size() : 0;
+  }
   diag.lattice_fringe_pieces = pieces.size();
   return Status::success();
 }

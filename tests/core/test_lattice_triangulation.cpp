@@ -277,7 +277,11 @@ TEST(LatticeTriangulation, TinyRastersMostlyNodata)
       SCOPED_TRACE(std::string(name) + (one_window ? ", one window" : ", by piece"));
       VtsOptions options;
       options.lattice_one_window = one_window;
-      expectSameAsOrdinary(rasterPoints(xs, ys, keep), options);
+      const auto xyz = rasterPoints(xs, ys, keep);
+      expectSameAsOrdinary(xyz, options);
+      // The window proved the fringe (its count closed up), or it did not run.
+      const Diagnostics d = test::runPipeline(xyz, options).result.diagnostics;
+      EXPECT_EQ(d.lattice_fringe_window > 0, one_window);
     }
 }
 
@@ -291,8 +295,12 @@ TEST(LatticeTriangulation, FlatHullTrianglesBeyondTheWindow)
     SCOPED_TRACE(width);
     const auto xs = uniformSteps(static_cast<std::size_t>(width) + 1, 0.0, 1.0),
                ys = uniformSteps(3, 0.0, 1.0);
-    expectSameAsOrdinary(rasterPoints(
-        xs, ys, [width](int i, int j) { return j == 0 || (j == 1 && i == width); }));
+    const auto xyz = rasterPoints(
+        xs, ys, [width](int i, int j) { return j == 0 || (j == 1 && i == width); });
+    expectSameAsOrdinary(xyz);
+    // Proven in the wider window, or piece by piece.
+    EXPECT_EQ(test::runPipeline(xyz).result.diagnostics.lattice_fringe_window,
+              width == 150 ? static_cast<std::size_t>(width) : 0u);
   }
 }
 

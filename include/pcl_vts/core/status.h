@@ -73,6 +73,9 @@ struct Diagnostics {
   std::size_t lattice_fringe_pieces = 0;
   std::size_t lattice_fringe_points = 0;
   std::size_t lattice_fringe_rounds = 0;
+  /// Fringe triangles proven in one window (VtsOptions::lattice_one_window; 0 when
+  /// the pieces went one by one).
+  std::size_t lattice_fringe_window = 0;
 };
 
 } // namespace pcl_vts
