@@ -11,7 +11,6 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <memory>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -164,6 +163,9 @@ struct BandResult {
   std::uint32_t occupied = 0; ///< its cells that hold a point
   std::vector<SubCell> nodes; ///< its quadtrees; first_child into this vector
   std::vector<std::pair<CellId, std::uint32_t>> roots; ///< crowded cell, its root
+  /// Each point of a run of equal XY: its input index and its vertex (a slot of the
+  /// band's range until finish() shifts it).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> merged;
 };
 
 /// Per-thread buffers of the band pass. A band's records are its slots of the grid's
@@ -241,13 +243,15 @@ class GridBuilder {
   void sortBand(std::size_t b, BandScratch& scratch);
   /// Folds the runs of equal XY of sorted slots [begin, end) of (points, records)
   /// into the grid's slots [out, ...): the new out. sources: the input index of each
-  /// record; assign(record, v) for each slot: its record goes to vertex v.
+  /// record; assign(record, v) for each record of a run of two or more: its record
+  /// goes to vertex v.
   template <typename Assign>
   std::uint32_t mergeCell(const Point2* points, const std::uint32_t* records,
                           const std::uint32_t* sources, std::uint32_t begin,
                           std::uint32_t end, std::uint32_t out,
                           const Assign& assign) const;
-  void finish();
+  /// \param inputs the input's point count
+  void finish(std::size_t inputs);
 
   const double* xyz_; ///< the input, for the heights of duplicates
   DuplicateRule rule_;
@@ -256,9 +260,6 @@ class GridBuilder {
   GridStage& stage_;
   std::vector<VertexId>& input_to_vertex_;
   Bands bands_;
-  /// Per record (grid slot before the band sort): its vertex, a slot of its band's
-  /// range until finish() shifts it.
-  std::unique_ptr<std::uint32_t[]> vertex_;
   std::vector<BandResult> results_;
 };
 
@@ -325,48 +326,18 @@ std::size_t GridBuilder::run(const Input& in, std::size_t inputs,
   makeBands(in, chunks, rows, offsets);
   std::vector<std::uint32_t>().swap(rows);
   const std::size_t band_count = bands_.count();
-  // The output arrays, zero-filled (page faults and all) by up to three threads at
-  // once: the points on one, the sources, cells and input map on the others. The
-  // points are the largest: the others then fault in the first pages of the records'
-  // vertices (allocated without a fill, written by the band sort), each up to the
-  // points' bytes, so that no thread waits for the points' alone. The scatter below
+  // The output arrays, zero-filled (page faults and all) by up to two threads at
+  // once: the points on one, the sources and cells on the other. The scatter below
   // stages each point and its input index in the slots of its band in the points and
-  // the sources themselves: no other copy of the input.
-  vertex_.reset(new std::uint32_t[m]);
-  const unsigned fillers = std::min(chunks, 3u);
-  const std::size_t source_bytes =
-      m * sizeof(std::uint32_t) + (grid_.cellCount() + 1) * sizeof(std::uint32_t);
-  const std::size_t map_bytes = inputs * sizeof(VertexId);
-  const std::size_t points_bytes = m * sizeof(Point2);
-  const auto spare = [&](std::size_t bytes) {
-    return points_bytes > bytes ? points_bytes - bytes : 0;
-  };
-  // Filler 1's and filler 2's shares of the vertices' bytes (filler 1 the sources
-  // and, with two fillers, the input map too).
-  const std::size_t records_bytes = m * sizeof(std::uint32_t);
-  const std::size_t share1 =
-      fillers < 2 ? 0
-                  : std::min(records_bytes,
-                             spare(source_bytes + (fillers == 2 ? map_bytes : 0)));
-  const std::size_t share2 =
-      fillers < 3 ? 0 : std::min(records_bytes - share1, spare(map_bytes));
-  // Each array faulted in a chunk ahead of its fill (fillPopulated) instead of a
-  // trap per page.
+  // the sources themselves: no other copy of the input. Each array faulted in a
+  // chunk ahead of its fill (fillPopulated) instead of a trap per page.
+  const unsigned fillers = std::min(chunks, 2u);
   runTeam(fillers, [&](unsigned w) {
     if (w == 0)
       detail::fillPopulated(grid_.points, m);
-    if (w == (fillers > 1 ? 1u : 0u)) {
+    if (w == fillers - 1) {
       detail::fillPopulated(stage_.source, m);
       detail::fillPopulated(grid_.cell_start, grid_.cellCount() + 1);
-    }
-    if (w == fillers - 1)
-      detail::fillPopulated(input_to_vertex_, inputs, VertexId{INVALID_ID});
-    if (w > 0) { // a write to each page of the thread's share of the vertices
-      const std::size_t begin = w == 1 ? 0 : share1;
-      const std::size_t end = w == 1 ? share1 : share1 + share2;
-      constexpr std::size_t PAGE = 4096;
-      for (std::size_t at = begin; at < end; at += PAGE)
-        vertex_[at / sizeof(std::uint32_t)] = 0;
     }
   });
   Point2* staged = grid_.points.data();
@@ -378,10 +349,8 @@ std::size_t GridBuilder::run(const Input& in, std::size_t inputs,
     for (std::size_t k = begin; k < end; ++k) {
       const double x = in.x(k), y = in.y(k);
       const std::uint32_t record = at[band_of_row[lookup.row(y)]]++;
-      const std::uint32_t source = in.sourceOf(k);
-      input_to_vertex_[source] = record; // its record, for now
       staged[record] = {x, y};
-      staged_source[record] = source;
+      staged_source[record] = in.sourceOf(k);
     }
   });
   results_.assign(band_count, BandResult{});
@@ -397,8 +366,7 @@ std::size_t GridBuilder::run(const Input& in, std::size_t inputs,
   std::size_t occupied = 0;
   for (const BandResult& result : results_)
     occupied += result.occupied;
-  finish();
-  vertex_.reset();
+  finish(inputs);
   return occupied;
 }
 
@@ -434,8 +402,9 @@ std::uint32_t GridBuilder::mergeCell(const Point2* points, const std::uint32_t* 
             best = q;
       }
     }
-    for (std::uint32_t q = k; q < run_end; ++q)
-      assign(records[q], out);
+    if (run_end - k > 1)
+      for (std::uint32_t q = k; q < run_end; ++q)
+        assign(records[q], out);
     grid_points[out] = points[k];
     source[out] = sources[records[best]];
     ++out;
@@ -491,16 +460,16 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
     slot[at] = r;
   }
   // count[c] is now cell c's end. Each occupied cell, in order: sort, merge equal XY
-  // into the grid's slots [out, ...) (written in order), subdivide when crowded. Each
-  // record's vertex goes to vertex_ (finish() hands it to input_to_vertex); vertex
-  // ids are slots of the band's own range for now (finish() shifts them down). Once
+  // into the grid's slots [out, ...) (written in order), subdivide when crowded. The
+  // points of a merged run go to result.merged with their vertex (finish() builds
+  // input_to_vertex from them); vertex ids are slots of the band's own range for now
+  // (finish() shifts them down). Once
   // points were merged (out behind the sorted position), the starts of the cells up
   // to the next occupied one are rewritten.
   BandResult& result = results_[b];
-  std::uint32_t* vertex_of = vertex_.get() + bs;
-  detail::populatePages(vertex_of, vertex_of + n); // not a trap a page
-  const auto vertex = [vertex_of](std::uint32_t record, std::uint32_t v) {
-    vertex_of[record] = v;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& merged = result.merged;
+  const auto vertex = [&merged, sources](std::uint32_t record, std::uint32_t v) {
+    merged.emplace_back(sources[record], v);
   };
   // Each occupied cell also sets its bit of the pyramid's level 0 (the band's rows
   // are whole words of it: no word is shared with another band).
@@ -523,25 +492,22 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
                                                                << (column & 63u);
     ++result.occupied;
     if (end - begin == 1) {
-      const std::uint32_t r = slot[begin];
-      vertex_of[r] = out;
       grid_points[out] = points[begin];
-      source[out] = sources[r];
+      source[out] = sources[slot[begin]];
       ++out;
     } else if (end - begin <= INSERTION_SORT_MAX) { // no quadtree
       if (sortSmallCell(points, slot, begin, end)) {
         out = mergeCell(points, slot, sources, begin, end, out, vertex);
       } else {
         for (std::uint32_t q = begin; q < end; ++q, ++out) {
-          const std::uint32_t r = slot[q];
-          vertex_of[r] = out;
           grid_points[out] = points[q];
-          source[out] = sources[r];
+          source[out] = sources[slot[q]];
         }
       }
     } else {
       sortCell(points, slot, begin, end, scratch.sort);
       const std::uint32_t first = out;
+      const std::size_t merged_first = merged.size();
       out = mergeCell(points, slot, sources, begin, end, out, vertex);
       const std::uint32_t distinct = out - first;
       if (distinct > CROWDED_CELL_POINTS) { // its quadtree may move the vertices
@@ -565,8 +531,8 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
         std::copy(scratch.moved.begin(), scratch.moved.end(), grid_points + first);
         std::copy(scratch.moved_sources.begin(), scratch.moved_sources.end(),
                   source + first);
-        for (std::uint32_t q = begin; q < end; ++q)
-          vertex_of[slot[q]] = scratch.new_id[vertex_of[slot[q]] - first];
+        for (std::size_t q = merged_first; q < merged.size(); ++q)
+          merged[q].second = scratch.new_id[merged[q].second - first];
       }
     }
   }
@@ -575,7 +541,7 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
   result.distinct = out - bs;
 }
 
-void GridBuilder::finish()
+void GridBuilder::finish(std::size_t inputs)
 {
   const std::size_t band_count = bands_.count();
   const std::size_t m = bands_.start.back();
@@ -605,37 +571,22 @@ void GridBuilder::finish()
                          grid_.cell_start[c] -= shift[b];
                    });
   }
-  // Each input point's vertex from its record (the records of a chunk of input were
-  // written to one sequential stream per band); less its band's shift: the band from
-  // a table by the record's high bits, then a few steps.
-  constexpr unsigned BUCKET_BITS = 12;
-  std::vector<std::uint32_t> band_at((m >> BUCKET_BITS) + 1);
-  for (std::size_t i = 0, b = 0; i < band_at.size(); ++i) {
-    while (b + 1 < band_count && bands_.start[b + 1] <= (i << BUCKET_BITS))
-      ++b;
-    band_at[i] = static_cast<std::uint32_t>(b);
-  }
-  const std::uint32_t* vertex = vertex_.get();
-  const bool shifted = distinct < m;
-  parallelRanges(threads_, input_to_vertex_.size(),
-                 [&](std::size_t k0, std::size_t k1) {
-                   for (std::size_t k = k0; k < k1; ++k) {
-                     const std::uint32_t record = input_to_vertex_[k];
-                     if (record == INVALID_ID)
-                       continue;
-                     VertexId v = vertex[record];
-                     if (shifted) {
-                       std::uint32_t b = band_at[record >> BUCKET_BITS];
-                       while (record >= bands_.start[b + 1])
-                         ++b;
-                       v -= shift[b];
-                     }
-                     input_to_vertex_[k] = v;
-                   }
-                 });
   grid_.cell_start[grid_.cellCount()] = distinct;
   grid_.points.resize(distinct);
   stage_.source.resize(distinct);
+  // Each input point's vertex, where points were merged: the inverse of the sources,
+  // then the merged runs' points (else the caller has the inverse when needed).
+  input_to_vertex_.clear();
+  if (distinct < m) {
+    detail::fillPopulated(input_to_vertex_, inputs, VertexId{INVALID_ID});
+    parallelRanges(threads_, distinct, [&](std::size_t v0, std::size_t v1) {
+      for (std::size_t v = v0; v < v1; ++v)
+        input_to_vertex_[source[v]] = static_cast<VertexId>(v);
+    });
+    for (std::size_t b = 0; b < band_count; ++b)
+      for (const auto& [input, v] : results_[b].merged)
+        input_to_vertex_[input] = v - shift[b];
+  }
   // The quadtrees, in cell order as subdivideCrowdedCells numbers them.
   CellSubdivision& sub = stage_.subdivision;
   sub = CellSubdivision{};

@@ -34,7 +34,9 @@ struct GridStage {
 /// \param[in] cell_size 0 for automatic (buildCellGrid)
 /// \param[in] rule which point represents equal XY (mergeDuplicates)
 /// \param[in] threads threads (at least 1); the result is the same for any number
-/// \param[out] input_to_vertex per input point: its vertex, INVALID_ID if dropped
+/// \param[out] input_to_vertex per input point: its vertex, INVALID_ID if dropped;
+///             left empty when no point was merged (it is then the inverse of
+///             stage.source: INVALID_ID but at source[v], v)
 /// \param[out] diag non_finite_dropped, duplicates_merged, distinct_points, cells and
 ///             cell_size
 /// \return COORDINATE_RANGE (|x| or |y| beyond 1e60, or an XY extent below 1e-80),
