@@ -217,8 +217,13 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
   // (left of or on the ray from q through its first corner, right of the one through
   // its second), the last one if none does (the next point is q's neighbour in the
   // insertion order, mostly within a cell or two). Rounding only changes the start.
+  // A chain vertex's point, offset from q and side of the ray to the next point serve
+  // the two star triangles that share it (computed once, carried to the next edge).
   const double nx = next.x - q.x, ny = next.y - q.y;
   std::uint32_t start = previous;
+  Point2 pb = P[boundary[0].first];
+  CornerOffset ob = cornerOffset(pb, q);
+  auto left_of_b = static_cast<std::uint32_t>(ob.x * ny - ob.y * nx >= 0.0);
   for (std::size_t j = 0; j < boundary_count; ++j) {
     const std::uint32_t s = bad[j];
     const std::pair<std::int32_t, std::int32_t>& edge = boundary[j];
@@ -226,17 +231,21 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
     V[3 * s] = edge.first;
     V[3 * s + 1] = b;
     V[3 * s + 2] = k;
-    const Point2 pa = P[edge.first], pb = P[b];
+    const Point2 pa = pb;
+    const CornerOffset oa = ob;
+    const std::uint32_t left_of_a = left_of_b;
+    pb = P[b];
+    ob = cornerOffset(pb, q);
+    left_of_b = static_cast<std::uint32_t>(ob.x * ny - ob.y * nx >= 0.0);
     Record& r = R[s];
     r.apex = q;
-    r.k = incircleCoefficients(pa, pb, q);
+    r.k = incircleCoefficients(oa, ob);
     r.adj = {edge.second, static_cast<std::int32_t>(4 * bad[j + 1] + 2),
              static_cast<std::int32_t>(4 * previous + 1)};
     r.real = std::min(edge.first, b) >= 3 ? 1 : 0;
     C[s] = {{pa, pb}};
-    const auto in_wedge =
-        static_cast<std::uint32_t>((pa.x - q.x) * ny - (pa.y - q.y) * nx >= 0.0) &
-        static_cast<std::uint32_t>((pb.x - q.x) * ny - (pb.y - q.y) * nx < 0.0);
+    // In the wedge: left of or on the ray through pa, right of the one through pb.
+    const std::uint32_t in_wedge = left_of_a & (left_of_b ^ 1u);
     start ^= (start ^ s) & (0u - in_wedge); // s where in the wedge, without a branch
     if (edge.second >= 0) {
       const auto uo = static_cast<std::uint32_t>(edge.second);

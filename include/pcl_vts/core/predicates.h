@@ -255,33 +255,32 @@ struct alignas(16) IncircleCoefficients {
   double a[2]; ///< (A, A)
 };
 
+/// A corner's offset from the triangle's corner c and its squared length: the two
+/// triangles of a star that share a corner share it.
+struct CornerOffset {
+  double x, y, lift;
+};
+inline CornerOffset cornerOffset(const Point2& p, const Point2& c)
+{
+  const double x = p.x - c.x, y = p.y - c.y;
+  return {x, y, x * x + y * y};
+}
+
+/// The coefficients from u = cornerOffset(a, c) and w = cornerOffset(b, c).
+inline IncircleCoefficients incircleCoefficients(const CornerOffset& u,
+                                                 const CornerOffset& w)
+{
+  IncircleCoefficients k;
+  k.b[0] = u.lift * w.y - w.lift * u.y;
+  k.b[1] = w.lift * u.x - u.lift * w.x;
+  k.a[0] = k.a[1] = u.x * w.y - u.y * w.x;
+  return k;
+}
+
 inline IncircleCoefficients incircleCoefficients(const Point2& a, const Point2& b,
                                                  const Point2& c)
 {
-  IncircleCoefficients k;
-#if defined(__SSE2__)
-  const __m128d cc = _mm_loadu_pd(&c.x);
-  const __m128d u = _mm_sub_pd(_mm_loadu_pd(&a.x), cc); // (ux, uy)
-  const __m128d w = _mm_sub_pd(_mm_loadu_pd(&b.x), cc); // (wx, wy)
-  const __m128d uu = _mm_mul_pd(u, u), ww = _mm_mul_pd(w, w);
-  const __m128d lifts = _mm_add_pd(_mm_unpacklo_pd(uu, ww), _mm_unpackhi_pd(uu, ww));
-  const __m128d lu = _mm_unpacklo_pd(lifts, lifts), lw = _mm_unpackhi_pd(lifts, lifts);
-  const __m128d negate_high = _mm_set_pd(-0.0, 0.0);
-  const __m128d wperp = _mm_xor_pd(_mm_shuffle_pd(w, w, 1), negate_high); // (wy, -wx)
-  const __m128d uperp = _mm_xor_pd(_mm_shuffle_pd(u, u, 1), negate_high); // (uy, -ux)
-  // (|u|^2 wy - |w|^2 uy, |w|^2 ux - |u|^2 wx): negations are exact
-  _mm_store_pd(k.b, _mm_sub_pd(_mm_mul_pd(lu, wperp), _mm_mul_pd(lw, uperp)));
-  const __m128d cross = _mm_mul_pd(u, wperp); // (ux wy, -(uy wx))
-  const __m128d area = _mm_add_sd(cross, _mm_unpackhi_pd(cross, cross));
-  _mm_store_pd(k.a, _mm_unpacklo_pd(area, area));
-#else
-  const double ux = a.x - c.x, uy = a.y - c.y, wx = b.x - c.x, wy = b.y - c.y;
-  const double lu = ux * ux + uy * uy, lw = wx * wx + wy * wy;
-  k.b[0] = lu * wy - lw * uy;
-  k.b[1] = lw * ux - lu * wx;
-  k.a[0] = k.a[1] = ux * wy - uy * wx;
-#endif
-  return k;
+  return incircleCoefficients(cornerOffset(a, c), cornerOffset(b, c));
 }
 
 /// The determinant from the coefficients of the triangle (a, b, c) and its corner c:
