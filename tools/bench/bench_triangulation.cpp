@@ -13,7 +13,8 @@
 //   binary PCD with float64 x y z, shifted to UTM-like coordinates (+5e5 east, +5e6
 //   north).
 // Prints one JSON line ("seconds": wall clock; "cpu_s": the process's user + system
-// CPU time over the same span). The input is generated or read
+// CPU time over the same span; "wall_us" and "cpu_us" the same in microseconds, for
+// inputs of a millisecond or less). The input is generated or read
 // (pcl_vts::loadPointCloud, any file pcd_to_mesh reads) before the clock starts.
 // "input_rss_mib" is the resident set once the input is in memory (after malloc_trim);
 // the high-water mark is reset there (/proc/self/clear_refs), so "peak_rss_mib" is the
@@ -302,13 +303,14 @@ int main(int argc, char** argv)
     std::snprintf(load, sizeof load, ",\"load_s\":%.4f", m.load_seconds);
   std::printf("{\"method\":\"%s\",\"dist\":\"%s\",\"input\":\"%s\",\"n\":%zu,"
               "\"distinct\":%zu,\"threads\":%u,\"seconds\":%.4f,\"cpu_s\":%.4f,"
-              "\"ns_per_point\":%.1f,\"triangles\":%zu,\"peak_rss_mib\":%.1f,"
+              "\"wall_us\":%.1f,\"cpu_us\":%.1f,\"ns_per_point\":%.1f,\"triangles\":%"
+              "zu,\"peak_rss_mib\":%.1f,"
               "\"input_rss_mib\":%.1f,\"load_peak_mib\":%.1f,\"peak_reset\":%s,"
               "\"bytes_per_point_above_input\":%s%s%s}\n",
               m.method.c_str(), m.dist.c_str(), jsonText(m.input).c_str(), n, distinct,
-              m.method == "cgal" ? 1u : m.threads, seconds, cpu,
-              1e9 * seconds / static_cast<double>(n), triangles, peak, baseline,
-              m.load_peak_mib, peak_reset ? "true" : "false", above, load,
+              m.method == "cgal" ? 1u : m.threads, seconds, cpu, 1e6 * seconds,
+              1e6 * cpu, 1e9 * seconds / static_cast<double>(n), triangles, peak,
+              baseline, m.load_peak_mib, peak_reset ? "true" : "false", above, load,
               stages.c_str());
   return 0;
 }

@@ -5,6 +5,8 @@
 # round), each figure is the minimum of the rounds, so a busy machine slows all three;
 # CPU time (user + system, the process) is given beside the wall clock: on a machine
 # shared with other work it is the steadier of the two.
+# Times are printed in seconds to the microsecond (the small files take well under a
+# millisecond).
 #
 # `make bench` runs it through tools/bench/run_bench.sh, which puts the table in
 # docs/benchmarks.md; it can also be run alone.
@@ -33,7 +35,14 @@ bench="$build/tools/bench/bench_triangulation"
 [ -x "$bench" ] || { echo "run_lattice_bench: $bench is not built" >&2; exit 1; }
 
 field() { sed -nE "s/.*\"$2\":\"?([^,\"}]*).*/\1/p" <<<"$1"; }
-minimum() { awk 'NR == 1 || $1 < m {m = $1} END {if (NR) printf "%.4f", m; else printf "-"}'; }
+# Seconds from the microsecond fields (files of a millisecond or less), else the
+# seconds fields of an older bench_triangulation.
+seconds() {
+  local us
+  us=$(field "$1" "$2")
+  if [ -n "$us" ]; then awk -v u="$us" 'BEGIN{printf "%.6f", u / 1e6}'; else field "$1" "$3"; fi
+}
+minimum() { awk 'NR == 1 || $1 < m {m = $1} END {if (NR) printf "%.6f", m; else printf "-"}'; }
 
 # row LABEL ARGS...: one table row for bench_triangulation METHOD ARGS...
 row() {
@@ -52,8 +61,8 @@ row() {
       [ -z "$commands_file" ] || echo "$bench $method $*" >>"$commands_file"
       line=$("$bench" "$method" "$@") || { echo "run_lattice_bench: $method $* failed" >&2; continue; }
       echo "[run_lattice_bench] $line" >&2
-      times[$method]+="$(field "$line" seconds)"$'\n'
-      cpus[$method]+="$(field "$line" cpu_s)"$'\n'
+      times[$method]+="$(seconds "$line" wall_us seconds)"$'\n'
+      cpus[$method]+="$(seconds "$line" cpu_us cpu_s)"$'\n'
       if [ "$method" = vts ]; then
         n=$(field "$line" distinct)
         fringe=$(field "$line" fringe_points)
