@@ -64,7 +64,7 @@ struct VtsOptions {
   /// tuning and testing knob: the triangulation is the same for every value, only
   /// the number of rounds changes.
   std::uint32_t lattice_ring = 1;
-  /// Lattice fast path: the pieces of a fringe of up to 2^18 points triangulated
+  /// Lattice fast path: the pieces of a fringe of up to 2^16 points triangulated
   /// together, in one window of the cache blocks' kernel with no rounds (section 7);
   /// off, or when that window loses a triangle, piece by piece with the ring and the
   /// rounds above. A testing knob: the triangulation is the same either way.
