@@ -117,5 +117,28 @@ TEST(MeasurePointSpacing, MatchesNeighbourSetsOnTriangulationsAndTrimmedMeshes)
   }
 }
 
+TEST(MeasurePointSpacing, MatchesNeighbourSetsAtAVertexWithMoreThan255Edges)
+{
+  // A centre joined to 300 points around it: its row of 300 entries wraps the
+  // byte-wide counts of VertexRows, which then counts again in full width.
+  std::vector<double> xyz = {0.0, 0.0, 0.0};
+  const double pi = std::acos(-1.0);
+  for (int k = 0; k < 300; ++k) {
+    const double angle = 2.0 * pi * k / 300.0, radius = 100.0;
+    xyz.insert(xyz.end(), {radius * std::cos(angle), radius * std::sin(angle), 1.0});
+  }
+  const test::PipelineRun run = test::runPipeline(xyz);
+  ASSERT_TRUE(run.status.ok()) << run.status.toString();
+  std::size_t centre_edges = 0;
+  for (const VertexId v : run.result.mesh.triangles)
+    centre_edges += run.result.mesh.xy[v].x == 0.0 && run.result.mesh.xy[v].y == 0.0;
+  ASSERT_GT(centre_edges, 255u);
+  TriangleMesh mesh = run.result.mesh;
+  expectReferenceSpacing(mesh);
+  TrimResult trimmed;
+  ASSERT_TRUE(trimOutwardTriangles(mesh, TrimOptions{}, trimmed).ok());
+  expectReferenceSpacing(mesh);
+}
+
 } // namespace
 } // namespace pcl_vts
