@@ -260,6 +260,7 @@ class GridBuilder {
   GridStage& stage_;
   std::vector<VertexId>& input_to_vertex_;
   Bands bands_;
+  unsigned workers_ = 1; ///< threads of the band sort
   std::vector<BandResult> results_;
 };
 
@@ -357,6 +358,7 @@ std::size_t GridBuilder::run(const Input& in, std::size_t inputs,
   startCellPyramid(grid_.nx, grid_.ny, stage_.pyramid); // the band sort marks cells
   const unsigned workers =
       static_cast<unsigned>(std::min<std::size_t>(chunks, band_count));
+  workers_ = workers;
   std::atomic<std::size_t> next{0};
   runTeam(workers, [&](unsigned) {
     BandScratch scratch;
@@ -474,6 +476,15 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
   // Each occupied cell also sets its bit of the pyramid's level 0 (the band's rows
   // are whole words of it: no word is shared with another band).
   CellPyramid::Level& level0 = stage_.pyramid.levels[0];
+  // The staged points and sources of the band this thread likely sorts next (the
+  // workers take the bands in turn) fetched a line a cell while this band's cells
+  // are sorted, instead of read from memory when that band starts.
+  const std::size_t ahead_band = std::min(b + workers_, bands_.count());
+  const std::uint32_t ahead_first = bands_.start[ahead_band];
+  const Point2* ahead = grid_points + ahead_first;
+  const Point2* ahead_end =
+      grid_points + bands_.start[std::min(ahead_band + 1, bands_.count())];
+  constexpr std::ptrdiff_t POINTS_A_LINE = 64 / sizeof(Point2);
   std::uint32_t out = bs;
   std::size_t unset = 0;               // the first cell whose start may still be off
   std::size_t row = r0, row_first = 0; // the row of the cell met last, its first cell
@@ -482,6 +493,13 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
     while (count[c] == begin) // an empty cell (count[c] is its end)
       ++c;
     end = count[c];
+    if (ahead < ahead_end) {
+      const std::ptrdiff_t k = ahead - grid_points;
+      __builtin_prefetch(ahead);
+      if (((k - ahead_first) & (4 * POINTS_A_LINE - 1)) == 0) // 16 sources a line
+        __builtin_prefetch(source + k);
+      ahead += POINTS_A_LINE;
+    }
     if (out != bs + begin)
       std::fill(cell_start + unset, cell_start + c + 1, out);
     unset = c + 1;
