@@ -158,7 +158,6 @@ class StripMerge {
       strips_[next] = StripMesh();
       spare.triangles.clear();
       spare.halfedges.clear();
-      spare.owned.clear();
       spare.owned_count = 0;
       spare.border.clear();
       lock.lock();
@@ -268,12 +267,11 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
   std::atomic<std::uint32_t> next_strip{0}, strips_grown{0};
   const auto work = [&](unsigned w) {
     MediatrixSearch search(grid, pyramid, subdivision);
-    std::vector<TriangleId> index;
     detail::LocalDelaunay blocks; // reused strip after strip
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++) {
       Status result = detail::growStrip(
           grid, pyramid, layout, s, hull_edges, search, open_head.get(), merge.strip(s),
-          index, cache_blocks, [&merge, s] { return merge.claim(s); }, &blocks);
+          cache_blocks, [&merge, s] { return merge.claim(s); }, &blocks);
       if (++strips_grown == layout.count) {
         // No strip reads the grid or open_head any more: both released before the
         // last strips are merged, when the output is nearly full (the peak).

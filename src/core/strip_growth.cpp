@@ -97,8 +97,7 @@ class Growth {
   Growth(const CellGrid& grid, const CellPyramid& pyramid, const StripLayout& layout,
          std::uint32_t strip, const HullEdges& hull, MediatrixSearch& search,
          HalfedgeId* open_head, StripMesh& mesh, bool cache_blocks,
-         std::vector<TriangleId>& index, const std::function<StripSink*()>& claim,
-         LocalDelaunay* blocks)
+         const std::function<StripSink*()>& claim, LocalDelaunay* blocks)
       : grid_(grid)
       , pyramid_(pyramid)
       , hull_(hull)
@@ -112,7 +111,6 @@ class Growth {
       , high_(end_column_ == grid.nx ? std::numeric_limits<double>::infinity()
                                      : static_cast<double>(end_column_))
       , cache_blocks_(cache_blocks)
-      , index_(index)
       , claim_(claim)
       , blocks_dt_(blocks)
   {}
@@ -149,8 +147,32 @@ class Growth {
   }
 
  private:
-  VertexId origin(HalfedgeId e) const { return mesh_.triangles[e]; }
-  VertexId target(HalfedgeId e) const { return mesh_.triangles[nextHalfedge(e)]; }
+  /// Halfedge ids from FOREIGN on are the foreign triangles' (grown but not owned:
+  /// their leftmost vertex is left of the strip), kept apart so that the owned ones
+  /// are numbered as in the output from the start (no compaction). A multiple of 3.
+  static constexpr HalfedgeId FOREIGN = 0x60000000u;
+  VertexId vertexAt(HalfedgeId e) const
+  {
+    return e < FOREIGN ? mesh_.triangles[e] : foreign_triangles_[e - FOREIGN];
+  }
+  HalfedgeId& slot(HalfedgeId e)
+  {
+    return e < FOREIGN ? mesh_.halfedges[e] : foreign_halfedges_[e - FOREIGN];
+  }
+  HalfedgeId slotValue(HalfedgeId e) const
+  {
+    return e < FOREIGN ? mesh_.halfedges[e] : foreign_halfedges_[e - FOREIGN];
+  }
+  static constexpr const char* STRIP_FULL =
+      "more triangles in one strip than its 32-bit halfedge ids hold";
+  /// Room for `count` more triangles of either kind below the ids' limits.
+  bool roomFor(std::size_t count) const
+  {
+    return mesh_.triangles.size() / 3 + count < FOREIGN / 3 &&
+           foreign_triangles_.size() / 3 + count < (OPEN_LIST_END - FOREIGN) / 3;
+  }
+  VertexId origin(HalfedgeId e) const { return vertexAt(e); }
+  VertexId target(HalfedgeId e) const { return vertexAt(nextHalfedge(e)); }
   /// The column coordinate of v before truncation: column(x) = clamp(floor(t)), so
   /// comparing t with the strip's integer bounds decides membership the same way.
   double columnCoordinate(VertexId v) const
@@ -164,10 +186,10 @@ class Growth {
   }
   bool isOpen(HalfedgeId e) const
   {
-    const HalfedgeId h = mesh_.halfedges[e];
+    const HalfedgeId h = slotValue(e);
     return h >= OPEN && h != CLOSED;
   }
-  HalfedgeId nextOpen(HalfedgeId e) const { return mesh_.halfedges[e] & ~OPEN; }
+  HalfedgeId nextOpen(HalfedgeId e) const { return slotValue(e) & ~OPEN; }
   HalfedgeId& head(VertexId v, bool in_strip)
   {
     return in_strip ? open_head_[v] : foreign_[v];
@@ -190,11 +212,10 @@ class Growth {
     const std::size_t expected = 2 * vertices + 2 * border + vertices / 32 + 64;
     // Arrays too small for this strip are reallocated with room for a somewhat larger
     // next strip that reuses them (their pages then stay resident).
-    if (mesh_.owned.capacity() < expected) {
+    if (mesh_.triangles.capacity() < 3 * expected) {
       const std::size_t room = expected + expected / 8;
       mesh_.triangles.reserve(3 * room);
       mesh_.halfedges.reserve(3 * room);
-      mesh_.owned.reserve(room);
     }
     // Arrays reused from a larger strip (StripMerge::strip): their resident pages
     // beyond this strip's need are handed back, not kept beside the output.
@@ -202,38 +223,37 @@ class Growth {
                  mesh_.triangles.data() + mesh_.triangles.capacity());
     releasePages(mesh_.halfedges.data() + 3 * expected,
                  mesh_.halfedges.data() + mesh_.halfedges.capacity());
-    releasePages(mesh_.owned.data() + expected,
-                 mesh_.owned.data() + mesh_.owned.capacity());
-    populated_triangles_ = populated_halfedges_ = populated_owned_ = nullptr;
+    populated_triangles_ = populated_halfedges_ = nullptr;
   }
 
   HalfedgeId addTriangle(VertexId a, VertexId b, VertexId c)
   {
-    const auto e = static_cast<HalfedgeId>(mesh_.triangles.size());
     const double ta = columnCoordinate(a), tb = columnCoordinate(b),
                  tc = columnCoordinate(c);
+    // Owned: the leftmost vertex column is in the strip (one vertex is, so none is
+    // right of it).
+    const bool owned = ta >= low_ && tb >= low_ && tc >= low_;
+    auto& triangles = owned ? mesh_.triangles : foreign_triangles_;
+    auto& halfedges = owned ? mesh_.halfedges : foreign_halfedges_;
+    const auto e = static_cast<HalfedgeId>(triangles.size()) + (owned ? 0 : FOREIGN);
     int k = 0;
     for (const auto& [v, t] : {std::pair{a, ta}, std::pair{b, tb}, std::pair{c, tc}}) {
-      mesh_.triangles.push_back(v);
-      mesh_.halfedges.push_back(CLOSED);
+      triangles.push_back(v);
+      halfedges.push_back(CLOSED);
       corner_in_strip_[k++] = t >= low_ && t < high_;
       if (t >= low_ && t < high_ && open_head_[v] == UNREACHED) {
         open_head_[v] = OPEN_LIST_END; // reached: its star will be grown
         ++reached_;
       }
     }
-    // Owned: the leftmost vertex column is in the strip (one vertex is, so none is
-    // right of it).
-    const bool owned = ta >= low_ && tb >= low_ && tc >= low_;
-    mesh_.owned.push_back(owned ? 1 : 0);
     mesh_.owned_count += owned ? 1 : 0;
     return e;
   }
 
   void link(HalfedgeId e, HalfedgeId f)
   {
-    mesh_.halfedges[e] = f;
-    mesh_.halfedges[f] = e;
+    slot(e) = f;
+    slot(f) = e;
   }
 
   /// Links e with its open twin if that exists; otherwise e becomes open.
@@ -248,12 +268,12 @@ class Growth {
         if (prev == OPEN_LIST_END)
           first = nextOpen(h);
         else
-          mesh_.halfedges[prev] = OPEN | nextOpen(h);
+          slot(prev) = OPEN | nextOpen(h);
         link(e, h);
         return false;
       }
     HalfedgeId& own = head(from, from_in_strip);
-    mesh_.halfedges[e] = OPEN | own;
+    slot(e) = OPEN | own;
     own = e;
     return true;
   }
@@ -268,8 +288,8 @@ class Growth {
         if (prev == OPEN_LIST_END)
           first = nextOpen(h);
         else
-          mesh_.halfedges[prev] = OPEN | nextOpen(h);
-        mesh_.halfedges[e] = CLOSED;
+          slot(prev) = OPEN | nextOpen(h);
+        slot(e) = CLOSED;
         return;
       }
   }
@@ -304,10 +324,8 @@ class Growth {
         return Status::error(StatusCode::INTERNAL_ERROR,
                              "no Delaunay triangle found across interior edge " +
                                  std::to_string(x) + "-" + std::to_string(y));
-      if (mesh_.owned.size() >= MAX_STRIP_TRIANGLES)
-        return Status::error(StatusCode::CAPACITY_EXCEEDED,
-                             "more than " + std::to_string(MAX_STRIP_TRIANGLES) +
-                                 " triangles: beyond the 32-bit halfedge ids");
+      if (!roomFor(1))
+        return Status::error(StatusCode::CAPACITY_EXCEEDED, STRIP_FULL);
       const HalfedgeId f = addTriangle(y, x, p);
       close(e, corner_in_strip_[1]);
       link(f, e);
@@ -341,10 +359,8 @@ class Growth {
             core.j0 > RING ? core.j0 - RING : 0, std::min(grid_.ny, core.j1 + RING)};
         if (!dt.triangulate(grid_, window, core))
           continue;
-        if (mesh_.owned.size() + dt.v.size() / 3 >= MAX_STRIP_TRIANGLES)
-          return Status::error(StatusCode::CAPACITY_EXCEEDED,
-                               "more than " + std::to_string(MAX_STRIP_TRIANGLES) +
-                                   " triangles: beyond the 32-bit halfedge ids");
+        if (!roomFor(dt.v.size() / 3))
+          return Status::error(StatusCode::CAPACITY_EXCEEDED, STRIP_FULL);
         addBlock(dt, window);
       }
     return Status::success();
@@ -392,10 +408,12 @@ class Growth {
     const std::size_t local_triangles = dt.triangleCount();
     const std::int32_t* const tv = dt.v.data();
     const auto first = static_cast<HalfedgeId>(mesh_.triangles.size());
+    const auto first_foreign =
+        FOREIGN + static_cast<HalfedgeId>(foreign_triangles_.size());
     kept_twin_.assign(local_triangles, CLOSED);
     HalfedgeId* const twin_of = kept_twin_.data();
     kept_.clear();
-    HalfedgeId next = first;
+    HalfedgeId next = first, next_foreign = first_foreign;
     dt.forEachFinal(
         grid_, window,
         [&](std::size_t t) {
@@ -405,15 +423,21 @@ class Growth {
         },
         [&](std::size_t t) {
           kept_.push_back(static_cast<std::uint32_t>(t));
-          twin_of[t] = next;
-          next += 3;
-          flags[tv[3 * t]] |= USED;
-          flags[tv[3 * t + 1]] |= USED;
-          flags[tv[3 * t + 2]] |= USED;
+          std::uint8_t& f0 = flags[tv[3 * t]];
+          std::uint8_t& f1 = flags[tv[3 * t + 1]];
+          std::uint8_t& f2 = flags[tv[3 * t + 2]];
+          // Owned (owned ids) or foreign (from FOREIGN on), in the order kept.
+          HalfedgeId& slot_id = (f0 & f1 & f2 & NOT_LEFT) != 0 ? next : next_foreign;
+          twin_of[t] = slot_id;
+          slot_id += 3;
+          f0 |= USED;
+          f1 |= USED;
+          f2 |= USED;
         });
     if (kept_.empty())
       return;
-    const std::size_t added = kept_.size();
+    const std::size_t added = (next - first) / 3,
+                      foreign = (next_foreign - first_foreign) / 3;
     const VertexId* const ids = dt.ids.data();
     // The strip vertices of the kept triangles are reached (their stars will be
     // grown): tested once per vertex, not once per corner, before any open list is
@@ -427,30 +451,26 @@ class Growth {
     // Faulted in a chunk ahead (populateAhead) instead of a trap per page.
     populateAhead(mesh_.triangles, 3 * added, populated_triangles_);
     populateAhead(mesh_.halfedges, 3 * added, populated_halfedges_);
-    populateAhead(mesh_.owned, added, populated_owned_);
     mesh_.triangles.resize(mesh_.triangles.size() + 3 * added);
     mesh_.halfedges.resize(mesh_.halfedges.size() + 3 * added);
-    mesh_.owned.resize(mesh_.owned.size() + added);
-    VertexId* const out = mesh_.triangles.data();
-    HalfedgeId* const halfedges = mesh_.halfedges.data();
-    std::uint8_t* owned = mesh_.owned.data() + first / 3;
-    std::size_t owned_count = 0;
-    // One pass in the order kept: corners, ownership, and the twins inside the block,
-    // written in place; the other edges are listed and then go through the open lists
-    // in the same order (an open list never holds an edge paired in the block).
-    HalfedgeId f = first;
+    foreign_triangles_.resize(foreign_triangles_.size() + 3 * foreign);
+    foreign_halfedges_.resize(foreign_halfedges_.size() + 3 * foreign);
+    mesh_.owned_count += added;
+    // One pass in the order kept: corners and the twins inside the block, written in
+    // place; the other edges are listed and then go through the open lists in the
+    // same order (an open list never holds an edge paired in the block).
     open_edges_.clear();
     for (const std::uint32_t t : kept_) {
+      const HalfedgeId f = twin_of[t];
+      VertexId* const out = f < FOREIGN ? mesh_.triangles.data() + f
+                                        : foreign_triangles_.data() + (f - FOREIGN);
+      HalfedgeId* const halfedges = f < FOREIGN
+                                        ? mesh_.halfedges.data() + f
+                                        : foreign_halfedges_.data() + (f - FOREIGN);
       const std::int32_t* const c = tv + 3 * static_cast<std::size_t>(t);
-      const auto l0 = static_cast<std::size_t>(c[0]),
-                 l1 = static_cast<std::size_t>(c[1]),
-                 l2 = static_cast<std::size_t>(c[2]);
-      out[f] = ids[l0];
-      out[f + 1] = ids[l1];
-      out[f + 2] = ids[l2];
-      const std::uint8_t all = flags[l0] & flags[l1] & flags[l2] & NOT_LEFT;
-      *owned++ = all != 0 ? 1 : 0;
-      owned_count += all != 0 ? 1 : 0;
+      out[0] = ids[c[0]];
+      out[1] = ids[c[1]];
+      out[2] = ids[c[2]];
       // The local twins as 4u + j: triangle u's first strip halfedge plus j.
       const std::int32_t o[3] = {dt.twin(t, 0), dt.twin(t, 1), dt.twin(t, 2)};
       for (std::uint32_t k = 0; k < 3; ++k) {
@@ -458,11 +478,10 @@ class Growth {
                                     ? twin_of[static_cast<std::uint32_t>(o[k]) >> 2]
                                     : HalfedgeId{CLOSED};
         if (base != CLOSED)
-          halfedges[f + k] = base + (static_cast<std::uint32_t>(o[k]) & 3u);
+          halfedges[k] = base + (static_cast<std::uint32_t>(o[k]) & 3u);
         else
           open_edges_.push_back({t, k});
       }
-      f += 3;
     }
     for (const auto& [t, k] : open_edges_) {
       const std::int32_t* const c = tv + 3 * static_cast<std::size_t>(t);
@@ -474,7 +493,6 @@ class Growth {
       if (linkOrOpen(g, from_in, to_in) && (from_in || to_in))
         pool_.push(g, grid_.row(dt.corner(t, k).y));
     }
-    mesh_.owned_count += owned_count;
   }
 
   /// Points near v sorted by floating-point distance; the exact nearest neighbour is
@@ -558,103 +576,58 @@ class Growth {
                          "no Delaunay edge found at point " + std::to_string(v));
   }
 
-  /// The owned triangles compacted in place, in the order grown (triangle t moves to
-  /// index_[t] <= t, its slots read first): twins inside the strip renumbered, HULL
-  /// for a closed halfedge or one still open along the hull, and BORDER for one whose
-  /// twin is not owned or that is still open off the hull (another strip owns the
-  /// twin), listed in mesh_.border.
+  /// The owned triangles, numbered as in the output from the start (foreign ones
+  /// apart), their twins rewritten in place: a twin in the strip kept when owned,
+  /// else HULL, the halfedge listed in mesh_.border when its twin is foreign or it is
+  /// still open off the hull (another strip owns the twin).
   void finish()
   {
-    const std::size_t grown = mesh_.owned.size();
-    index_.resize(grown);
-    TriangleId* const index = index_.data();
-    const std::uint8_t* const owned = mesh_.owned.data();
-    TriangleId next = 0;
-    for (std::size_t t = 0; t < grown; ++t)
-      index[t] = owned[t] != 0 ? next++ : INVALID_ID;
     if (StripSink* const sink = claim_ ? claim_() : nullptr) {
       appendTo(*sink);
       return;
     }
     VertexId* const v = mesh_.triangles.data();
     HalfedgeId* const h = mesh_.halfedges.data();
-    for (std::size_t t = 0; t < grown; ++t) {
-      if (index[t] == INVALID_ID)
-        continue;
-      const std::size_t out = 3 * static_cast<std::size_t>(index[t]);
-      const VertexId a[3] = {v[3 * t], v[3 * t + 1], v[3 * t + 2]};
-      const HalfedgeId e[3] = {h[3 * t], h[3 * t + 1], h[3 * t + 2]};
-      for (std::size_t k = 0; k < 3; ++k) {
-        v[out + k] = a[k];
-        const VertexId b = a[k == 2 ? 0 : k + 1];
-        HalfedgeId twin = HULL;
-        if (e[k] < OPEN) {
-          const TriangleId o = index[e[k] / 3];
-          twin = o != INVALID_ID ? 3 * o + e[k] % 3 : HalfedgeId{BORDER};
-        } else if (e[k] != CLOSED && !hull_.contains(a[k], b)) {
-          twin = BORDER;
-        }
-        if (twin == BORDER) {
-          mesh_.border.push_back(
-              {std::min(a[k], b), std::max(a[k], b), static_cast<HalfedgeId>(out + k)});
-          twin = HULL;
-        }
-        h[out + k] = twin;
-      }
-    }
-    mesh_.triangles.resize(3 * static_cast<std::size_t>(next));
-    mesh_.halfedges.resize(3 * static_cast<std::size_t>(next));
+    const auto end = static_cast<HalfedgeId>(mesh_.halfedges.size());
+    for (HalfedgeId g = 0; g < end; ++g)
+      h[g] = ownTwin(v, h[g], g, 0, mesh_.border);
   }
 
-  /// finish's compaction written to the end of the mesh's arrays instead: the same
-  /// values as the compacted strip appended there (ids shifted by the halfedges
-  /// already in the mesh), without the strip's copy in between.
+  /// The output twin of owned halfedge g (twin e while grown), ids shifted by
+  /// `shift`; a border halfedge is listed in `border` and gets HULL.
+  HalfedgeId ownTwin(const VertexId* v, HalfedgeId e, HalfedgeId g, HalfedgeId shift,
+                     std::vector<BorderHalfedge>& border) const
+  {
+    if (e < FOREIGN)
+      return shift + e;
+    const VertexId a = v[g], b = v[nextHalfedge(g)];
+    if (e < OPEN || (e != CLOSED && !hull_.contains(a, b)))
+      border.push_back({std::min(a, b), std::max(a, b), shift + g});
+    return HULL;
+  }
+
+  /// finish's result written to the end of the mesh's arrays instead: the same
+  /// values as the strip's appended there (ids shifted by the halfedges already in
+  /// the mesh), without the strip's copy in between.
   void appendTo(StripSink& sink) const
   {
-    const std::size_t grown = mesh_.owned.size();
-    const TriangleId* const index = index_.data();
     const VertexId* const v = mesh_.triangles.data();
     const HalfedgeId* const h = mesh_.halfedges.data();
+    const std::size_t count = mesh_.halfedges.size();
     const auto shift = static_cast<HalfedgeId>(sink.halfedges.size());
     // The output's slots (reserved for the whole mesh, written in full) faulted in a
     // chunk ahead (populateAhead) instead of a trap per page.
-    constexpr std::size_t STEP = 1u << 10;
+    constexpr std::size_t STEP = 3u << 10;
     const void* populated_triangles = nullptr;
     const void* populated_halfedges = nullptr;
-    for (std::size_t t = 0; t < grown; ++t) {
-      if (t % STEP == 0) {
-        populateAhead(sink.triangles, 3 * STEP, populated_triangles);
-        populateAhead(sink.halfedges, 3 * STEP, populated_halfedges);
-      }
-      if (index[t] == INVALID_ID)
-        continue;
-      const HalfedgeId out = shift + 3 * index[t];
-      const VertexId* const a = v + 3 * t;
-      HalfedgeId twins[3];
-      for (std::size_t k = 0; k < 3; ++k) {
-        const HalfedgeId e = h[3 * t + k];
-        if (e < OPEN) { // a twin in the strip: kept if owned
-          const HalfedgeId u = e / 3;
-          const TriangleId o = index[u];
-          if (o != INVALID_ID) {
-            twins[k] = shift + 3 * o + (e - 3 * u);
-            continue;
-          }
-        }
-        const VertexId b = a[k == 2 ? 0 : k + 1];
-        if (e < OPEN || (e != CLOSED && !hull_.contains(a[k], b))) {
-          sink.border.push_back(
-              {std::min(a[k], b), std::max(a[k], b), out + static_cast<HalfedgeId>(k)});
-        }
-        twins[k] = HULL;
-      }
-      // One element at a time: insert's range copy called memmove per triangle.
-      sink.triangles.push_back(a[0]);
-      sink.triangles.push_back(a[1]);
-      sink.triangles.push_back(a[2]);
-      sink.halfedges.push_back(twins[0]);
-      sink.halfedges.push_back(twins[1]);
-      sink.halfedges.push_back(twins[2]);
+    for (std::size_t begin = 0; begin < count; begin += STEP) {
+      const std::size_t end = std::min(count, begin + STEP);
+      populateAhead(sink.triangles, end - begin, populated_triangles);
+      populateAhead(sink.halfedges, end - begin, populated_halfedges);
+      sink.triangles.insert(sink.triangles.end(), v + begin, v + end);
+      for (std::size_t g = begin; g < end; ++g)
+        sink.halfedges.push_back(
+            ownTwin(v, h[g], static_cast<HalfedgeId>(g), shift, sink.border));
     }
   }
 
@@ -681,13 +654,14 @@ class Growth {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> open_edges_;
   std::vector<std::uint8_t> vertex_flags_; ///< per local vertex of the block
   std::vector<std::uint64_t> owner_key_;   ///< per local vertex of the block
-  std::vector<TriangleId>& index_; ///< per triangle grown: its owned number (finish)
+  std::vector<VertexId, UninitAllocator<VertexId>>
+      foreign_triangles_; ///< from FOREIGN on
+  std::vector<HalfedgeId, UninitAllocator<HalfedgeId>> foreign_halfedges_;
   const std::function<StripSink*()>& claim_; ///< see growStrip
   LocalDelaunay* const blocks_dt_;           ///< see growStrip; nullptr: one per strip
   /// Where the pages of the strip's arrays populated ahead end (populateAhead).
   const void* populated_triangles_ = nullptr;
   const void* populated_halfedges_ = nullptr;
-  const void* populated_owned_ = nullptr;
   std::size_t strip_vertices_ = 0; ///< grid points in the strip's columns
   std::size_t reached_ = 0;        ///< of them, those whose open_head_ is not UNREACHED
 };
@@ -726,11 +700,11 @@ StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
-                 std::vector<TriangleId>& index, bool cache_blocks,
-                 const std::function<StripSink*()>& claim, LocalDelaunay* blocks)
+                 bool cache_blocks, const std::function<StripSink*()>& claim,
+                 LocalDelaunay* blocks)
 {
   return Growth(grid, pyramid, layout, strip, hull, search, open_head, mesh,
-                cache_blocks, index, claim, blocks)
+                cache_blocks, claim, blocks)
       .run();
 }
 

@@ -64,20 +64,16 @@ class HullEdges {
 ///     edge), the state a new slot starts in.
 ///   open_head, per grid point: UNREACHED (no triangle of its strip touches it yet),
 ///     OPEN_LIST_END (reached, no open halfedge) or its first open halfedge.
-/// Once grown (growStrip's result) the owned triangles alone are left, compacted:
-/// a strip-local twin or HULL (INVALID_ID: no twin in the strip, see
-/// StripMesh::border). BORDER marks a border halfedge while the strip is compacted.
+/// Once grown (growStrip's result) the owned triangles alone are left (numbered so
+/// from the start: the growth keeps the others apart): a strip-local twin or HULL
+/// (INVALID_ID: no twin in the strip, see StripMesh::border).
 enum HalfedgeSlot : HalfedgeId {
   OPEN_LIST_END = 0x7ffffffeu, ///< end of an open-halfedge list
   OPEN = 0x80000000u,          ///< flag of an open halfedge; the rest links the list
-  BORDER = 0xfffffffdu,        ///< the twin is another strip's (while compacting)
   CLOSED = INVALID_ID,         ///< while growing: no twin, never one
   HULL = INVALID_ID,           ///< once grown: no twin in the strip
   UNREACHED = 0xffffffffu,     ///< open_head of a point no triangle touches yet
 };
-/// Triangles a strip may grow: its halfedge ids stay below OPEN_LIST_END.
-constexpr std::size_t MAX_STRIP_TRIANGLES = OPEN_LIST_END / 3;
-
 /// A halfedge of an owned triangle whose twin another strip owns.
 struct BorderHalfedge {
   VertexId low, high;  ///< the edge's vertices, sorted
@@ -91,10 +87,10 @@ struct BorderHalfedge {
 /// What one strip grew; its halfedge slots are in the HalfedgeSlot table. Once grown:
 /// the owned triangles only, strip-local ids from 0 in the order grown.
 struct StripMesh {
-  /// 3 per triangle (grown, then owned); resized without a fill (written after).
+  /// 3 per owned triangle, numbered in the order grown (the growth keeps the others
+  /// apart); resized without a fill (written after).
   std::vector<VertexId, UninitAllocator<VertexId>> triangles;
   std::vector<HalfedgeId, UninitAllocator<HalfedgeId>> halfedges; ///< 1 per halfedge
-  std::vector<std::uint8_t> owned; ///< 1 per triangle grown: 1 owned, 0 not
   std::size_t owned_count = 0;
   std::vector<BorderHalfedge> border; ///< once grown: the halfedges left HULL for this
 };
@@ -113,7 +109,7 @@ struct StripSink {
 /// of its own vertices, where it keeps the head of each vertex's list of open
 /// halfedges. `cache_blocks`: the triangles proven by block-local triangulations are
 /// added first (docs/scaling.md, "Cache blocks"); the same triangles, another order.
-/// `index`: the caller's buffer (one per worker: its pages stay resident). `claim`,
+/// `claim`,
 /// when set, is asked once the strip is grown: a sink it returns receives the owned
 /// triangles (`mesh` is then left as grown), else they are compacted in `mesh`.
 /// `blocks`, when set: the caller's block triangulator (one per worker, reused strip
@@ -121,7 +117,7 @@ struct StripSink {
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
-                 std::vector<TriangleId>& index, bool cache_blocks = false,
+                 bool cache_blocks = false,
                  const std::function<StripSink*()>& claim = {},
                  LocalDelaunay* blocks = nullptr);
 
