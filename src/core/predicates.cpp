@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 namespace pcl_vts {
 namespace {
@@ -148,12 +149,21 @@ bool exactDifference(double a, double b)
   return y == 0.0;
 }
 
-/// Orientation when the coordinate differences are exact doubles.
+/// Orientation when the coordinate differences are exact doubles: the sign of
+/// p - q, p = acx bcy, q = acy bcx. Rounding to nearest is monotone (p <= q implies
+/// fl(p) <= fl(q)), so fl(p) > fl(q) proves p > q and fl(p) < fl(q) proves p < q;
+/// where they are equal, p - q = ep - eq, their exact rounding errors (twoProduct:
+/// no underflow inside the expansion range, the differences being multiples of
+/// 2^-252 below 2^201).
 int orientExactDifferences(double acx, double acy, double bcx, double bcy)
 {
-  double det[4];
-  const int len = detail::crossZeroelim(acx, bcy, acy, bcx, det);
-  return detail::signOf(len, det);
+  const double p = acx * bcy, q = acy * bcx;
+  if (p != q)
+    return p > q ? 1 : -1;
+  double rp, ep, rq, eq;
+  detail::twoProduct(acx, bcy, rp, ep);
+  detail::twoProduct(acy, bcx, rq, eq);
+  return ep > eq ? 1 : (ep < eq ? -1 : 0);
 }
 
 /// lift * cross, lift = dx^2 + dy^2, for one row of the in-circle determinant.
@@ -166,6 +176,56 @@ int liftedRow(double dx, double dy, const double* cross, int clen, double* out)
   const int m2 = detail::scaleZeroelim(m1, y1, dy, y2);
   return detail::sumZeroelim(l2, x2, m2, y2, out);
 }
+
+#if defined(__SIZEOF_INT128__)
+__extension__ using Int128 = __int128;
+
+/// The in-circle determinant's sign in integers where the six exact differences are
+/// integer multiples of one power of two, 2^(e - 30) for the largest |difference| in
+/// [2^(e - 1), 2^e) (float32 input on its coarse lattice, integer grids): scaled by
+/// 2^(30 - e) (exact: a power of two, no under- or overflow in the expansion range)
+/// each is an integer below 2^30, the cross products and lifts are below 2^61 (64
+/// bits) and the determinant, three lift * cross products, below 2^124 (128 bits):
+/// exact. Returns false where a scaled difference is not an integer (then the
+/// expansions decide).
+bool incircleOnLattice(const double (&d)[6], int& sign)
+{
+  double m = 0.0;
+  for (const double v : d)
+    m = std::fmax(m, std::fabs(v));
+  if (m == 0.0) {
+    sign = 0;
+    return true;
+  }
+  int e = 0;
+  static_cast<void>(std::frexp(m, &e));
+  const double scale = std::ldexp(1.0, 30 - e);
+  std::int64_t k[6];
+  for (int i = 0; i < 6; ++i) {
+    const double v = d[i] * scale;
+    k[i] = static_cast<std::int64_t>(v); // |v| < 2^30: defined
+    if (static_cast<double>(k[i]) != v)
+      return false;
+  }
+  const std::int64_t adx = k[0], ady = k[1], bdx = k[2], bdy = k[3], cdx = k[4],
+                     cdy = k[5];
+  const std::int64_t bc = bdx * cdy - cdx * bdy;
+  const std::int64_t ca = cdx * ady - adx * cdy;
+  const std::int64_t ab = adx * bdy - bdx * ady;
+  const std::int64_t alift = adx * adx + ady * ady;
+  const std::int64_t blift = bdx * bdx + bdy * bdy;
+  const std::int64_t clift = cdx * cdx + cdy * cdy;
+  const Int128 det = static_cast<Int128>(alift) * bc + static_cast<Int128>(blift) * ca +
+                     static_cast<Int128>(clift) * ab;
+  sign = det > 0 ? 1 : (det < 0 ? -1 : 0);
+  return true;
+}
+#else
+bool incircleOnLattice(const double (&)[6], int&)
+{
+  return false;
+}
+#endif
 
 /// In-circle determinant when the coordinate differences are exact doubles
 /// (Shewchuk's stage B, which is then exact), on stack arrays.
@@ -191,11 +251,11 @@ namespace detail {
 
 Sign orient2dExact(const Point2& a, const Point2& b, const Point2& c)
 {
-  if (allInExpansionRange<3>({&a, &b, &c}) && exactDifference(a.x, c.x) &&
-      exactDifference(a.y, c.y) && exactDifference(b.x, c.x) &&
-      exactDifference(b.y, c.y))
+  const bool in_range = allInExpansionRange<3>({&a, &b, &c});
+  if (in_range && exactDifference(a.x, c.x) && exactDifference(a.y, c.y) &&
+      exactDifference(b.x, c.x) && exactDifference(b.y, c.y))
     return toSign(orientExactDifferences(a.x - c.x, a.y - c.y, b.x - c.x, b.y - c.y));
-  if (allInExpansionRange<3>({&a, &b, &c}))
+  if (in_range)
     return toSign(orientExpansion(a, b, c));
   return toSign(orientBigInt(a, b, c));
 }
@@ -205,9 +265,15 @@ Sign incircleExact(const Point2& a, const Point2& b, const Point2& c, const Poin
   const bool in_range = allInExpansionRange<4>({&a, &b, &c, &d});
   if (in_range && exactDifference(a.x, d.x) && exactDifference(a.y, d.y) &&
       exactDifference(b.x, d.x) && exactDifference(b.y, d.y) &&
-      exactDifference(c.x, d.x) && exactDifference(c.y, d.y))
-    return toSign(incircleExactDifferences(a.x - d.x, a.y - d.y, b.x - d.x, b.y - d.y,
-                                           c.x - d.x, c.y - d.y));
+      exactDifference(c.x, d.x) && exactDifference(c.y, d.y)) {
+    const double diff[6] = {a.x - d.x, a.y - d.y, b.x - d.x,
+                            b.y - d.y, c.x - d.x, c.y - d.y};
+    int sign = 0;
+    if (incircleOnLattice(diff, sign))
+      return toSign(sign);
+    return toSign(
+        incircleExactDifferences(diff[0], diff[1], diff[2], diff[3], diff[4], diff[5]));
+  }
   if (in_range)
     return toSign(incircleExpansion(a, b, c, d));
   return toSign(incircleBigInt(a, b, c, d));

@@ -422,6 +422,64 @@ TEST(Incircle, ExactNearACircleAtUtmMagnitudes)
   EXPECT_GT(on_circle.wrong, 0); // the naive formula misses exact cocircularity
 }
 
+TEST(Incircle, ExactOnFloat32LatticesAtUtmMagnitudes)
+{
+  // float32 UTM coordinates (the ISPRS files): x on a 2^-5 lattice, y on a 2^-1 one,
+  // differences exact, so incircleExact takes its integer path (differences of at
+  // most 30 bits above their power of two) or, where the spread needs more bits, the
+  // expansions; both against rationals. Lattice circles give exactly cocircular
+  // quadruples, shifting d by one lattice step the near misses.
+  std::mt19937_64 rng(31);
+  const auto f32 = [](double x, double y) {
+    return Point2{static_cast<float>(x), static_cast<float>(y)};
+  };
+  std::uniform_real_distribution<double> spread(-40.0, 40.0);
+  for (int k = 0; k < 3000; ++k) {
+    const double w = k % 3 == 0 ? 1.0 : (k % 3 == 1 ? 0.05 : 4000.0);
+    const auto p = [&] {
+      return f32(5.0e5 + w * spread(rng), 5.4e6 + w * spread(rng));
+    };
+    expectIncircleExact(p(), p(), p(), p());
+  }
+  const std::vector<double> xy = test::latticeCircle(5LL * 13 * 17 * 29);
+  std::uniform_int_distribution<std::size_t> pick(0, xy.size() / 2 - 1);
+  int zero = 0;
+  for (int k = 0; k < 600; ++k) {
+    // Steps of 2^-1 in both coordinates keep float32 exact at 5.4e6 (its ulp 2^-1).
+    const double step = k % 2 == 0 ? 0.5 : 1.0;
+    const auto at = [&](std::size_t i) {
+      return f32(5.0e5 + step * xy[2 * i], 5.4e6 + step * xy[2 * i + 1]);
+    };
+    const Point2 a = at(pick(rng)), b = at(pick(rng)), c = at(pick(rng)),
+                 d = at(pick(rng));
+    if (a == b || a == c || a == d || b == c || b == d || c == d)
+      continue;
+    zero += incircleRational(a, b, c, d) == Sign::ZERO;
+    expectIncircleExact(a, b, c, d);
+    expectIncircleExact(a, b, c, {d.x + 0.5, d.y});
+    expectIncircleExact(a, b, c, {d.x, d.y - 0.5});
+  }
+  EXPECT_GT(zero, 300);
+}
+
+TEST(Orient2d, ExactWhereTheRoundedProductsAreEqual)
+{
+  // acx bcy and acy bcx round to the same double and differ by a few units: the sign
+  // comes from their rounding errors. (2^27 + 1)(2^27 - 1) = 2^54 - 1 rounds to 2^54.
+  const double t = 0x1p27;
+  int tied = 0;
+  for (const Point2 c : {Point2{0.0, 0.0}, Point2{-t, 3.0 * t}})
+    for (int i = -3; i <= 3; ++i)
+      for (int j = -3; j <= 3; ++j)
+        for (int l = -3; l <= 3; ++l) {
+          const Point2 a{c.x + t + i, c.y + t + j}, b{c.x + t + l, c.y + t - i};
+          tied += (a.x - c.x) * (b.y - c.y) == (a.y - c.y) * (b.x - c.x);
+          expectOrientExact(a, b, c);
+          expectOrientExact(b, a, c);
+        }
+  EXPECT_GT(tied, 20);
+}
+
 TEST(Incircle, ExactForHugeAndTinyCoordinates)
 {
   NaiveErrors errors;
