@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <utility>
 
 namespace pcl_vts {
@@ -152,19 +153,33 @@ std::uint64_t bitsOf(double value)
 
 namespace detail {
 
-void VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary)
+Status checkCorners(const TriangleMesh& mesh)
+{
+  for (const VertexId v : mesh.triangles)
+    if (v >= mesh.vertexCount())
+      return Status::error(StatusCode::INVALID_PARAMETER,
+                           "triangle corner " + std::to_string(v) +
+                               " is not a vertex id (" +
+                               std::to_string(mesh.vertexCount()) + " vertices)");
+  return Status::success();
+}
+
+bool VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary)
 {
   // A row entry per halfedge, two for a boundary one.
   if (boundary != nullptr)
     boundary->clear();
-  if (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max())
-    fill(mesh, start32_, boundary);
-  else
-    fill(mesh, start64_, boundary);
+  const bool built =
+      2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max()
+          ? fill(mesh, start32_, boundary)
+          : fill(mesh, start64_, boundary);
+  if (!built && boundary != nullptr)
+    boundary->clear();
+  return built;
 }
 
 template <typename Index>
-void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
+bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
                       std::vector<HalfedgeId>* boundary)
 {
   const std::size_t n = mesh.vertexCount();
@@ -189,10 +204,16 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
   detail::populatePages(count, count + n);
   std::fill(count, count + n, std::uint8_t{0});
   std::size_t open = 0;
+  for (std::size_t e = corners - corners % 3; e < corners; ++e)
+    if (corner[e] >= n)
+      return false; // a corner past the last triangle (not counted)
   for (std::size_t e = 0; e + 2 < corners; e += 3) {
-    ++count[corner[e]];
-    ++count[corner[e + 1]];
-    ++count[corner[e + 2]];
+    const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
+    if (std::max(a, std::max(b, c)) >= n)
+      return false; // the corners checked here, not in a pass of their own
+    ++count[a];
+    ++count[b];
+    ++count[c];
     if (twin[e] == INVALID_ID || twin[e + 1] == INVALID_ID || twin[e + 2] == INVALID_ID)
       for (std::size_t k = e; k < e + 3; ++k)
         if (twin[k] == INVALID_ID) { // boundary edge: seen from one side only
@@ -242,6 +263,7 @@ void VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
       ring[--start[a]] = c;
   }
   start[n] = total;
+  return true;
 }
 
 namespace {

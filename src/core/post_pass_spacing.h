@@ -70,12 +70,18 @@ struct VertexSpacing {
   void settle(const TriangleMesh& trimmed, unsigned threads = 1);
 };
 
+/// The error for the first triangle corner of mesh that is not a vertex id, or
+/// success when there is none.
+Status checkCorners(const TriangleMesh& mesh);
+
 /// Each vertex's row of neighbours, measurePointSpacing's rule: the ends of the
 /// halfedges leaving it and the starts of the boundary halfedges entering it.
 class VertexRows {
  public:
   /// With `boundary`, also lists the halfedges without twin, in increasing order.
-  void build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary = nullptr);
+  /// False, the rows left unbuilt, when a triangle corner is not a vertex id (checked
+  /// in the count pass: no pass of its own over the corners).
+  bool build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary = nullptr);
   std::size_t begin(std::size_t v) const
   {
     return start64_.empty() ? start32_[v] : start64_[v];
@@ -95,7 +101,7 @@ class VertexRows {
 
  private:
   template <typename Index>
-  void fill(const TriangleMesh& mesh, std::vector<Index>& start,
+  bool fill(const TriangleMesh& mesh, std::vector<Index>& start,
             std::vector<HalfedgeId>* boundary);
   std::vector<std::uint32_t> start32_; ///< while the entries fit 32 bits
   std::vector<std::size_t> start64_;

@@ -36,12 +36,13 @@ Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& optio
                              " xy, " + std::to_string(mesh.z.size()) + " z, " +
                              std::to_string(mesh.triangles.size()) + " corners, " +
                              std::to_string(mesh.halfedges.size()) + " halfedges");
-  for (const VertexId v : mesh.triangles)
-    if (v >= mesh.vertexCount())
-      return Status::error(StatusCode::INVALID_PARAMETER,
-                           "triangle corner " + std::to_string(v) +
-                               " is not a vertex id (" +
-                               std::to_string(mesh.vertexCount()) + " vertices)");
+  // The trim checks the corners in its rows' count pass, before it changes anything
+  // (the same error); without it, a pass of their own.
+  if (!options.trim) {
+    status = detail::checkCorners(mesh);
+    if (!status.ok())
+      return status;
+  }
   diagnostics.triangles_in = mesh.triangleCount();
   const unsigned threads = options.threads > 0 ? options.threads : allCores();
   // The trim hands the trimmed mesh's spacing to the fill (post_pass_spacing.h).
@@ -52,8 +53,10 @@ Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& optio
     status = detail::trimOutwardTriangles(mesh, options.trim_options, diagnostics.trim,
                                           handed ? &spacing : nullptr, threads);
     diagnostics.seconds_trim = watch.seconds();
-    if (!status.ok())
+    if (!status.ok()) {
+      diagnostics = ReconstructionDiagnostics{}; // as when the corners fail first
       return status;
+    }
   }
   if (options.fill) {
     const Stopwatch watch;

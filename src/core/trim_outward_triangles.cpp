@@ -559,7 +559,8 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // removes nothing, else the compaction lists them.
   std::vector<HalfedgeId> boundary;
   detail::VertexRows rows;
-  rows.build(mesh, after != nullptr ? &boundary : nullptr);
+  if (!rows.build(mesh, after != nullptr ? &boundary : nullptr))
+    return detail::checkCorners(mesh); // a corner is not a vertex id: its error
   detail::OwnStats stats;
   std::vector<double> own = detail::ownMedians(mesh, rows, threads, &stats);
   // The global median's histogram is counted with the ring bounds (no pass of its

@@ -426,6 +426,57 @@ TEST(ReconstructSurface, TrimThenFillOnTheSyntheticTerrain)
             StatusCode::INVALID_PARAMETER);
 }
 
+TEST(ReconstructSurface, CornerNotAVertexIdIsRejectedBeforeAnyChange)
+{
+  // The trim checks the corners in its rows' count pass (reconstructSurface has no
+  // pass of its own then): the same error as the pass without the trim, naming the
+  // first bad corner, with the mesh and the diagnostics untouched.
+  const test::SyntheticTerrain terrain = test::makeSyntheticTerrain(7);
+  const test::PipelineRun run = test::runPipeline(terrain.xyz);
+  ASSERT_TRUE(run.status.ok());
+  const std::size_t n = run.result.mesh.vertexCount();
+  const std::size_t corners = run.result.mesh.triangles.size();
+  // (index, value) pairs written into the corners; the first bad one in index order.
+  const std::vector<std::vector<std::pair<std::size_t, std::size_t>>> cases = {
+      {{0, n}},
+      {{corners - 1, n + 5}},
+      {{corners / 2 + 2, n + 9}, {corners / 2, n + 1}},
+      {{corners / 3 + 1, 4294967295u}, {corners - 2, n}}};
+  for (const auto& writes : cases) {
+    TriangleMesh broken = run.result.mesh;
+    std::size_t first = corners;
+    for (const auto& [index, value] : writes) {
+      broken.triangles[index] = static_cast<VertexId>(value);
+      first = std::min(first, index);
+    }
+    const std::string expected =
+        "triangle corner " + std::to_string(broken.triangles[first]) +
+        " is not a vertex id (" + std::to_string(n) + " vertices)";
+    for (const bool trim : {true, false})
+      for (const bool fill : {true, false}) {
+        ReconstructionOptions options;
+        options.trim = trim;
+        options.fill = fill;
+        TriangleMesh mesh = broken;
+        ReconstructionDiagnostics diagnostics;
+        diagnostics.triangles_in = 7;
+        const Status status = reconstructSurface(mesh, options, diagnostics);
+        EXPECT_EQ(status.code, StatusCode::INVALID_PARAMETER);
+        EXPECT_EQ(status.message, expected);
+        EXPECT_EQ(mesh.triangles, broken.triangles);
+        EXPECT_EQ(mesh.halfedges, broken.halfedges);
+        EXPECT_EQ(diagnostics.triangles_in, 0u);
+        EXPECT_EQ(diagnostics.seconds_trim, 0.0);
+      }
+    TriangleMesh mesh = broken;
+    TrimResult result;
+    const Status status = trimOutwardTriangles(mesh, TrimOptions{}, result);
+    EXPECT_EQ(status.code, StatusCode::INVALID_PARAMETER);
+    EXPECT_EQ(status.message, expected);
+    EXPECT_EQ(mesh.triangles, broken.triangles);
+  }
+}
+
 TEST(ReconstructSurface, PinchNearAHoleTakesTheRowsOfTheWholeMesh)
 {
   // With the trim's spacing the fill walks each vertex's fan for its neighbours; a
