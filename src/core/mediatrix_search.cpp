@@ -17,8 +17,11 @@ constexpr std::size_t MAX_DISK_CELLS = 256;
 // apex, m + n / (2 sqrt 3): at most 2 x 2 cells.
 constexpr double GUESS_CENTRE = 0.2887;
 constexpr std::size_t GUESS_CELLS = 9;
-// The guess's circle is settled directly when it covers at most this many cells.
-constexpr std::size_t QUICK_CELLS = 16;
+// The guess's circle is settled directly when it covers at most this many cells (as
+// many as settleInDiskCells scans): near voids the guess, when there is one, is
+// mostly the apex, and its disk alone costs less than the edge rectangle and then
+// the disk cells outside it.
+constexpr std::size_t QUICK_CELLS = MAX_DISK_CELLS;
 // settleAlongEdge scans directly at most this many cells of the disk's row spans.
 constexpr std::size_t SPAN_CELLS = 2048;
 // settleAlongEdge's first band reaches this many cells beyond the edge's ends.
