@@ -19,11 +19,10 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   // Points may sit a slack outside their cells: the super triangle is far wider.
   const double d = std::max(x1 - x0, y1 - y0) + c + std::fabs(cx) * 0x1p-40 +
                    std::fabs(cy) * 0x1p-40;
-  p.clear();
-  p.push_back({cx - 10.0 * d, cy - 10.0 * d});
-  p.push_back({cx + 10.0 * d, cy - 10.0 * d});
-  p.push_back({cx, cy + 10.0 * d});
-  for (const Point2& s : p)
+  const Point2 super[3] = {{cx - 10.0 * d, cy - 10.0 * d},
+                           {cx + 10.0 * d, cy - 10.0 * d},
+                           {cx, cy + 10.0 * d}};
+  for (const Point2& s : super)
     if (!std::isfinite(s.x) || !std::isfinite(s.y))
       return false;
   // Semi-static filter bounds (predicates.h, BoxBounds): one box holds the super
@@ -46,6 +45,16 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   for (std::uint32_t j = w.j0; j < w.j1; ++j)
     n += grid.start(grid.cellId(w.i1 - 1, j) + 1) - grid.start(grid.cellId(w.i0, j));
   reserveTriangles(1 + 2 * n);
+  // Entries 3 .. 3 + n are all written below (the insertion order lists every cell of
+  // the window once): resize, not assign, fills only what grows past the last window.
+  p.resize(3 + n);
+  ids.resize(3 + n);
+  in_core.resize(3 + n);
+  for (std::size_t s = 0; s < 3; ++s) {
+    p[s] = super[s];
+    ids[s] = INVALID_ID;
+    in_core[s] = 0;
+  }
   v[0] = 0;
   v[1] = 1;
   v[2] = 2;
@@ -53,9 +62,6 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   corners_[0] = {{p[0], p[1]}};
   triangles_ = 1;
   last_ = 0;
-  p.resize(3 + n);
-  ids.assign(3 + n, INVALID_ID);
-  in_core.assign(3 + n, 0);
   // Insertion order: cells at multiples of 4 from the window's corner, then of 2, then
   // the rest, each round in snake order over the cell rows; the order depends only on
   // the window's size, so it is listed once per size.
