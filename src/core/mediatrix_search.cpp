@@ -136,10 +136,13 @@ void MediatrixSearch::testPoints(std::uint32_t begin, std::uint32_t end, Query& 
     if (q.best != INVALID_ID &&
         incirclePerturbed(q.pa, q.pb, grid_.points[q.best], p) != Sign::POSITIVE)
       continue;
-    // The old disk keeps rejecting: the open side of the new, smaller circle lies
-    // inside it. The new disk is computed when needed (most candidates are replaced).
+    // Each new best's safe disk at once: it holds the open side of every better
+    // circle, so the points after it outside it cost one distance test (computed once
+    // a phase instead, it left a phase's first cells, a whole edge rectangle when there
+    // was no guess, to the orientation and in-circle tests).
     q.best = k;
     q.disk_fresh = false;
+    q.refreshDisk(grid_);
   }
 }
 
