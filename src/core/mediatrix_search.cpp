@@ -459,15 +459,14 @@ bool MediatrixSearch::settleInBand(Query& q, double e)
   if (q.best == INVALID_ID)
     return false;
   q.refreshDisk(grid_);
-  if (!q.disk.valid) {
-    // Too flat for a safe disk. When the angle at the apex p is obtuse (certified),
-    // the circle's centre is right of a->b and the part left of it is the minor
-    // segment: every better candidate lies in it, within its height s of the segment,
-    // and s <= d / (4 ta tb) (d: p's distance to the line, ta and tb = 1 - ta: where
-    // p projects along a->b and back from b, each computed from its own end so that
-    // both keep their relative accuracy). When that is under a cell the band holds
-    // it. The margins (relative 1e-6, absolute 1e-9 of the edge and the grid slack)
-    // are far beyond the rounding of these few operations.
+  // When the angle at the apex p is obtuse (certified), the circle's centre is right
+  // of a->b and the part left of it is the minor segment: every better candidate lies
+  // in it, within its height s of the segment, and s <= d / (4 ta tb) (d: p's distance
+  // to the line, ta and tb = 1 - ta: where p projects along a->b and back from b, each
+  // computed from its own end so that both keep their relative accuracy). When that
+  // is under a cell the band holds it. The margins (relative 1e-6, absolute 1e-9 of
+  // the edge and the grid slack) are far beyond the rounding of these few operations.
+  const auto minorSegmentInBand = [&] {
     const Point2 p = grid_.points[q.best];
     const double apx = p.x - q.pa.x, apy = p.y - q.pa.y;
     const double bpx = p.x - q.pb.x, bpy = p.y - q.pb.y;
@@ -483,14 +482,36 @@ bool MediatrixSearch::settleInBand(Query& q, double e)
     const double length = std::sqrt(l2);
     const double height = cross / length / (4.0 * ta * tb);
     const double reach = height * (1.0 + 1e-6) + 1e-9 * length + 4.0 * grid_.slack;
-    if (!(ta > 0.0 && tb > 0.0 && reach + 2.0 * grid_.slack <= c))
-      return false;
+    return ta > 0.0 && tb > 0.0 && reach + 2.0 * grid_.slack <= c;
+  };
+  const auto testBand = [&] {
     for (const Window& span : band_) {
       const CellId row = grid_.cellId(0, span.j0);
       testRange(grid_.start(row + span.i0), grid_.start(row + span.i1 + 1), q);
       stats_.cells_visited += span.i1 - span.i0;
     }
+  };
+  if (!q.disk.valid) { // too flat for a safe disk: the band or nothing
+    if (!minorSegmentInBand())
+      return false;
+    testBand();
     return true;
+  }
+  {
+    // A thin minor segment is also certified on the band when the band has fewer
+    // cells than the disk's bounding box (a flat triangle's disk spans the grid).
+    const SafeDisk& d = q.disk;
+    const double reach = d.radius + grid_.slack;
+    const std::size_t box =
+        (static_cast<std::size_t>(grid_.row(d.cy + reach) - grid_.row(d.cy - reach)) +
+         1) *
+        (static_cast<std::size_t>(grid_.column(d.cx + reach) -
+                                  grid_.column(d.cx - reach)) +
+         1);
+    if (cells < box && minorSegmentInBand()) {
+      testBand();
+      return true;
+    }
   }
   // Certify on the safe disk: a point of it in row j has its y in the row's band
   // [y0, y1] (the row widened by the slack), so its x within the disk's chord over the
