@@ -17,6 +17,12 @@ constexpr std::size_t MAX_DISK_CELLS = 256;
 // apex, m + n / (2 sqrt 3): at most 2 x 2 cells.
 constexpr double GUESS_CENTRE = 0.2887;
 constexpr std::size_t GUESS_CELLS = 9;
+// When those cells are empty (the apex's circle spans a void), the guess scans the
+// cells within WIDE_GUESS cells of that centre instead, at most WIDE_CELLS of them: a
+// guess's disk is certified directly (settleByGuess), without it the edge rectangle
+// is scanned and then the disk's cells outside it.
+constexpr double WIDE_GUESS = 2.5;
+constexpr std::size_t WIDE_CELLS = 49;
 // The guess's circle is settled directly when it covers at most this many cells (as
 // many as settleInDiskCells scans): near voids the guess, when there is one, is
 // mostly the apex, and its disk alone costs less than the edge rectangle and then
@@ -89,15 +95,20 @@ VertexId MediatrixSearch::guessThirdPoint(const Query& q) const
   SmallestCentre centre(q.pa, q.pb);
   const double gx = centre.mx + GUESS_CENTRE * centre.nx;
   const double gy = centre.my + GUESS_CENTRE * centre.ny;
-  const double reach = 0.5 * grid_.cell_size;
-  const Window w{grid_.column(gx - reach), grid_.column(gx + reach),
-                 grid_.row(gy - reach), grid_.row(gy + reach)};
-  if (cellCount(w) > GUESS_CELLS || windowHasCrowdedCell(w))
-    return INVALID_ID;
-  for (std::uint32_t j = w.j0; j <= w.j1; ++j) {
-    const CellId row = grid_.cellId(0, j);
-    centre.scan(grid_.points.data(), grid_.start(row + w.i0),
-                grid_.start(row + w.i1 + 1), q.a, q.b);
+  for (const double cells : {0.5, WIDE_GUESS}) {
+    const double reach = cells * grid_.cell_size;
+    const Window w{grid_.column(gx - reach), grid_.column(gx + reach),
+                   grid_.row(gy - reach), grid_.row(gy + reach)};
+    if (cellCount(w) > (cells < 1.0 ? GUESS_CELLS : WIDE_CELLS) ||
+        windowHasCrowdedCell(w))
+      return INVALID_ID;
+    for (std::uint32_t j = w.j0; j <= w.j1; ++j) {
+      const CellId row = grid_.cellId(0, j);
+      centre.scan(grid_.points.data(), grid_.start(row + w.i0),
+                  grid_.start(row + w.i1 + 1), q.a, q.b);
+    }
+    if (centre.best != INVALID_ID)
+      break;
   }
   return centre.best;
 }

@@ -69,7 +69,8 @@ class PCL_VTS_CORE_EXPORT MediatrixSearch {
   };
 
   /// Floating-point only: the point with the smallest circumcentre offset along the
-  /// mediatrix among the cells around the likely circumcentre, or INVALID_ID. It only
+  /// mediatrix among the cells around the likely circumcentre (more of them when those
+  /// are empty), or INVALID_ID. It only
   /// seeds the exact tests: a good first candidate makes the safe disk tight.
   VertexId guessThirdPoint(const Query& q) const;
   static std::size_t cellCount(const Window& w)
