@@ -239,10 +239,11 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
   const __m128d negate_high = _mm_set_pd(-0.0, 0.0);
   struct ChainVertex {
     __m128d p, o, turned, lift;
-    std::uint32_t left;
+    std::uint32_t left, real; // real: a point, not a super triangle corner
   };
   const auto chainVertex = [&](std::int32_t id) {
     ChainVertex cv;
+    cv.real = static_cast<std::uint32_t>(id >= 3);
     cv.p = _mm_loadu_pd(&P[id].x);
     const __m128d o = cv.o = _mm_sub_pd(cv.p, qv);
     const __m128d sq = _mm_mul_pd(o, o);
@@ -273,7 +274,6 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
     _mm_store_pd(r.k.a, _mm_unpacklo_pd(a, a));
     r.adj = {edge.second, static_cast<std::int32_t>(4 * bad[j + 1] + 2),
              static_cast<std::int32_t>(4 * previous + 1)};
-    r.real = std::min(edge.first, b) >= 3 ? 1 : 0;
     _mm_storeu_pd(&C[s].p[0].x, va.p);
     _mm_storeu_pd(&C[s].p[1].x, vb.p);
     // In the wedge: left of or on the ray through pa, right of the one through pb.
@@ -283,6 +283,9 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
       const auto uo = static_cast<std::uint32_t>(edge.second);
       R[uo >> 2].adj[uo & 3u] = static_cast<std::int32_t>(4 * s);
     }
+    // Stored last: beside the twins, GCC packed all four into one vector store
+    // (movd and unpack instructions, more than four plain stores).
+    r.real = static_cast<std::int32_t>(va.real & vb.real);
     previous = s;
   }
 #else
