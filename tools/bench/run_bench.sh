@@ -72,17 +72,35 @@ commands=()  # every command run, for the report
 log() { echo "[run_bench] $*" >&2; }
 
 # run_json KEY ARGS...: one bench_triangulation process; its JSON line under KEY.
+# Inputs under SMALL_N points run in milliseconds, where one preempted run (a timer
+# tick, another process) moves a ratio by 30 %: they run SMALL_REPEAT times and keep
+# the fastest line, for every method alike.
+SMALL_N=200000
+SMALL_REPEAT=5
 run_json() {
-  local key=$1 line
+  local key=$1 line best best_s s n r
   shift
   commands+=("$bench $*")
-  if line=$("$bench" "$@" 2>"$tmp/err"); then
-    log "$line"
-    json[$key]=$line
-  else
+  if ! line=$("$bench" "$@" 2>"$tmp/err"); then
     log "FAILED: $bench $*: $(tail -1 "$tmp/err")"
     json[$key]=""
+    return
   fi
+  best=$line
+  n=$(field "$line" n)
+  if [ -n "$n" ] && [ "$n" -lt "$SMALL_N" ]; then
+    best_s=$(field "$line" seconds)
+    for ((r = 1; r < SMALL_REPEAT; ++r)); do
+      line=$("$bench" "$@" 2>"$tmp/err") || continue
+      s=$(field "$line" seconds)
+      if awk -v a="$s" -v b="$best_s" 'BEGIN{exit !(a < b)}'; then
+        best=$line
+        best_s=$s
+      fi
+    done
+  fi
+  log "$best"
+  json[$key]=$best
 }
 
 # field JSON KEY: a value of a one-line JSON object ("" when absent).
@@ -556,7 +574,8 @@ else t15 "memory <= 80 B/point above the input at 1e7" "$(not_run)" "not measure
   echo "spatially sorts the points first: its fastest use), on the same points in the same"
   echo "run. Single thread unless a column says otherwise. Each number is one process"
   echo "(tools/bench/bench_triangulation), so its peak memory belongs to one method and one"
-  echo "input. Timed: VTS's whole core pipeline (input conditioning and duplicate merging,"
+  echo "input (inputs under 200000 points: the fastest of 5 such processes per method, since"
+  echo "one preempted run of a few milliseconds moves a ratio by tens of per cent). Timed: VTS's whole core pipeline (input conditioning and duplicate merging,"
   echo "grid, hull, region growing) and CGAL's construction; not timed: generating or reading"
   echo "the input (real files go through pcl_vts::loadPointCloud, as pcd_to_mesh does). Both"
   echo "get every input point: VTS merges identical XY positions by its duplicate rule, CGAL's"
