@@ -226,13 +226,17 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
   // A chain vertex's point, offset from q and side of the ray to the next point serve
   // the two star triangles that share it (computed once, carried to the next edge).
   std::uint32_t start = previous;
+  // What differs by target is a chain vertex (its point, offset from q, lift and side
+  // of the ray to the next point) and how a star triangle's apex, coefficients and
+  // corners are written from two of them; the walk around the chain is one loop.
 #if defined(__SSE2__)
   // The same operations in (x, y) lanes, bit for bit: a vertex's offset o = p - q,
   // its lift ox^2 + oy^2 broadcast, o turned to (oy, -ox) (negation is exact), and
   // the side of the ray to the next point ox ny - oy nx. With u, w the offsets of a
   // star triangle's first two corners, lu (wy, -wx) - lw (uy, -ux) is (Bx, By): lane
   // 1 is (-lu wx) - (-lw ux), which is lw ux - lu wx (x - y is x + (-y) in IEEE
-  // arithmetic, and the sum commutes); A = ux wy + uy (-wx), which is ux wy - uy wx.
+  // arithmetic, and the sum commutes); A = ux wy + uy (-wx), which is ux wy - uy wx:
+  // predicates.h's incircleCoefficients(u, w).
   const __m128d qv = _mm_loadu_pd(&q.x);
   const __m128d nd = _mm_sub_pd(_mm_loadu_pd(&next.x), qv);
   const __m128d nyx = _mm_shuffle_pd(nd, nd, 1); // (ny, nx)
@@ -255,6 +259,39 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
         _mm_sub_sd(cross, _mm_unpackhi_pd(cross, cross)), _mm_setzero_pd()));
     return cv;
   };
+  const auto writeTriangle = [&](Record& r, Corners& c, const ChainVertex& va,
+                                 const ChainVertex& vb) {
+    _mm_storeu_pd(&r.apex.x, qv);
+    _mm_store_pd(r.k.b, _mm_sub_pd(_mm_mul_pd(va.lift, vb.turned),
+                                   _mm_mul_pd(vb.lift, va.turned)));
+    const __m128d products = _mm_mul_pd(va.o, vb.turned); // (ux wy, uy (-wx))
+    const __m128d a = _mm_add_sd(products, _mm_unpackhi_pd(products, products));
+    _mm_store_pd(r.k.a, _mm_unpacklo_pd(a, a));
+    _mm_storeu_pd(&c.p[0].x, va.p);
+    _mm_storeu_pd(&c.p[1].x, vb.p);
+  };
+#else
+  const double nx = next.x - q.x, ny = next.y - q.y;
+  struct ChainVertex {
+    Point2 p;
+    CornerOffset o;
+    std::uint32_t left, real; // real: a point, not a super triangle corner
+  };
+  const auto chainVertex = [&](std::int32_t id) {
+    ChainVertex cv;
+    cv.real = static_cast<std::uint32_t>(id >= 3);
+    cv.p = P[id];
+    cv.o = cornerOffset(cv.p, q);
+    cv.left = static_cast<std::uint32_t>(cv.o.x * ny - cv.o.y * nx >= 0.0);
+    return cv;
+  };
+  const auto writeTriangle = [&](Record& r, Corners& c, const ChainVertex& va,
+                                 const ChainVertex& vb) {
+    r.apex = q;
+    r.k = incircleCoefficients(va.o, vb.o);
+    c = {{va.p, vb.p}};
+  };
+#endif
   ChainVertex vb = chainVertex(boundary[0].first);
   for (std::size_t j = 0; j < boundary_count; ++j) {
     const std::uint32_t s = bad[j];
@@ -266,16 +303,9 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
     const ChainVertex va = vb;
     vb = chainVertex(b);
     Record& r = R[s];
-    _mm_storeu_pd(&r.apex.x, qv);
-    _mm_store_pd(r.k.b, _mm_sub_pd(_mm_mul_pd(va.lift, vb.turned),
-                                   _mm_mul_pd(vb.lift, va.turned)));
-    const __m128d products = _mm_mul_pd(va.o, vb.turned); // (ux wy, uy (-wx))
-    const __m128d a = _mm_add_sd(products, _mm_unpackhi_pd(products, products));
-    _mm_store_pd(r.k.a, _mm_unpacklo_pd(a, a));
+    writeTriangle(r, C[s], va, vb);
     r.adj = {edge.second, static_cast<std::int32_t>(4 * bad[j + 1] + 2),
              static_cast<std::int32_t>(4 * previous + 1)};
-    _mm_storeu_pd(&C[s].p[0].x, va.p);
-    _mm_storeu_pd(&C[s].p[1].x, vb.p);
     // In the wedge: left of or on the ray through pa, right of the one through pb.
     const std::uint32_t in_wedge = va.left & (vb.left ^ 1u);
     start ^= (start ^ s) & (0u - in_wedge); // s where in the wedge, without a branch
@@ -288,41 +318,6 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
     r.real = static_cast<std::int32_t>(va.real & vb.real);
     previous = s;
   }
-#else
-  const double nx = next.x - q.x, ny = next.y - q.y;
-  Point2 pb = P[boundary[0].first];
-  CornerOffset ob = cornerOffset(pb, q);
-  auto left_of_b = static_cast<std::uint32_t>(ob.x * ny - ob.y * nx >= 0.0);
-  for (std::size_t j = 0; j < boundary_count; ++j) {
-    const std::uint32_t s = bad[j];
-    const std::pair<std::int32_t, std::int32_t>& edge = boundary[j];
-    const std::int32_t b = boundary[j + 1].first;
-    V[3 * s] = edge.first;
-    V[3 * s + 1] = b;
-    V[3 * s + 2] = k;
-    const Point2 pa = pb;
-    const CornerOffset oa = ob;
-    const std::uint32_t left_of_a = left_of_b;
-    pb = P[b];
-    ob = cornerOffset(pb, q);
-    left_of_b = static_cast<std::uint32_t>(ob.x * ny - ob.y * nx >= 0.0);
-    Record& r = R[s];
-    r.apex = q;
-    r.k = incircleCoefficients(oa, ob);
-    r.adj = {edge.second, static_cast<std::int32_t>(4 * bad[j + 1] + 2),
-             static_cast<std::int32_t>(4 * previous + 1)};
-    r.real = std::min(edge.first, b) >= 3 ? 1 : 0;
-    C[s] = {{pa, pb}};
-    // In the wedge: left of or on the ray through pa, right of the one through pb.
-    const std::uint32_t in_wedge = left_of_a & (left_of_b ^ 1u);
-    start ^= (start ^ s) & (0u - in_wedge); // s where in the wedge, without a branch
-    if (edge.second >= 0) {
-      const auto uo = static_cast<std::uint32_t>(edge.second);
-      R[uo >> 2].adj[uo & 3u] = static_cast<std::int32_t>(4 * s);
-    }
-    previous = s;
-  }
-#endif
   last_ = static_cast<std::int32_t>(start);
   if (bad_.size() < triangles_ + 3) // the next cavity's arrays (as above: not expected)
     reserveTriangles(v.size() / 3);
