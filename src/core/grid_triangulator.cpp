@@ -158,7 +158,6 @@ class StripMerge {
       strips_[next] = StripMesh();
       spare.triangles.clear();
       spare.halfedges.clear();
-      spare.owned_count = 0;
       spare.border.clear();
       lock.lock();
       // Kept for a strip still to be grown (its pages stay resident, so growing

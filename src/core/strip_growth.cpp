@@ -246,7 +246,6 @@ class Growth {
         ++reached_;
       }
     }
-    mesh_.owned_count += owned ? 1 : 0;
     return e;
   }
 
@@ -455,7 +454,6 @@ class Growth {
     mesh_.halfedges.resize(mesh_.halfedges.size() + 3 * added);
     foreign_triangles_.resize(foreign_triangles_.size() + 3 * foreign);
     foreign_halfedges_.resize(foreign_halfedges_.size() + 3 * foreign);
-    mesh_.owned_count += added;
     // One pass in the order kept: corners and the twins inside the block, written in
     // place; the other edges are listed and then go through the open lists in the
     // same order (an open list never holds an edge paired in the block).

@@ -91,7 +91,6 @@ struct StripMesh {
   /// apart); resized without a fill (written after).
   std::vector<VertexId, UninitAllocator<VertexId>> triangles;
   std::vector<HalfedgeId, UninitAllocator<HalfedgeId>> halfedges; ///< 1 per halfedge
-  std::size_t owned_count = 0;
   std::vector<BorderHalfedge> border; ///< once grown: the halfedges left HULL for this
 };
 
