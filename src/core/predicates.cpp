@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace pcl_vts {
 namespace {
@@ -190,16 +191,25 @@ __extension__ using Int128 = __int128;
 /// expansions decide).
 bool incircleOnLattice(const double (&d)[6], int& sign)
 {
+  // The largest |difference| by comparisons (no NaN here) and its exponent and the
+  // scale 2^(30 - e) from the bits: the differences of coordinates in the expansion
+  // range are 0 or normal with e in [-251, 202], so the bit patterns are those of
+  // frexp and ldexp, without their library calls (indirect, through the PLT).
   double m = 0.0;
-  for (const double v : d)
-    m = std::fmax(m, std::fabs(v));
+  for (const double v : d) {
+    const double a = std::fabs(v);
+    m = a > m ? a : m;
+  }
   if (m == 0.0) {
     sign = 0;
     return true;
   }
-  int e = 0;
-  static_cast<void>(std::frexp(m, &e));
-  const double scale = std::ldexp(1.0, 30 - e);
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &m, sizeof bits);
+  const int e = static_cast<int>((bits >> 52) & 0x7ffu) - 1022; // m in [2^(e-1), 2^e)
+  const std::uint64_t scale_bits = static_cast<std::uint64_t>(1023 + 30 - e) << 52;
+  double scale = 0.0;
+  std::memcpy(&scale, &scale_bits, sizeof scale);
   std::int64_t k[6];
   for (int i = 0; i < 6; ++i) {
     const double v = d[i] * scale;
@@ -251,6 +261,11 @@ namespace detail {
 
 Sign orient2dExact(const Point2& a, const Point2& b, const Point2& c)
 {
+  // Both products with a zero factor (equal coordinates: their difference is exactly
+  // 0): the determinant is exactly 0. Points on one row or column of a lattice (the
+  // float32 UTM input's coarse y), most of the ties the filters leave.
+  if ((a.x == c.x || b.y == c.y) && (a.y == c.y || b.x == c.x))
+    return Sign::ZERO;
   const bool in_range = allInExpansionRange<3>({&a, &b, &c});
   if (in_range && exactDifference(a.x, c.x) && exactDifference(a.y, c.y) &&
       exactDifference(b.x, c.x) && exactDifference(b.y, c.y))
@@ -301,8 +316,16 @@ Sign incirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c,
     int which;
   };
   std::array<Term, 4> terms{{{&a, 0}, {&b, 1}, {&c, 2}, {&d, 3}}};
-  std::sort(terms.begin(), terms.end(),
-            [](const Term& l, const Term& r) { return lexLess(*l.p, *r.p); });
+  // Sorted by a stable insertion sort (equal points keep their order, as std::sort
+  // does on four elements: its insertion sort), written out: the library's cost more
+  // than the rest of the tie-break on float32 lattices, where ties are frequent.
+  for (std::size_t i = 1; i < terms.size(); ++i) {
+    const Term t = terms[i];
+    std::size_t j = i;
+    for (; j > 0 && lexLess(*t.p, *terms[j - 1].p); --j)
+      terms[j] = terms[j - 1];
+    terms[j] = t;
+  }
   for (const Term& t : terms) {
     Sign cof = Sign::ZERO;
     switch (t.which) {

@@ -480,6 +480,53 @@ TEST(Orient2d, ExactWhereTheRoundedProductsAreEqual)
   EXPECT_GT(tied, 20);
 }
 
+TEST(Orient2d, ExactOnSharedRowsAndColumns)
+{
+  // float32 UTM points from three x and three y values: many triples share a row or a
+  // column, so a product of orient2d's determinant is exactly zero (orient2dExact
+  // answers ZERO at once when both are), or only one is and the sign is the other's.
+  const auto f32 = [](double x, double y) {
+    return Point2{static_cast<float>(x), static_cast<float>(y)};
+  };
+  const double xs[3] = {5.0e5, 5.0e5 + 0.03125, 5.0e5 + 1.5};
+  const double ys[3] = {5.4e6, 5.4e6 + 0.5, 5.4e6 + 2.0};
+  std::vector<Point2> pts;
+  for (const double x : xs)
+    for (const double y : ys)
+      pts.push_back(f32(x, y));
+  int both_zero = 0, one_zero = 0;
+  for (const Point2& a : pts)
+    for (const Point2& b : pts)
+      for (const Point2& c : pts) {
+        const bool left = a.x == c.x || b.y == c.y, right = a.y == c.y || b.x == c.x;
+        both_zero += left && right;
+        one_zero += left != right;
+        expectOrientExact(a, b, c);
+      }
+  EXPECT_GT(both_zero, 100);
+  EXPECT_GT(one_zero, 100);
+}
+
+TEST(IncirclePerturbed, EqualPointsKeepTheirOrderInTheTieBreak)
+{
+  // Coordinates in {0..2}^2 with repeated points: the tie-break ranks equal points in
+  // argument order (a stable sort), as the perturbed lift's reference does.
+  std::vector<Point2> grid;
+  for (int x = 0; x < 3; ++x)
+    for (int y = 0; y < 3; ++y)
+      grid.push_back({static_cast<double>(x), static_cast<double>(y)});
+  std::mt19937_64 rng(12);
+  std::uniform_int_distribution<std::size_t> pick(0, grid.size() - 1);
+  int repeated = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const Point2 a = grid[pick(rng)], b = grid[pick(rng)], c = grid[pick(rng)],
+                 d = grid[pick(rng)];
+    repeated += a == b || a == c || a == d || b == c || b == d || c == d;
+    EXPECT_EQ(incirclePerturbed(a, b, c, d), incirclePerturbedRational(a, b, c, d));
+  }
+  EXPECT_GT(repeated, 1000);
+}
+
 TEST(Incircle, ExactForHugeAndTinyCoordinates)
 {
   NaiveErrors errors;
