@@ -44,6 +44,10 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   std::size_t n = 0;
   for (std::uint32_t j = w.j0; j < w.j1; ++j)
     n += grid.start(grid.cellId(w.i1 - 1, j) + 1) - grid.start(grid.cellId(w.i0, j));
+  // Halfedges are 16t + i in int32 (Record): windows of more points are left to the
+  // search (nothing proven), far beyond what a block of cells holds.
+  if (1 + 2 * n > MAX_TRIANGLES)
+    return false;
   reserveTriangles(1 + 2 * n);
   // Entries 3 .. 3 + n are all written below (the insertion order lists every cell of
   // the window once): resize, not assign, fills only what grows past the last window.
@@ -158,8 +162,8 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
     else
       break;
     const auto o = static_cast<std::uint32_t>(r.adj[e]);
-    t = o >> 2;
-    entry = o & 3u;
+    t = o >> 4;
+    entry = o & 15u;
   }
   // Cavity: the triangles whose perturbed circumcircle holds q, depth first from t. It
   // is a disk with every vertex on its boundary (its triangles' adjacency is a tree),
@@ -173,14 +177,14 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
   std::uint32_t* const stack = stack_.data();
   std::size_t top = 0, bad_count = 0, boundary_count = 0;
   bad[bad_count++] = t;
-  stack[top++] = 4 * t + 2;
-  stack[top++] = 4 * t + 1;
-  std::uint32_t h = 4 * t;
+  stack[top++] = 16 * t + 2;
+  stack[top++] = 16 * t + 1;
+  std::uint32_t h = 16 * t;
   for (;;) {
-    const std::int32_t o = R[h >> 2].adj[h & 3u];
+    const std::int32_t o = twinSlot(R, h);
     if (o >= 0) {
       const auto uo = static_cast<std::uint32_t>(o);
-      const std::uint32_t u = uo >> 2;
+      const std::uint32_t u = uo >> 4;
       const Record& n = R[u];
       const double det = incircleFromCoefficients(n.k, n.apex, q);
       const double bound = bounds[n.real]; // a load, no branch
@@ -190,13 +194,13 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
         bad[bad_count++] = u;
         // The edges before e (taken later) and after e (taken now): (e + 2) % 3 and
         // (e + 1) % 3 read from 2-bit tables, no branch on e.
-        const std::uint32_t e = uo & 3u, base = uo - e;
+        const std::uint32_t e = uo & 15u, base = uo - e;
         stack[top++] = base + ((0x12u >> (2 * e)) & 3u);
         h = base + ((0x09u >> (2 * e)) & 3u);
         continue;
       }
     }
-    boundary[boundary_count++] = {V[3 * (h >> 2) + (h & 3u)], o};
+    boundary[boundary_count++] = {V[3 * (h >> 4) + (h & 15u)], o};
     if (top == 0)
       break;
     h = stack[--top];
@@ -304,15 +308,14 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
     vb = chainVertex(b);
     Record& r = R[s];
     writeTriangle(r, C[s], va, vb);
-    r.adj = {edge.second, static_cast<std::int32_t>(4 * bad[j + 1] + 2),
-             static_cast<std::int32_t>(4 * previous + 1)};
+    r.adj = {edge.second, static_cast<std::int32_t>(16 * bad[j + 1] + 2),
+             static_cast<std::int32_t>(16 * previous + 1)};
     // In the wedge: left of or on the ray through pa, right of the one through pb.
     const std::uint32_t in_wedge = va.left & (vb.left ^ 1u);
     start ^= (start ^ s) & (0u - in_wedge); // s where in the wedge, without a branch
-    if (edge.second >= 0) {
-      const auto uo = static_cast<std::uint32_t>(edge.second);
-      R[uo >> 2].adj[uo & 3u] = static_cast<std::int32_t>(4 * s);
-    }
+    if (edge.second >= 0)
+      twinSlot(R, static_cast<std::uint32_t>(edge.second)) =
+          static_cast<std::int32_t>(16 * s);
     // Stored last: beside the twins, GCC packed all four into one vector store
     // (movd and unpack instructions, more than four plain stores).
     r.real = static_cast<std::int32_t>(va.real & vb.real);

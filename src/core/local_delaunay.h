@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -62,8 +63,8 @@ struct CellWindow {
 
 /// Bowyer-Watson triangulation of one window, arrays reused from window to window.
 /// Triangle t: vertices v[3t..3t+2] (local indices, CCW), halfedge i of t goes
-/// v[3t+i] -> v[3t+(i+1)%3]; twin(t, i) is its twin as 4u + j (halfedge j of u) or -1,
-/// read from the working records (no copy-out). Local vertices 0..2 are the
+/// v[3t+i] -> v[3t+(i+1)%3]; twin(t, i) is its twin as 16u + j (halfedge j of u) or
+/// -1, read from the working records (no copy-out). Local vertices 0..2 are the
 /// super triangle; vertex k >= 3 is grid point ids[k].
 class LocalDelaunay {
  public:
@@ -90,8 +91,17 @@ class LocalDelaunay {
   void forEachFinal(const CellGrid& grid, const CellWindow& window, Wanted&& wanted,
                     Keep&& keep) const;
 
-  /// The twin of halfedge i of triangle t: 4u + j for halfedge j of triangle u, or -1.
+  /// The twin of halfedge i of triangle t: 16u + j for halfedge j of triangle u
+  /// (twinTriangle, twinEdge), or -1.
   std::int32_t twin(std::size_t t, std::uint32_t i) const { return rec_[t].adj[i]; }
+  static std::uint32_t twinTriangle(std::int32_t twin)
+  {
+    return static_cast<std::uint32_t>(twin) >> 4;
+  }
+  static std::uint32_t twinEdge(std::int32_t twin)
+  {
+    return static_cast<std::uint32_t>(twin) & 15u;
+  }
   /// Corner i of triangle t (p[v[3t + i]], from the triangle's records).
   const Point2& corner(std::size_t t, std::uint32_t i) const
   {
@@ -123,8 +133,9 @@ class LocalDelaunay {
   /// What the cavity search reads of a triangle, in one cache line: its last corner
   /// (the point whose insertion made it) and its in-circle coefficients about that
   /// corner (predicates.h, incircleCoefficients: computed once, when the triangle is
-  /// made), its twins as halfedges 4t + i (no division by 3) and whether its first two
-  /// vertices are real points (the tight bound applies; the last one always is). The
+  /// made), its twins as halfedges 16t + i (no division by 3; see twinSlot) and whether
+  /// its first two vertices are real points (the tight bound applies; the last one
+  /// always is). The
   /// first two corners' coordinates (copied: no load through the vertex ids on the
   /// walk's critical path) are in corners_, read by the walk, the exact fallback and
   /// the finality pass.
@@ -137,6 +148,19 @@ class LocalDelaunay {
   struct Corners {
     std::array<Point2, 2> p;
   };
+  /// Triangles per window: 16t + 2 must fit an int32.
+  static constexpr std::size_t MAX_TRIANGLES = std::size_t{1} << 27;
+  /// The twin slot of halfedge h = 16t + i, rec_[t].adj[i]: a record is 64 bytes, 16
+  /// int32, so the slot's address is linear in h (4h bytes past the first record's
+  /// adj): one scaled load on the cavity search's critical path instead of a shift,
+  /// mask and multiply of t and i apart.
+  static std::int32_t& twinSlot(Record* records, std::uint32_t h)
+  {
+    static_assert(sizeof(Record) == 16 * sizeof(std::int32_t), "16t + i addressing");
+    return *reinterpret_cast<std::int32_t*>(reinterpret_cast<char*>(records) +
+                                            offsetof(Record, adj) +
+                                            4 * static_cast<std::size_t>(h));
+  }
   std::vector<Record, UninitAllocator<Record>> rec_;
   std::vector<Corners, UninitAllocator<Corners>> corners_;
   std::vector<std::uint32_t> bad_, stack_;

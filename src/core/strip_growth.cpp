@@ -469,14 +469,13 @@ class Growth {
       out[0] = ids[c[0]];
       out[1] = ids[c[1]];
       out[2] = ids[c[2]];
-      // The local twins as 4u + j: triangle u's first strip halfedge plus j.
+      // The local twins, halfedge j of triangle u: u's first strip halfedge plus j.
       const std::int32_t o[3] = {dt.twin(t, 0), dt.twin(t, 1), dt.twin(t, 2)};
       for (std::uint32_t k = 0; k < 3; ++k) {
-        const HalfedgeId base = o[k] >= 0
-                                    ? twin_of[static_cast<std::uint32_t>(o[k]) >> 2]
-                                    : HalfedgeId{CLOSED};
+        const HalfedgeId base =
+            o[k] >= 0 ? twin_of[LocalDelaunay::twinTriangle(o[k])] : HalfedgeId{CLOSED};
         if (base != CLOSED)
-          halfedges[k] = base + (static_cast<std::uint32_t>(o[k]) & 3u);
+          halfedges[k] = base + LocalDelaunay::twinEdge(o[k]);
         else
           open_edges_.push_back({t, k});
       }

@@ -118,11 +118,12 @@ void triangulateBlocks(const pcl_vts::CellGrid& grid, std::uint32_t block,
           continue;
         const auto g = static_cast<std::uint32_t>(kept_as[t]);
         for (std::uint32_t e = 0; e < 3; ++e) {
-          const std::int32_t o = dt.twin(t, e); // 4u + j
-          if (o >= 0 && kept_as[static_cast<std::size_t>(o / 4)] >= 0) {
-            out.twins[3 * g + e] = 3 * static_cast<std::uint32_t>(
-                                           kept_as[static_cast<std::size_t>(o / 4)]) +
-                                   static_cast<std::uint32_t>(o % 4);
+          const std::int32_t o = dt.twin(t, e);
+          const std::uint32_t o_t =
+              o >= 0 ? pcl_vts::detail::LocalDelaunay::twinTriangle(o) : 0;
+          if (o >= 0 && kept_as[o_t] >= 0) {
+            out.twins[3 * g + e] = 3 * static_cast<std::uint32_t>(kept_as[o_t]) +
+                                   pcl_vts::detail::LocalDelaunay::twinEdge(o);
           } else {
             out.twins[3 * g + e] = pcl_vts::INVALID_ID;
             const std::uint32_t u = out.kept[g][e], w = out.kept[g][(e + 1) % 3];
