@@ -120,13 +120,14 @@ class StripMerge {
 
   /// Asked by strip s once grown: the output itself when s is the next strip to merge
   /// and no merge runs (the caller then holds the merge until grown(s)), unless its
-  /// pages would be handed back as it is copied (see appendStrip's `release`).
+  /// pages would be handed back as it is copied (see appendStrip's `release`; without
+  /// release_ none are, so every strip may take this path, the last one included).
   detail::StripSink* claim(std::uint32_t s)
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     const bool last_use = s >= reuse_end_ || taken_ >= reuse_end_;
-    if (merging_ || merged_ != s || failed_ || last_use ||
-        strips_[s].triangles.size() > release_above_)
+    if (merging_ || merged_ != s || failed_ ||
+        (release_ && (last_use || strips_[s].triangles.size() > release_above_)))
       return nullptr;
     merging_ = true;
     appended_[s] = 1;

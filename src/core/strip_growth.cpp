@@ -622,9 +622,14 @@ class Growth {
       populateAhead(sink.triangles, end - begin, populated_triangles);
       populateAhead(sink.halfedges, end - begin, populated_halfedges);
       sink.triangles.insert(sink.triangles.end(), v + begin, v + end);
+      // Copied in bulk, then each twin rewritten in place (no push_back per
+      // halfedge: its capacity check and size update cost more than the rewrite).
+      const std::size_t at = sink.halfedges.size();
+      sink.halfedges.insert(sink.halfedges.end(), h + begin, h + end);
+      HalfedgeId* const out = sink.halfedges.data() + at;
       for (std::size_t g = begin; g < end; ++g)
-        sink.halfedges.push_back(
-            ownTwin(v, h[g], static_cast<HalfedgeId>(g), shift, sink.border));
+        out[g - begin] =
+            ownTwin(v, out[g - begin], static_cast<HalfedgeId>(g), shift, sink.border);
     }
   }
 
