@@ -13,6 +13,10 @@
 #include <string>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace pcl_vts {
 
 namespace {
@@ -81,27 +85,22 @@ double smallMedian(const double* values, std::size_t size)
   return a[size / 2];
 }
 
-/// The element at index 3 of six values sorted, no NaN: the 12-comparator sorting
-/// network of six values less the compare-exchanges that do not reach index 3 (the
+/// The compare-exchanges (lo, hi) of the 12-comparator sorting network of six values
+/// less those that do not reach index 3; then index 3 is the smaller of a[3], a[4].
+constexpr std::uint8_t MEDIAN_OF_SIX[9][2] = {{0, 5}, {1, 3}, {2, 4}, {1, 2}, {3, 4},
+                                              {0, 3}, {2, 5}, {2, 3}, {4, 5}};
+
+/// The element at index 3 of six values sorted, no NaN, through MEDIAN_OF_SIX (the
 /// usual vertex row, six edges, takes it instead of smallMedian<8>'s 19).
 double medianOfSix(const double* values)
 {
   double a[6];
   std::copy(values, values + 6, a);
-  auto exchange = [&a](int lo, int hi) {
-    const double low = std::min(a[lo], a[hi]);
-    a[hi] = std::max(a[lo], a[hi]);
-    a[lo] = low;
-  };
-  exchange(0, 5);
-  exchange(1, 3);
-  exchange(2, 4);
-  exchange(1, 2);
-  exchange(3, 4);
-  exchange(0, 3);
-  exchange(2, 5);
-  exchange(2, 3);
-  exchange(4, 5);
+  for (const auto& pair : MEDIAN_OF_SIX) {
+    const double low = std::min(a[pair[0]], a[pair[1]]);
+    a[pair[1]] = std::max(a[pair[0]], a[pair[1]]);
+    a[pair[0]] = low;
+  }
   return std::min(a[3], a[4]);
 }
 
@@ -303,6 +302,127 @@ double ownMedian(const TriangleMesh& mesh, const VertexRows& rows, std::size_t v
   return medianInPlace(values);
 }
 
+#if defined(__SSE2__)
+/// The longest row ownMedians takes two vertices at a time (one per SSE2 lane).
+constexpr std::size_t MAX_LANE_ROW = 8;
+
+/// The compare-exchanges (lo, hi) of a sorting network of N values, N <= 8 (those
+/// that do not reach the median are left to the compiler to drop).
+constexpr std::uint8_t SORT_TWO[1][2] = {{0, 1}};
+constexpr std::uint8_t SORT_THREE[3][2] = {{0, 1}, {1, 2}, {0, 1}};
+constexpr std::uint8_t SORT_FOUR[5][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}};
+/// smallMedian<8>'s network (Batcher's odd-even merge sort of eight values).
+constexpr SortNetwork<8>::Table SORT_EIGHT = SortNetwork<8>::table();
+
+template <std::size_t M, std::size_t... I>
+inline void exchangeLanes(__m128d* a, const std::uint8_t (&pairs)[M][2],
+                          std::index_sequence<I...>)
+{
+  auto exchange = [a](std::size_t lo, std::size_t hi) {
+    const __m128d low = _mm_min_pd(a[lo], a[hi]);
+    a[hi] = _mm_max_pd(a[lo], a[hi]);
+    a[lo] = low;
+  };
+  (exchange(pairs[I][0], pairs[I][1]), ...);
+}
+
+template <std::size_t N, std::size_t... I>
+inline void exchangeLanes(__m128d* a, const typename SortNetwork<N>::Table& table,
+                          std::index_sequence<I...>)
+{
+  auto exchange = [a](std::size_t lo, std::size_t hi) {
+    const __m128d low = _mm_min_pd(a[lo], a[hi]);
+    a[hi] = _mm_max_pd(a[lo], a[hi]);
+    a[lo] = low;
+  };
+  (exchange(table.pairs[I].lo, table.pairs[I].hi), ...);
+}
+
+/// The element at index N / 2 of each lane's N values sorted (ownMedian's networks:
+/// min and max in the lanes pick the same values, none being NaN or -0).
+template <std::size_t N>
+inline __m128d laneMedian(__m128d* a)
+{
+  if constexpr (N == 1)
+    return a[0];
+  else if constexpr (N == 2)
+    exchangeLanes(a, SORT_TWO, std::make_index_sequence<1>());
+  else if constexpr (N == 3)
+    exchangeLanes(a, SORT_THREE, std::make_index_sequence<3>());
+  else if constexpr (N == 4)
+    exchangeLanes(a, SORT_FOUR, std::make_index_sequence<5>());
+  else if constexpr (N == 5)
+    exchangeLanes(a, MEDIAN_OF_FIVE, std::make_index_sequence<9>());
+  else if constexpr (N == 6) {
+    exchangeLanes(a, MEDIAN_OF_SIX, std::make_index_sequence<9>());
+    return _mm_min_pd(a[3], a[4]);
+  } else if constexpr (N == 7)
+    exchangeLanes(a, MEDIAN_OF_SEVEN, std::make_index_sequence<14>());
+  else {
+    static_assert(N == 8);
+    exchangeLanes<8>(a, SORT_EIGHT, std::make_index_sequence<SortNetwork<8>::size()>());
+  }
+  return a[N / 2];
+}
+
+/// ownMedian of u and w, both with rows of N entries, one per lane, into own; false,
+/// nothing written, when a squared length is NaN (ownMedian's own path then).
+template <std::size_t N, typename Index>
+inline bool laneMedians(const Point2* xy, const VertexId* ring, const Index* start,
+                        VertexId u, VertexId w, double* own, __m128d& low,
+                        __m128d& high)
+{
+  const __m128d pu = _mm_loadu_pd(&xy[u].x), pw = _mm_loadu_pd(&xy[w].x);
+  const VertexId* row_u = ring + start[u];
+  const VertexId* row_w = ring + start[w];
+  __m128d a[N];
+  __m128d nan = _mm_setzero_pd();
+#pragma GCC unroll 8
+  for (std::size_t k = 0; k < N; ++k) {
+    const __m128d du = _mm_sub_pd(pu, _mm_loadu_pd(&xy[row_u[k]].x));
+    const __m128d dw = _mm_sub_pd(pw, _mm_loadu_pd(&xy[row_w[k]].x));
+    const __m128d su = _mm_mul_pd(du, du), sw = _mm_mul_pd(dw, dw);
+    // (dx * dx of u, of w) + (dy * dy of u, of w): ownMedian's squares.
+    a[k] = _mm_add_pd(_mm_unpacklo_pd(su, sw), _mm_unpackhi_pd(su, sw));
+    nan = _mm_or_pd(nan, _mm_cmpunord_pd(a[k], a[k]));
+  }
+  if (_mm_movemask_pd(nan) != 0)
+    return false;
+  const __m128d median = _mm_sqrt_pd(laneMedian<N>(a));
+  _mm_storel_pd(own + u, median);
+  _mm_storeh_pd(own + w, median);
+  low = _mm_min_pd(low, median);
+  high = _mm_max_pd(high, median);
+  return true;
+}
+
+/// laneMedians for rows of `size` entries, 1 <= size <= MAX_LANE_ROW.
+template <typename Index>
+bool laneMedians(std::size_t size, const Point2* xy, const VertexId* ring,
+                 const Index* start, VertexId u, VertexId w, double* own, __m128d& low,
+                 __m128d& high)
+{
+  switch (size) {
+  case 1:
+    return laneMedians<1>(xy, ring, start, u, w, own, low, high);
+  case 2:
+    return laneMedians<2>(xy, ring, start, u, w, own, low, high);
+  case 3:
+    return laneMedians<3>(xy, ring, start, u, w, own, low, high);
+  case 4:
+    return laneMedians<4>(xy, ring, start, u, w, own, low, high);
+  case 5:
+    return laneMedians<5>(xy, ring, start, u, w, own, low, high);
+  case 6:
+    return laneMedians<6>(xy, ring, start, u, w, own, low, high);
+  case 7:
+    return laneMedians<7>(xy, ring, start, u, w, own, low, high);
+  default:
+    return laneMedians<8>(xy, ring, start, u, w, own, low, high);
+  }
+}
+#endif
+
 } // namespace
 
 std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
@@ -324,15 +444,67 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
   parallelChunks(parts, n, [&](std::size_t begin, std::size_t end, unsigned p) {
     std::vector<double> values; // reused across the range: no copy per vertex
     OwnStats local;
-    for (std::size_t v = begin; v < end; ++v) {
+    auto scalar = [&](std::size_t v) {
       own[v] = ownMedian(mesh, rows, v, values);
-      if (rows.begin(v) == rows.end(v))
-        continue;
       const std::uint64_t bits = bitsOf(own[v]);
       local.low = std::min(local.low, bits);
       local.high = std::max(local.high, bits);
+    };
+#if defined(__SSE2__)
+    // The vertices of a chunk listed by row size, then each size's in pairs, one per
+    // lane, through that size's network: no branch on the size per vertex.
+    rows.visitStarts([&](const auto* start) {
+      constexpr std::size_t CHUNK = 256, OTHER = MAX_LANE_ROW + 1;
+      VertexId listed[OTHER + 1][CHUNK];
+      std::size_t listed_count[OTHER + 1];
+      const VertexId* ring = rows.ring.get();
+      const Point2* xy = mesh.xy.data();
+      double* out = own.data();
+      __m128d lanes_low = _mm_set1_pd(std::numeric_limits<double>::infinity());
+      __m128d lanes_high = _mm_setzero_pd();
+      bool any_lane = false;
+      for (std::size_t first = begin; first < end; first += CHUNK) {
+        const std::size_t last = std::min(end, first + CHUNK);
+        std::fill(listed_count, listed_count + OTHER + 1, std::size_t{0});
+        for (std::size_t v = first; v < last; ++v) {
+          const std::size_t size = start[v + 1] - start[v];
+          const std::size_t slot = size < OTHER ? size : OTHER;
+          listed[slot][listed_count[slot]++] = static_cast<VertexId>(v);
+        }
+        local.count += last - first - listed_count[0];
+        for (std::size_t size = 1; size <= OTHER; ++size) {
+          const VertexId* ids = listed[size];
+          const std::size_t count = listed_count[size];
+          std::size_t k = 0;
+          if (size < OTHER) {
+            for (; k + 1 < count; k += 2)
+              if (laneMedians(size, xy, ring, start, ids[k], ids[k + 1], out, lanes_low,
+                              lanes_high))
+                any_lane = true;
+              else {
+                scalar(ids[k]);
+                scalar(ids[k + 1]);
+              }
+          }
+          for (; k < count; ++k)
+            scalar(ids[k]);
+        }
+      }
+      if (any_lane) {
+        lanes_low = _mm_min_pd(lanes_low, _mm_unpackhi_pd(lanes_low, lanes_low));
+        lanes_high = _mm_max_pd(lanes_high, _mm_unpackhi_pd(lanes_high, lanes_high));
+        local.low = std::min(local.low, bitsOf(_mm_cvtsd_f64(lanes_low)));
+        local.high = std::max(local.high, bitsOf(_mm_cvtsd_f64(lanes_high)));
+      }
+    });
+#else
+    for (std::size_t v = begin; v < end; ++v) {
+      if (rows.begin(v) == rows.end(v))
+        continue;
+      scalar(v);
       ++local.count;
     }
+#endif
     part_stats[p] = local;
   });
   if (stats != nullptr) {
