@@ -184,14 +184,13 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
     const std::int32_t o = twinSlot(R, h);
     if (o >= 0) {
       const auto uo = static_cast<std::uint32_t>(o);
-      const std::uint32_t u = uo >> 4;
-      const Record& n = R[u];
+      const Record& n = recordOf(R, uo);
       const double det = incircleFromCoefficients(n.k, n.apex, q);
       const double bound = bounds[n.real]; // a load, no branch
-      if (det > bound ||
-          (!(-det > bound) && incirclePerturbedOutOfLine(C[u].p[0], C[u].p[1], n.apex,
-                                                         q) == Sign::POSITIVE)) {
-        bad[bad_count++] = u;
+      if (det > bound || (!(-det > bound) &&
+                          incirclePerturbedOutOfLine(C[uo >> 4].p[0], C[uo >> 4].p[1],
+                                                     n.apex, q) == Sign::POSITIVE)) {
+        bad[bad_count++] = uo >> 4;
         // The edges before e (taken later) and after e (taken now): (e + 2) % 3 and
         // (e + 1) % 3 read from 2-bit tables, no branch on e.
         const std::uint32_t e = uo & 15u, base = uo - e;
@@ -210,7 +209,7 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
   // Each record is written once, its neighbours in the star known from the slots.
   boundary[boundary_count] = boundary[0]; // the chain closed
   const std::size_t first_new = triangles_;
-  triangles_ += boundary_count - bad_count;
+  triangles_ += 2;                 // boundary_count - bad_count
   if (3 * triangles_ > v.size()) { // only if the 1 + 2n count were wrong
     v.resize(6 * triangles_);
     rec_.resize(2 * triangles_);
@@ -219,8 +218,10 @@ void LocalDelaunay::insert(std::int32_t k, const Point2& next)
     R = rec_.data();
     C = corners_.data();
   }
-  for (std::size_t j = bad_count; j < boundary_count; ++j)
-    bad[j] = static_cast<std::uint32_t>(first_new + (j - bad_count));
+  // Two new slots (boundary_count is bad_count + 2), written as two: a loop over
+  // bad_count .. boundary_count compiled to a vectorised loop with its checks.
+  bad[bad_count] = static_cast<std::uint32_t>(first_new);
+  bad[bad_count + 1] = static_cast<std::uint32_t>(first_new + 1);
   bad[boundary_count] = bad[0];
   std::uint32_t previous = bad[boundary_count - 1];
   // The next walk's start: the star triangle whose wedge at q holds the next point

@@ -161,6 +161,13 @@ class LocalDelaunay {
                                             offsetof(Record, adj) +
                                             4 * static_cast<std::size_t>(h));
   }
+  /// The record of the triangle of halfedge h = 16t + i: 64t bytes are 4 (h - i)
+  /// bytes, a mask and a scaled index instead of a shift and a multiply.
+  static Record& recordOf(Record* records, std::uint32_t h)
+  {
+    return *reinterpret_cast<Record*>(reinterpret_cast<char*>(records) +
+                                      4 * static_cast<std::size_t>(h & ~15u));
+  }
   std::vector<Record, UninitAllocator<Record>> rec_;
   std::vector<Corners, UninitAllocator<Corners>> corners_;
   std::vector<std::uint32_t> bad_, stack_;

@@ -296,6 +296,10 @@ Sign incircleExact(const Point2& a, const Point2& b, const Point2& c, const Poin
 
 Sign orient2dOutOfLine(Point2 a, Point2 b, Point2 c)
 {
+  // orient2dExact's first case before the dynamic filter: the box filters' callers
+  // (the cache blocks' walk) meet it on every lattice row and column.
+  if ((a.x == c.x || b.y == c.y) && (a.y == c.y || b.x == c.x))
+    return Sign::ZERO;
   return orient2d(a, b, c);
 }
 
