@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #if defined(__SSE2__)
@@ -163,15 +164,16 @@ Status checkCorners(const TriangleMesh& mesh)
   return Status::success();
 }
 
-bool VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary)
+bool VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary,
+                       std::vector<double>* need, double edge_limit2)
 {
   // A row entry per halfedge, two for a boundary one.
   if (boundary != nullptr)
     boundary->clear();
   const bool built =
       2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max()
-          ? fill(mesh, start32_, boundary)
-          : fill(mesh, start64_, boundary);
+          ? fill(mesh, start32_, boundary, need, edge_limit2)
+          : fill(mesh, start64_, boundary, need, edge_limit2);
   if (!built && boundary != nullptr)
     boundary->clear();
   return built;
@@ -179,7 +181,8 @@ bool VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* bounda
 
 template <typename Index>
 bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
-                      std::vector<HalfedgeId>* boundary)
+                      std::vector<HalfedgeId>* boundary, std::vector<double>* need,
+                      double edge_limit2)
 {
   const std::size_t n = mesh.vertexCount();
   const std::size_t corners = mesh.triangles.size();
@@ -206,6 +209,9 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
   for (std::size_t e = corners - corners % 3; e < corners; ++e)
     if (corner[e] >= n)
       return false; // a corner past the last triangle (not counted)
+  // A bit per triangle with an edge without twin: the scatter reads the twins of
+  // those alone (a 64th of the twins' bytes otherwise streamed again).
+  std::vector<std::uint64_t> open_triangles((corners / 3 + 63) / 64, 0);
   for (std::size_t e = 0; e + 2 < corners; e += 3) {
     const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
     if (std::max(a, std::max(b, c)) >= n)
@@ -213,7 +219,9 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     ++count[a];
     ++count[b];
     ++count[c];
-    if (twin[e] == INVALID_ID || twin[e + 1] == INVALID_ID || twin[e + 2] == INVALID_ID)
+    if (twin[e] == INVALID_ID || twin[e + 1] == INVALID_ID ||
+        twin[e + 2] == INVALID_ID) {
+      open_triangles[e / 3 / 64] |= std::uint64_t{1} << (e / 3 % 64);
       for (std::size_t k = e; k < e + 3; ++k)
         if (twin[k] == INVALID_ID) { // boundary edge: seen from one side only
           ++count[corner[nextHalfedge(static_cast<HalfedgeId>(k))]];
@@ -221,6 +229,7 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
           if (boundary != nullptr)
             boundary->push_back(static_cast<HalfedgeId>(k));
         }
+    }
   }
   start.resize(n + 1);
   std::size_t sum = 0;
@@ -246,21 +255,72 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
   // fetched AHEAD triangles before (the scatter otherwise waits on the writes'
   // cache misses; jittered 1e6: 16 -> 11 ms).
   constexpr std::size_t AHEAD = 3 * 64;
-  for (std::size_t e = 0; e + 2 < corners; e += 3) {
-    if (e + AHEAD + 2 < corners)
-      for (std::size_t k = e + AHEAD; k < e + AHEAD + 3; ++k)
-        __builtin_prefetch(ring.get() + start[corner[k]], 1);
-    const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
-    ring[--start[a]] = b;
-    if (twin[e] == INVALID_ID)
-      ring[--start[b]] = a;
-    ring[--start[b]] = c;
-    if (twin[e + 1] == INVALID_ID)
-      ring[--start[c]] = b;
-    ring[--start[c]] = a;
-    if (twin[e + 2] == INVALID_ID)
-      ring[--start[a]] = c;
-  }
+  auto scatter = [&](auto with_need) {
+    constexpr bool NEED = decltype(with_need)::value;
+    double* needs = NEED ? need->data() : nullptr;
+    const Point2* xy = mesh.xy.data();
+    const std::uint64_t* open_bits = open_triangles.data();
+    VertexId* row = ring.get();
+    Index* first = start.data();
+    for (std::size_t e = 0, t = 0; e + 2 < corners; e += 3, ++t) {
+      if (e + AHEAD + 2 < corners) {
+        const VertexId pa = corner[e + AHEAD], pb = corner[e + AHEAD + 1],
+                       pc = corner[e + AHEAD + 2];
+        __builtin_prefetch(row + first[pa], 1);
+        __builtin_prefetch(row + first[pb], 1);
+        __builtin_prefetch(row + first[pc], 1);
+        if constexpr (NEED) {
+          __builtin_prefetch(needs + pa, 1);
+          __builtin_prefetch(needs + pb, 1);
+          __builtin_prefetch(needs + pc, 1);
+          __builtin_prefetch(xy + pa);
+          __builtin_prefetch(xy + pb);
+          __builtin_prefetch(xy + pc);
+        }
+      }
+      const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
+      if (((open_bits[t / 64] >> (t % 64)) & 1u) == 0) {
+        row[--first[a]] = b;
+        row[--first[b]] = c;
+        row[--first[c]] = a;
+      } else {
+        row[--first[a]] = b;
+        if (twin[e] == INVALID_ID)
+          row[--first[b]] = a;
+        row[--first[b]] = c;
+        if (twin[e + 1] == INVALID_ID)
+          row[--first[c]] = b;
+        row[--first[c]] = a;
+        if (twin[e + 2] == INVALID_ID)
+          row[--first[a]] = c;
+      }
+      if constexpr (NEED) {
+        // The float bits of non-negative values order as the values.
+        const std::uint32_t t_need =
+            Clearance::roundedUp(Clearance::need(xy[a], xy[b], xy[c], edge_limit2));
+        const std::uint64_t id = std::uint64_t{t} << 32;
+        auto update = [&](VertexId v) {
+          std::uint64_t slot = 0;
+          std::memcpy(&slot, needs + v, sizeof slot);
+          slot = id | std::max(static_cast<std::uint32_t>(slot), t_need);
+          std::memcpy(needs + v, &slot, sizeof slot);
+        };
+        update(a);
+        update(b);
+        update(c);
+      }
+    }
+  };
+  if (need != nullptr) {
+    if (need->capacity() < n) {
+      std::vector<double>().swap(*need);
+      need->reserve(n);
+      detail::populatePages(need->data(), need->data() + n);
+    }
+    need->assign(n, 0.0);
+    scatter(std::true_type{});
+  } else
+    scatter(std::false_type{});
   start[n] = total;
   return true;
 }
@@ -650,10 +710,11 @@ inline double rowLowerBound(const double* own, const VertexId* ring, std::size_t
 
 void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
                      const OwnStats& stats, unsigned threads,
-                     std::vector<double>& bound, MedianSelection* histogram)
+                     std::vector<double>& bound, MedianSelection* histogram,
+                     ClearedVertices* cleared)
 {
   const std::size_t n = own.size();
-  if (bound.capacity() < n) {
+  if (cleared == nullptr && bound.capacity() < n) {
     std::vector<double>().swap(bound);
     bound.reserve(n);
     detail::populatePages(bound.data(), bound.data() + n);
@@ -661,11 +722,18 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
   bound.resize(n);
   const bool count = histogram != nullptr && histogramFits(stats);
   const unsigned shift = count ? bucketShift(stats.low, stats.high) : 0;
+  const std::size_t words = (n + 63) / 64;
+  if (cleared != nullptr)
+    cleared->bits.assign(words, 0);
   const auto parts = static_cast<unsigned>(
       std::min<std::size_t>(threads, std::max<std::size_t>(1, n >> 16)));
-  // One histogram per range, summed after (the same counts on any threads).
+  // One histogram per range, summed after (the same counts on any threads). The
+  // ranges are of 64 vertices (a word of cleared bits each).
   std::vector<std::vector<std::size_t>> part_counts(count ? parts : 0);
-  parallelChunks(parts, n, [&](std::size_t begin, std::size_t end, unsigned p) {
+  std::vector<std::vector<std::pair<VertexId, TriangleId>>> uncleared(
+      cleared != nullptr ? parts : 0);
+  parallelChunks(parts, words, [&](std::size_t first, std::size_t last, unsigned p) {
+    const std::size_t begin = 64 * first, end = std::min(n, 64 * last);
     std::size_t* buckets = nullptr;
     if (count) {
       part_counts[p].assign(std::size_t{1} << BUCKET_BITS, 0);
@@ -676,13 +744,38 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
       const VertexId* ring = rows.ring.get();
       const double* values = own.data();
       double* out = bound.data();
+      if (cleared == nullptr) {
+        for (std::size_t v = begin; v < end; ++v) {
+          out[v] = rowLowerBound(values, ring, v, start[v], start[v + 1]);
+          if (buckets != nullptr && start[v] != start[v + 1])
+            ++buckets[(bitsOf(values[v]) - stats.low) >> shift];
+        }
+        return;
+      }
+      const double factor = cleared->trim_factor;
+      std::uint64_t* bits = cleared->bits.data();
+      std::vector<std::pair<VertexId, TriangleId>>& left = uncleared[p];
       for (std::size_t v = begin; v < end; ++v) {
+        const std::uint64_t slot = Clearance::slot(out[v]);
+        const double need = Clearance::slotNeed(slot);
         out[v] = rowLowerBound(values, ring, v, start[v], start[v + 1]);
+        const double limit = factor * out[v];
+        const bool clear = (limit >= Clearance::LOW) & (limit <= Clearance::HIGH) &
+                           (need <= limit * limit * Clearance::MARGIN);
+        bits[v / 64] |= std::uint64_t{clear} << (v % 64);
+        if (__builtin_expect(!clear && start[v] != start[v + 1], 0))
+          left.emplace_back(static_cast<VertexId>(v),
+                            static_cast<TriangleId>(slot >> 32));
         if (buckets != nullptr && start[v] != start[v + 1])
           ++buckets[(bitsOf(values[v]) - stats.low) >> shift];
       }
     });
   });
+  if (cleared != nullptr) {
+    cleared->uncleared.clear();
+    for (const auto& part : uncleared)
+      cleared->uncleared.insert(cleared->uncleared.end(), part.begin(), part.end());
+  }
   if (!count)
     return;
   *histogram = MedianSelection{};

@@ -11,8 +11,13 @@
 #include <pcl_vts/core/point_spacing.h>
 #include <pcl_vts/core/trim_outward_triangles.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace pcl_vts::detail {
@@ -74,14 +79,86 @@ struct VertexSpacing {
 /// success when there is none.
 Status checkCorners(const TriangleMesh& mesh);
 
+/// The trim's vertex-level clearance (classifyTriangles in
+/// trim_outward_triangles.cpp, where the proof is): the range of the figures it
+/// trusts and its relative margin, far above their rounding errors.
+struct Clearance {
+  static constexpr double LOW = 1e-60, HIGH = 1e60, MARGIN = 1.0 - 1e-12;
+  /// The squared limit triangle abc needs: the largest of its squared edges and its
+  /// squared circumradius (the product of the squared edges over four squared
+  /// areas), as computed; +inf when a figure lies outside [LOW, HIGH] or is NaN, or
+  /// the longest squared edge exceeds edge_limit2 (max_edge squared times MARGIN,
+  /// +inf without max_edge).
+  static double need(const Point2& a, const Point2& b, const Point2& c,
+                     double edge_limit2);
+  /// need as a float rounded up (its IEEE bits): need <= the float's value, +inf
+  /// beyond the float range. need is never NaN, so the bits order as the values.
+  static std::uint32_t roundedUp(double need)
+  {
+    const auto f = static_cast<float>(need);
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &f, sizeof bits);
+    // The next float up of a non-negative float is its bits plus one (FLT_MAX's is
+    // +inf's).
+    return bits + (static_cast<double>(f) < need ? 1u : 0u);
+  }
+  /// A vertex's slot of VertexRows::build's `need`: the largest roundedUp of its
+  /// triangles in the low 32 bits, the last of its triangles in the high ones.
+  static std::uint64_t slot(double stored)
+  {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &stored, sizeof bits);
+    return bits;
+  }
+  static float slotNeed(std::uint64_t slot)
+  {
+    const auto low = static_cast<std::uint32_t>(slot);
+    float f = 0.0F;
+    std::memcpy(&f, &low, sizeof f);
+    return f;
+  }
+};
+
+inline double Clearance::need(const Point2& a, const Point2& b, const Point2& c,
+                              double edge_limit2)
+{
+  // classifyTriangles' figures, computed as there (same operations, same order).
+  auto square = [](const Point2& u, const Point2& w) {
+    const double dx = u.x - w.x, dy = u.y - w.y;
+    return dx * dx + dy * dy;
+  };
+  const double ab = square(a, b), bc = square(b, c), ca = square(c, a);
+  const double twice_area =
+      std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+  const double longest = std::max(std::max(ab, bc), ca);
+  // min and max may pass over a NaN, but then the product or the area is NaN and
+  // so is the figure returned, which the last test turns into +inf.
+  const double low = std::min(std::min(ab, bc), std::min(ca, twice_area));
+  const double high = std::max(std::max(ab, bc), std::max(ca, twice_area));
+  const double product = ab * bc * ca, areas = 4.0 * twice_area * twice_area;
+  // The squared circumradius exceeds the longest squared edge only past an angle
+  // of 150 degrees: the division is left to those (and need >= longest always).
+  const double need =
+      product <= areas * longest ? longest : std::max(longest, product / areas);
+  constexpr double INF = std::numeric_limits<double>::infinity();
+  return (low >= LOW) & (high <= HIGH) & (longest <= edge_limit2) &
+                 (need <= std::numeric_limits<double>::max())
+             ? need
+             : INF;
+}
+
 /// Each vertex's row of neighbours, measurePointSpacing's rule: the ends of the
 /// halfedges leaving it and the starts of the boundary halfedges entering it.
 class VertexRows {
  public:
   /// With `boundary`, also lists the halfedges without twin, in increasing order.
   /// False, the rows left unbuilt, when a triangle corner is not a vertex id (checked
-  /// in the count pass: no pass of its own over the corners).
-  bool build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary = nullptr);
+  /// in the count pass: no pass of its own over the corners). With `need`, also per
+  /// vertex the largest Clearance::need(edge_limit2) of its triangles (0 for none),
+  /// rounded up to a float, and one of its triangles, in its slot (Clearance::slot),
+  /// in the scatter that visits every triangle anyway.
+  bool build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary = nullptr,
+             std::vector<double>* need = nullptr, double edge_limit2 = 0.0);
   std::size_t begin(std::size_t v) const
   {
     return start64_.empty() ? start32_[v] : start64_[v];
@@ -102,7 +179,8 @@ class VertexRows {
  private:
   template <typename Index>
   bool fill(const TriangleMesh& mesh, std::vector<Index>& start,
-            std::vector<HalfedgeId>* boundary);
+            std::vector<HalfedgeId>* boundary, std::vector<double>* need,
+            double edge_limit2);
   std::vector<std::uint32_t> start32_; ///< while the entries fit 32 bits
   std::vector<std::size_t> start64_;
 };
@@ -124,12 +202,25 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
 double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
                       MedianSelection* keep = nullptr);
 
+/// The vertices ringLowerBounds clears: a bit per vertex (bit v % 64 of word v / 64).
+struct ClearedVertices {
+  double trim_factor = 0.0;
+  std::vector<std::uint64_t> bits;
+  /// The vertices with a non-empty row left uncleared, each with one of its
+  /// triangles, in increasing order.
+  std::vector<std::pair<VertexId, TriangleId>> uncleared;
+};
+
 /// ringLowerBound of every vertex into bound, on `threads` threads; with histogram,
 /// also the histogram of own over the vertices with a non-empty row that
 /// medianOverRows would count for these stats (ownMedians'), else it is left empty.
+/// With cleared, bound holds on entry each vertex's slot (VertexRows::build), and
+/// v's bit is set when its need <= (trim_factor * bound)^2 * Clearance::MARGIN with
+/// trim_factor * bound in Clearance's range (classifyTriangles).
 void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
                      const OwnStats& stats, unsigned threads,
-                     std::vector<double>& bound, MedianSelection* histogram);
+                     std::vector<double>& bound, MedianSelection* histogram,
+                     ClearedVertices* cleared = nullptr);
 
 /// medianOverRows from the histogram ringLowerBounds built (keeping its selection
 /// in it), or by medianOverRows when it built none.

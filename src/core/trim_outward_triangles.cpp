@@ -9,15 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace pcl_vts {
 
@@ -287,21 +282,58 @@ std::size_t repairPinches(const TriangleMesh& mesh, const std::vector<TriangleId
 }
 
 /// OVERSIZED / VOID_SEED per triangle, against the largest local spacing of its
-/// corners, and the flood's starts (floodStarts' order). A triangle no larger than
-/// trim_factor times the largest ringLowerBound of its corners (a lower bound of
-/// their local spacing) is not oversized, with classifyTriangle's own figures; only
-/// the others need the local medians, and those of their corners alone are
-/// computed. Each triangle its own slot, on any threads. The pass of the ring bounds
-/// also counts the global median's histogram (ringLowerBounds).
+/// corners, and the flood's starts (floodStarts' order). A triangle with a cleared
+/// corner (below), or no larger than trim_factor times the largest ringLowerBound
+/// of its corners (a lower bound of their local spacing), is not oversized, with
+/// classifyTriangle's own figures; only the others need the local medians, and
+/// those of their corners alone are computed. Each triangle its own slot, on any
+/// threads. The pass of the ring bounds also counts the global median's histogram
+/// and clears the vertices (ringLowerBounds). scale: each vertex's need
+/// (VertexRows::build with edge_limit2 = max_edge^2 * Clearance::MARGIN, +inf
+/// without max_edge) on entry.
+///
+/// Vertex clearance. For triangle t = abc, need(t) (Clearance::need) is the
+/// computed max(longest squared edge L2, squared circumradius R2 = P / (4 T^2), P
+/// the product of the squared edges, T twice the area), +inf when a figure lies
+/// outside [1e-60, 1e60] or is NaN or L2 > edge_limit2; S(v), the largest need of
+/// v's triangles, each rounded up to a float (+inf past the float range), so S(v)
+/// >= need(t) for every t at v (the scatter of the rows computes it). v is cleared
+/// when, B(v) being its ringLowerBound and lim = fl(trim_factor * B(v)) in [1e-60,
+/// 1e60], S(v) <= fl(fl(lim * lim) * MARGIN), MARGIN = 1 - 1e-12 (ringLowerBounds).
+/// Claim: a triangle t with a cleared corner a is not
+/// oversized by classifyTriangle(a, b, c, scale(t)), scale(t) the largest local
+/// median of its corners. Let u = 2^-53. need(t) <= S(a) <= lim^2 (1 - 1e-12)
+/// (1 + u)^2 < lim^2 (1 - 9e-13). (1) classifyTriangle's lengths are the correctly
+/// rounded roots of the same computed squares (same operations, -ffp-contract=off),
+/// so its longest edge is fl(sqrt(L2)) <= lim, as sqrt(L2) < lim and lim is a
+/// double; and lim = fl(f B(a)) <= fl(f local(a)) <= fl(f scale(t)) (B(a) <=
+/// local(a) <= scale(t), rounding is monotone): not over the factor's limit. (2)
+/// Its radius, three roots, two products and a quotient of the same figures, is at
+/// most sqrt(P) / (2T) (1 + u)^6; when need(t) took L2 (fl(P) <= fl(fl(4 T^2) *
+/// L2)), P <= 4 T^2 L2 (1 + u)^5, else need(t) >= P / (4 T^2) (1 + u)^-5; either
+/// way sqrt(P) / (2T) <= sqrt(need(t)) (1 + u)^3, and the radius is below lim
+/// (1 - 4e-13) < lim. (3) With max_edge, L2 <= fl(fl(max_edge^2) * MARGIN) <
+/// max_edge^2, so fl(sqrt(L2)) <= max_edge. The range keeps every product and
+/// quotient (at most 1e300, at least 1e-240) normal and finite, so the relative
+/// bounds hold. The figures are the per-triangle clearance's below (the same
+/// proof with scale(t)'s largest ring bound); triangles with no cleared corner take
+/// it, then classifyTriangle. They are found in the fans of the uncleared vertices
+/// (hull, voids: few), each from one triangle ringLowerBounds lists, so no pass
+/// reads every triangle here; the flags and the hard list are the same as a test of
+/// every triangle would give (a cleared triangle is never oversized), in triangle
+/// order.
 std::vector<std::uint8_t>
 classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
                   const std::vector<double>& own, const detail::OwnStats& stats,
                   const TrimOptions& options, unsigned threads,
-                  std::vector<TriangleId>& starts, detail::MedianSelection& histogram)
+                  std::vector<TriangleId>& starts, detail::MedianSelection& histogram,
+                  std::vector<double>& scale)
 {
   const std::size_t count = mesh.triangleCount();
-  std::vector<double> scale; // ringLowerBound, then the local median where needed
-  detail::ringLowerBounds(rows, own, stats, threads, scale, &histogram);
+  // scale: the needs, then ringLowerBound, then the local median where needed.
+  detail::ClearedVertices cleared;
+  cleared.trim_factor = options.trim_factor;
+  detail::ringLowerBounds(rows, own, stats, threads, scale, &histogram, &cleared);
   const std::size_t n = scale.size();
   auto corner = [&](TriangleId t, unsigned k) -> const Point2& {
     return mesh.xy[mesh.triangles[3 * std::size_t{t} + k]];
@@ -315,64 +347,107 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
   // The triangles the bound does not clear, per range in triangle order.
   const auto parts = static_cast<unsigned>(
       std::min<std::size_t>(threads, std::max<std::size_t>(1, count >> 16)));
-  // A triangle is cleared without a root or a division when its squared edges and
-  // squared circumradius (the product of the squared edges over four squared areas,
-  // the same area classifyTriangle computes) are below the squared limits by a
-  // relative margin far above their rounding errors (a few units in the last
-  // place), all figures in a range where no product overflows or loses precision;
-  // any other triangle (near the limits, tiny or huge, NaN) takes classifyTriangle.
+  // A triangle without a cleared corner is cleared without a root or a division
+  // when its squared edges and squared circumradius (the product of the squared
+  // edges over four squared areas, the same area classifyTriangle computes) are
+  // below the squared limits by a relative margin far above their rounding errors (a
+  // few units in the last place), all figures in a range where no product overflows
+  // or loses precision; any other triangle (near the limits, tiny or huge, NaN)
+  // takes classifyTriangle.
   const double max_edge2 = options.max_edge > 0.0
                                ? options.max_edge * options.max_edge
                                : std::numeric_limits<double>::infinity();
-  std::vector<std::vector<TriangleId>> unclear(parts);
-  parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
-    constexpr double LOW = 1e-60, HIGH = 1e60, MARGIN = 1.0 - 1e-12;
-    // The corners' bounds and points are read a few triangles ahead (a triangle's
-    // corners are far apart in the vertex arrays; the loads would otherwise wait).
-    constexpr std::size_t AHEAD = 16;
+  constexpr double LOW = detail::Clearance::LOW, HIGH = detail::Clearance::HIGH,
+                   MARGIN = detail::Clearance::MARGIN;
+  const VertexId* ids = mesh.triangles.data();
+  const std::uint64_t* cleared_bits = cleared.bits.data();
+  auto clear = [cleared_bits](VertexId v) {
+    return (cleared_bits[v / 64] >> (v % 64)) & 1u;
+  };
+  const Point2* xy = mesh.xy.data();
+  const double* bound = scale.data();
+  const double factor = options.trim_factor, edge_limit2 = max_edge2 * MARGIN;
+  // Triangle t without a cleared corner: onto `mine` when the bound does not clear
+  // it and classifyTriangle finds it oversized against the bound.
+  auto examine = [&](std::size_t t, std::vector<TriangleId>& mine) {
     auto square = [](const Point2& u, const Point2& w) {
       const double dx = u.x - w.x, dy = u.y - w.y;
       return dx * dx + dy * dy;
     };
-    const VertexId* corners = mesh.triangles.data();
-    const Point2* xy = mesh.xy.data();
-    const double* bound = scale.data();
-    const double factor = options.trim_factor, edge_limit2 = max_edge2 * MARGIN;
-    std::vector<TriangleId>& mine = unclear[p];
-    for (std::size_t t = begin; t < end; ++t) {
-      if (t + AHEAD < end)
-        for (std::size_t k = 3 * (t + AHEAD); k < 3 * (t + AHEAD) + 3; ++k) {
-          __builtin_prefetch(bound + corners[k]);
-          __builtin_prefetch(xy + corners[k]);
-        }
-      const VertexId ia = corners[3 * t], ib = corners[3 * t + 1],
-                     ic = corners[3 * t + 2];
-      double corner_scale = 0.0; // largest's order
-      corner_scale = std::max(corner_scale, bound[ia]);
-      corner_scale = std::max(corner_scale, bound[ib]);
-      corner_scale = std::max(corner_scale, bound[ic]);
-      const Point2 &a = xy[ia], &b = xy[ib], &c = xy[ic];
-      const double ab = square(a, b), bc = square(b, c), ca = square(c, a);
-      const double twice_area =
-          std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
-      const double limit = factor * corner_scale;
-      const double limit2 = limit * limit * MARGIN;
-      const double longest = std::max({ab, bc, ca});
-      // Every condition evaluated (no branch per condition; out of range, the
-      // others' figures are not used), the range test on the smallest and the
-      // largest figure: min and max may pass over a NaN, but a NaN figure makes the
-      // last comparison false anyway.
-      const double low =
-          std::min(std::min(ab, bc), std::min(ca, std::min(twice_area, limit)));
-      const double high =
-          std::max(std::max(ab, bc), std::max(ca, std::max(twice_area, limit)));
-      const bool cleared = (low >= LOW) & (high <= HIGH) & (longest <= limit2) &
-                           (longest <= edge_limit2) &
-                           (ab * bc * ca <= 4.0 * twice_area * twice_area * limit2);
-      if (!cleared && classifyTriangle(a, b, c, corner_scale, options).oversized)
-        mine.push_back(static_cast<TriangleId>(t));
+    const VertexId ia = ids[3 * t], ib = ids[3 * t + 1], ic = ids[3 * t + 2];
+    double corner_scale = 0.0; // largest's order
+    corner_scale = std::max(corner_scale, bound[ia]);
+    corner_scale = std::max(corner_scale, bound[ib]);
+    corner_scale = std::max(corner_scale, bound[ic]);
+    const Point2 &a = xy[ia], &b = xy[ib], &c = xy[ic];
+    const double ab = square(a, b), bc = square(b, c), ca = square(c, a);
+    const double twice_area =
+        std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+    const double limit = factor * corner_scale;
+    const double limit2 = limit * limit * MARGIN;
+    const double longest = std::max({ab, bc, ca});
+    // Every condition evaluated (no branch per condition; out of range, the
+    // others' figures are not used), the range test on the smallest and the
+    // largest figure: min and max may pass over a NaN, but a NaN figure makes the
+    // last comparison false anyway.
+    const double low =
+        std::min(std::min(ab, bc), std::min(ca, std::min(twice_area, limit)));
+    const double high =
+        std::max(std::max(ab, bc), std::max(ca, std::max(twice_area, limit)));
+    const bool cleared_here = (low >= LOW) & (high <= HIGH) & (longest <= limit2) &
+                              (longest <= edge_limit2) &
+                              (ab * bc * ca <= 4.0 * twice_area * twice_area * limit2);
+    if (!cleared_here && classifyTriangle(a, b, c, corner_scale, options).oversized)
+      mine.push_back(static_cast<TriangleId>(t));
+  };
+  // The triangles without a cleared corner are in the fans of the uncleared
+  // vertices: each from the fan of its smallest corner, when every such fan, walked
+  // from the triangle ringLowerBounds kept, holds all the vertex's triangles (its
+  // row's count: a triangle per halfedge leaving it, one more for an open fan) and
+  // they are few; else a pass over every triangle tests its corners' bits.
+  std::vector<std::vector<TriangleId>> unclear(parts);
+  bool fans = cleared.uncleared.size() <= count / 32;
+  if (fans) {
+    std::vector<TriangleId> fan, found;
+    for (const auto& [v, t0] : cleared.uncleared) {
+      HalfedgeId out = 3 * t0;
+      while (out < 3 * t0 + 3 && ids[out] != v)
+        ++out;
+      if (out == 3 * t0 + 3) {
+        fans = false;
+        break;
+      }
+      bool closed = false;
+      fanOf(mesh, out, closed, fan);
+      if (fan.size() + (closed ? 0 : 1) != rows.end(v) - rows.begin(v)) {
+        fans = false;
+        break;
+      }
+      for (const TriangleId t : fan) {
+        const VertexId ia = ids[3 * std::size_t{t}], ib = ids[3 * std::size_t{t} + 1],
+                       ic = ids[3 * std::size_t{t} + 2];
+        if (std::min(ia, std::min(ib, ic)) == v &&
+            (clear(ia) | clear(ib) | clear(ic)) == 0)
+          found.push_back(t);
+      }
     }
-  });
+    if (fans) {
+      std::sort(found.begin(), found.end());
+      found.erase(std::unique(found.begin(), found.end()), found.end());
+      for (const TriangleId t : found)
+        examine(t, unclear[0]);
+    }
+  }
+  if (!fans)
+    parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
+      std::vector<TriangleId>& mine = unclear[p];
+      mine.clear();
+      for (std::size_t t = begin; t < end; ++t) {
+        const VertexId ia = ids[3 * t], ib = ids[3 * t + 1], ic = ids[3 * t + 2];
+        if ((clear(ia) | clear(ib) | clear(ic)) == 0)
+          examine(t, mine);
+      }
+    });
   std::vector<TriangleId> hard;
   for (const std::vector<TriangleId>& part : unclear)
     hard.insert(hard.end(), part.begin(), part.end());
@@ -417,12 +492,12 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
 /// Drops the removed triangles: the survivors keep their order, twins are remapped.
 /// A survivor's new id is its id less the removed triangles before it: the same for
 /// a run of survivors between two removed triangles, and for a twin into the run
-/// (one unsigned comparison, four twins at a time); a twin elsewhere counts them from a
-/// bit per triangle and a prefix count per 64 of them (cache-resident, unlike an id per
-/// triangle). In place, on contiguous ranges of triangles (one per thread): a survivor
-/// only moves down, over triangles already moved or dropped. The first survivors of a
-/// range whose new place lies in an earlier range are set aside while every range moves
-/// its others within itself, then written: no range writes where another reads.
+/// (two comparisons); a twin elsewhere counts them from a bit per triangle and a
+/// prefix count per 64 of them (cache-resident, unlike an id per triangle). In place,
+/// on contiguous ranges of triangles (one per thread): a survivor only moves down, over
+/// triangles already moved or dropped. The first survivors of a range whose new place
+/// lies in an earlier range are set aside while every range moves its others within
+/// itself, then written: no range writes where another reads.
 void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped,
                       unsigned threads, std::vector<HalfedgeId>* boundary)
 {
@@ -489,70 +564,30 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
       const std::size_t first = j > 0 ? 3 * std::size_t{removed_at[j - 1]} + 3 : 0;
       const std::size_t size =
           (j < removed_count ? 3 * std::size_t{removed_at[j]} : 3 * count) - first;
-      // The new twin of halfedge h's, h - 3 * shift: a twin outside the run takes
-      // new_id, and lists h - 3 * shift among the open edges when it has none.
-      auto remap = [&](std::size_t h) {
-        const HalfedgeId twin = twins[h];
-        if (std::size_t{twin} - first < size)
-          return static_cast<HalfedgeId>(twin - 3 * shift);
-        const TriangleId across = twin == INVALID_ID ? INVALID_ID : new_id(twin / 3);
-        if (across == INVALID_ID && open != nullptr)
-          open->push_back(static_cast<HalfedgeId>(h - 3 * shift));
-        return across == INVALID_ID ? INVALID_ID : 3 * across + twin % 3;
-      };
-      // The survivors whose new place lies before the range: set aside.
-      for (; t < stop && t - shift < begin; ++t) {
-        Moved moved{static_cast<TriangleId>(t - shift), {}, {}};
+      for (; t < stop; ++t) {
+        const std::size_t to = t - shift;
+        Moved moved{static_cast<TriangleId>(to), {}, {}};
         for (std::size_t k = 0; k < 3; ++k) {
+          const HalfedgeId twin = twins[3 * t + k];
           moved.corners[k] = corners[3 * t + k];
-          moved.twins[k] = remap(3 * t + k);
+          if (std::size_t{twin} - first < size) {
+            moved.twins[k] = static_cast<HalfedgeId>(twin - 3 * shift);
+            continue;
+          }
+          const TriangleId across = twin == INVALID_ID ? INVALID_ID : new_id(twin / 3);
+          moved.twins[k] = across == INVALID_ID ? INVALID_ID : 3 * across + twin % 3;
+          if (across == INVALID_ID && open != nullptr)
+            open->push_back(static_cast<HalfedgeId>(3 * to + k));
         }
-        aside[p].push_back(moved);
-      }
-      if (t == stop)
-        continue;
-      // The rest of the run moves down by shift as a block, its halfedges in order
-      // (each read before its new place, at or before it, is written).
-      const std::size_t h_begin = 3 * t, h_end = 3 * stop, delta = 3 * shift;
-      std::size_t h = h_begin;
-#if defined(__SSE2__)
-      // Four halfedges at a time: their corners, and their twins when all four lie
-      // in the run (unsigned comparison of twin - first with size, through the
-      // sign bit). Both arrays are fetched AHEAD entries ahead (jittered 1e6:
-      // 7.3-8.0 ms against 9.2 without).
-      const __m128i bias = _mm_set1_epi32(std::numeric_limits<std::int32_t>::min());
-      const __m128i first4 = _mm_set1_epi32(static_cast<std::int32_t>(first));
-      const __m128i size4 = _mm_xor_si128(
-          bias,
-          _mm_set1_epi32(static_cast<std::int32_t>(static_cast<std::uint32_t>(size))));
-      const __m128i delta4 = _mm_set1_epi32(static_cast<std::int32_t>(delta));
-      constexpr std::size_t AHEAD = 512;
-      const std::size_t halfedge_count = 3 * count;
-      for (; h + 4 <= h_end; h += 4) {
-        const std::size_t ahead = std::min(h + AHEAD, halfedge_count - 1);
-        __builtin_prefetch(twins + ahead);
-        __builtin_prefetch(corners + ahead);
-        _mm_storeu_si128(
-            reinterpret_cast<__m128i*>(corners + h - delta),
-            _mm_loadu_si128(reinterpret_cast<const __m128i*>(corners + h)));
-        const __m128i twin4 =
-            _mm_loadu_si128(reinterpret_cast<const __m128i*>(twins + h));
-        const __m128i inside =
-            _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(twin4, first4), bias), size4);
-        if (_mm_movemask_epi8(inside) == 0xffff) {
-          _mm_storeu_si128(reinterpret_cast<__m128i*>(twins + h - delta),
-                           _mm_sub_epi32(twin4, delta4));
+        if (to < begin) {
+          aside[p].push_back(moved);
           continue;
         }
-        for (std::size_t k = h; k < h + 4; ++k)
-          twins[k - delta] = remap(k);
+        for (std::size_t k = 0; k < 3; ++k) {
+          corners[3 * to + k] = moved.corners[k];
+          twins[3 * to + k] = moved.twins[k];
+        }
       }
-#endif
-      for (; h < h_end; ++h) {
-        corners[h - delta] = corners[h];
-        twins[h - delta] = remap(h);
-      }
-      t = stop;
     }
   });
   for (const std::vector<Moved>& part : aside)
@@ -604,7 +639,12 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // removes nothing, else the compaction lists them.
   std::vector<HalfedgeId> boundary;
   detail::VertexRows rows;
-  if (!rows.build(mesh, after != nullptr ? &boundary : nullptr))
+  std::vector<double> scale; // the vertices' needs (classifyTriangles)
+  const double edge_limit2 =
+      options.max_edge > 0.0
+          ? options.max_edge * options.max_edge * detail::Clearance::MARGIN
+          : std::numeric_limits<double>::infinity();
+  if (!rows.build(mesh, after != nullptr ? &boundary : nullptr, &scale, edge_limit2))
     return detail::checkCorners(mesh); // a corner is not a vertex id: its error
   detail::OwnStats stats;
   std::vector<double> own = detail::ownMedians(mesh, rows, threads, &stats);
@@ -612,8 +652,9 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // own over the medians).
   detail::MedianSelection selection;
   std::vector<TriangleId> starts;
-  std::vector<std::uint8_t> flags =
-      classifyTriangles(mesh, rows, own, stats, options, threads, starts, selection);
+  std::vector<std::uint8_t> flags = classifyTriangles(
+      mesh, rows, own, stats, options, threads, starts, selection, scale);
+  std::vector<double>().swap(scale);
   const double global_median = detail::medianOverRows(own, rows, stats, selection);
   result.spacing = global_median;
 

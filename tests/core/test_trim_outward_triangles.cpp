@@ -202,6 +202,106 @@ TEST(TrimOutwardTriangles, MaxEdgeIsAnAbsoluteLimit)
   }
 }
 
+// The triangles that survive the definition's trim: every triangle classified
+// against the largest local spacing of its corners (measurePointSpacing), then the
+// peel; the survivors' corners in their order.
+std::vector<VertexId> definitionsSurvivors(const TriangleMesh& input,
+                                           const TrimOptions& options)
+{
+  const PointSpacing spacing = measurePointSpacing(input);
+  std::vector<std::uint8_t> flags(input.triangleCount(), 0);
+  for (TriangleId t = 0; t < input.triangleCount(); ++t) {
+    double largest = 0.0;
+    for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+      largest = std::max(largest, spacing.local[input.triangles[e]]);
+    const TriangleSize size = classifyTriangle(
+        input.xy[input.triangles[3 * t]], input.xy[input.triangles[3 * t + 1]],
+        input.xy[input.triangles[3 * t + 2]], largest, options);
+    flags[t] = static_cast<std::uint8_t>((size.oversized ? OVERSIZED : 0) |
+                                         (size.void_seed ? VOID_SEED : 0));
+  }
+  std::vector<bool> removed;
+  peelOutwardTriangles(input, flags, options.open_voids, removed);
+  std::vector<VertexId> survivors;
+  for (TriangleId t = 0; t < input.triangleCount(); ++t)
+    if (!removed[t])
+      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+        survivors.push_back(input.triangles[e]);
+  return survivors;
+}
+
+// The vertex clearance (classifyTriangles: a triangle with a corner whose every
+// triangle is within trim_factor times its ring bound is kept without a test of
+// its own) never spares an oversized triangle: the trim equals the definition's on
+// a dense grid with one far point (a fan of huge triangles whose other corners are
+// dense: a corner cleared from its small triangles alone would keep them) and with
+// a hole (huge triangles inside), with a max_edge, and on a lattice with a hole of
+// one point at the factor where its largest triangle is exactly at the limit (kept)
+// and the double just below (removed).
+TEST(TrimOutwardTriangles, VertexClearanceNeverSparesAnOversizedTriangle)
+{
+  auto grid = [](bool jitter, double hole_radius, bool far_point) {
+    std::vector<double> xyz;
+    for (int j = 0; j < 24; ++j)
+      for (int i = 0; i < 24; ++i) {
+        const double x = i + (jitter ? 0.25 * std::sin(7.0 * i + 3.0 * j) : 0.0);
+        const double y = j + (jitter ? 0.25 * std::cos(5.0 * i - 11.0 * j) : 0.0);
+        if (std::hypot(x - 11.0, y - 11.0) < hole_radius)
+          continue;
+        xyz.insert(xyz.end(), {x, y, 0.0});
+      }
+    if (far_point)
+      xyz.insert(xyz.end(), {11.3, 200.0, 0.0});
+    return xyz;
+  };
+  auto check = [](const TriangleMesh& input, double factor, double max_edge) {
+    TrimOptions options;
+    options.trim_factor = factor;
+    options.max_edge = max_edge;
+    TriangleMesh mesh = input;
+    TrimResult result;
+    EXPECT_TRUE(trimOutwardTriangles(mesh, options, result).ok());
+    EXPECT_EQ(mesh.triangles, definitionsSurvivors(input, options));
+    return result;
+  };
+  const TriangleMesh far = triangulate(grid(true, 0.0, true));
+  EXPECT_EQ(check(far, 3.0, 0.0).vertices_lost, 1u); // the far point's fan goes
+  check(far, 1.5, 0.0);
+  const TriangleMesh hole = triangulate(grid(true, 4.0, false));
+  EXPECT_GT(check(hole, 3.0, 0.0).triangles_removed, 20u);
+  check(hole, 3.0, 1.3);
+  // The smallest factor at which no triangle is oversized: classifyTriangle's own
+  // limit per triangle, the largest over the mesh.
+  const TriangleMesh lattice = triangulate(grid(false, 0.5, false));
+  const PointSpacing spacing = measurePointSpacing(lattice);
+  double limit = 1.0;
+  for (TriangleId t = 0; t < lattice.triangleCount(); ++t) {
+    double scale = 0.0;
+    for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+      scale = std::max(scale, spacing.local[lattice.triangles[e]]);
+    auto oversized = [&](double factor) {
+      TrimOptions options;
+      options.trim_factor = factor;
+      return classifyTriangle(lattice.xy[lattice.triangles[3 * t]],
+                              lattice.xy[lattice.triangles[3 * t + 1]],
+                              lattice.xy[lattice.triangles[3 * t + 2]], scale, options)
+          .oversized;
+    };
+    if (!oversized(limit))
+      continue;
+    while (oversized(limit))
+      limit = std::nextafter(2.0 * limit, HUGE_VAL);
+    for (double step = limit / 2; step > 0 && limit - step > 1.0; step /= 2)
+      if (!oversized(limit - step))
+        limit -= step;
+    while (!oversized(std::nextafter(limit, 0.0)))
+      limit = std::nextafter(limit, 0.0);
+  }
+  ASSERT_GT(limit, 1.0);
+  EXPECT_EQ(check(lattice, limit, 0.0).triangles_removed, 0u);
+  EXPECT_GT(check(lattice, std::nextafter(limit, 0.0), 0.0).triangles_removed, 0u);
+}
+
 // The trim's shortcuts (the ring-minimum bound, the root-free clearance, the medians
 // of short rows) against the definition: every triangle classified against the
 // largest local spacing of its corners (measurePointSpacing), then the peel; the
@@ -240,30 +340,11 @@ TEST(TrimOutwardTriangles, EqualsThePeelOfTheDefinitionsClassification)
     for (double& value : xyz)
       value *= c.scale;
     const TriangleMesh input = triangulate(xyz);
-    const PointSpacing spacing = measurePointSpacing(input);
-    std::vector<std::uint8_t> flags(input.triangleCount(), 0);
-    for (TriangleId t = 0; t < input.triangleCount(); ++t) {
-      double largest = 0.0;
-      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-        largest = std::max(largest, spacing.local[input.triangles[e]]);
-      const TriangleSize size = classifyTriangle(
-          input.xy[input.triangles[3 * t]], input.xy[input.triangles[3 * t + 1]],
-          input.xy[input.triangles[3 * t + 2]], largest, c.options);
-      flags[t] = static_cast<std::uint8_t>((size.oversized ? OVERSIZED : 0) |
-                                           (size.void_seed ? VOID_SEED : 0));
-    }
-    std::vector<bool> removed;
-    peelOutwardTriangles(input, flags, c.options.open_voids, removed);
-    std::vector<VertexId> expected;
-    for (TriangleId t = 0; t < input.triangleCount(); ++t)
-      if (!removed[t])
-        for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
-          expected.push_back(input.triangles[e]);
     TriangleMesh mesh = input;
     TrimResult result;
     ASSERT_TRUE(trimOutwardTriangles(mesh, c.options, result).ok());
-    EXPECT_EQ(mesh.triangles, expected);
-    EXPECT_EQ(result.spacing, spacing.global_median);
+    EXPECT_EQ(mesh.triangles, definitionsSurvivors(input, c.options));
+    EXPECT_EQ(result.spacing, measurePointSpacing(input).global_median);
   }
 }
 
