@@ -124,6 +124,14 @@ class LocalDelaunay {
   static bool finalByVertices(const Point2& a, const Point2& b, const Point2& c,
                               double x_lo, double x_hi, double y_lo, double y_hi,
                               double margin);
+  /// For windows on the grid's border: true only when the circumdisk, rounding
+  /// included, meets none of the grid's box [gx_lo, gx_hi] x [gy_lo, gy_hi] outside
+  /// the window (x_lo..y_hi, infinite on the grid's sides): no point lies outside the
+  /// grid's box, so the disks of hull triangles, which reach far out of the grid,
+  /// are final when the part of them over the grid is inside the window.
+  static bool finalInGrid(const Point2& a, const Point2& b, const Point2& c,
+                          double x_lo, double x_hi, double y_lo, double y_hi,
+                          double gx_lo, double gx_hi, double gy_lo, double gy_hi);
 
  private:
   void insert(std::int32_t k, const Point2& next);
@@ -189,6 +197,31 @@ inline bool LocalDelaunay::finalTriangle(const Point2& a, const Point2& b,
   return !disk.unbounded && disk.center.x - disk.radius > x_lo &&
          disk.center.x + disk.radius < x_hi && disk.center.y - disk.radius > y_lo &&
          disk.center.y + disk.radius < y_hi;
+}
+
+inline bool LocalDelaunay::finalInGrid(const Point2& a, const Point2& b,
+                                       const Point2& c, double x_lo, double x_hi,
+                                       double y_lo, double y_hi, double gx_lo,
+                                       double gx_hi, double gy_lo, double gy_hi)
+{
+  const CircumdiskBound disk = boundCircumdisk(a, b, c);
+  if (disk.unbounded)
+    return false;
+  const double r2 = disk.radius * disk.radius * (1.0 + 1e-12);
+  // The disk misses the closed rectangle [x0, x1] x [y0, y1] (none when empty): the
+  // squared distance from its centre, each difference, square and sum rounded to
+  // nearest (a relative error under 5 units in the last place, far inside 1e-12;
+  // an underflow only lowers it), exceeds the squared radius (an overflow: not).
+  const auto misses = [&disk, r2](double x0, double x1, double y0, double y1) {
+    if (!(x0 <= x1 && y0 <= y1))
+      return true;
+    const double dx = std::max(std::max(x0 - disk.center.x, disk.center.x - x1), 0.0);
+    const double dy = std::max(std::max(y0 - disk.center.y, disk.center.y - y1), 0.0);
+    return (dx * dx + dy * dy) * (1.0 - 1e-12) > r2;
+  };
+  // The grid's box outside the open window: the slabs beyond each of its sides.
+  return misses(x_hi, gx_hi, gy_lo, gy_hi) && misses(gx_lo, x_lo, gy_lo, gy_hi) &&
+         misses(gx_lo, gx_hi, y_hi, gy_hi) && misses(gx_lo, gx_hi, gy_lo, y_lo);
 }
 
 /// A sufficient condition for finalTriangle's bound without its divisions and square
@@ -270,6 +303,13 @@ void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
   // window's own coordinates.
   const double margin = 1e-14 * (std::max(std::fabs(x0), std::fabs(x1)) +
                                  std::max(std::fabs(y0), std::fabs(y1)) + 4 * c);
+  // Every point lies within the slack of the grid's box (the points' bounding box
+  // from its lower corner): windows on its border also get finalInGrid.
+  const bool border = w.i0 == 0 || w.i1 == grid.nx || w.j0 == 0 || w.j1 == grid.ny;
+  const double gx_lo = grid.origin_x - 2 * grid.slack;
+  const double gx_hi = grid.origin_x + grid.nx * c + 2 * grid.slack;
+  const double gy_lo = grid.origin_y - 2 * grid.slack;
+  const double gy_hi = grid.origin_y + grid.ny * c + 2 * grid.slack;
   // The corners' coordinates from the records (no lookup through the vertex ids).
   // `real`: the first two vertices are real points; the last one is for every
   // triangle but the super triangle, whose record says it is not.
@@ -280,7 +320,9 @@ void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
     const Corners& f = C[t];
     if (r.real != 0 && wanted(t) &&
         (finalByVertices(f.p[0], f.p[1], r.apex, x_lo, x_hi, y_lo, y_hi, margin) ||
-         finalTriangle(f.p[0], f.p[1], r.apex, x_lo, x_hi, y_lo, y_hi)))
+         finalTriangle(f.p[0], f.p[1], r.apex, x_lo, x_hi, y_lo, y_hi) ||
+         (border && finalInGrid(f.p[0], f.p[1], r.apex, x_lo, x_hi, y_lo, y_hi, gx_lo,
+                                gx_hi, gy_lo, gy_hi))))
       keep(t);
   }
 }

@@ -9,10 +9,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace pcl_vts {
 
@@ -492,12 +497,12 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
 /// Drops the removed triangles: the survivors keep their order, twins are remapped.
 /// A survivor's new id is its id less the removed triangles before it: the same for
 /// a run of survivors between two removed triangles, and for a twin into the run
-/// (two comparisons); a twin elsewhere counts them from a bit per triangle and a
-/// prefix count per 64 of them (cache-resident, unlike an id per triangle). In place,
-/// on contiguous ranges of triangles (one per thread): a survivor only moves down, over
-/// triangles already moved or dropped. The first survivors of a range whose new place
-/// lies in an earlier range are set aside while every range moves its others within
-/// itself, then written: no range writes where another reads.
+/// (one unsigned comparison, four twins at a time); a twin elsewhere counts them from a
+/// bit per triangle and a prefix count per 64 of them (cache-resident, unlike an id per
+/// triangle). In place, on contiguous ranges of triangles (one per thread): a survivor
+/// only moves down, over triangles already moved or dropped. The first survivors of a
+/// range whose new place lies in an earlier range are set aside while every range moves
+/// its others within itself, then written: no range writes where another reads.
 void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped,
                       unsigned threads, std::vector<HalfedgeId>* boundary)
 {
@@ -564,30 +569,70 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
       const std::size_t first = j > 0 ? 3 * std::size_t{removed_at[j - 1]} + 3 : 0;
       const std::size_t size =
           (j < removed_count ? 3 * std::size_t{removed_at[j]} : 3 * count) - first;
-      for (; t < stop; ++t) {
-        const std::size_t to = t - shift;
-        Moved moved{static_cast<TriangleId>(to), {}, {}};
+      // The new twin of halfedge h's, h - 3 * shift: a twin outside the run takes
+      // new_id, and lists h - 3 * shift among the open edges when it has none.
+      auto remap = [&](std::size_t h) {
+        const HalfedgeId twin = twins[h];
+        if (std::size_t{twin} - first < size)
+          return static_cast<HalfedgeId>(twin - 3 * shift);
+        const TriangleId across = twin == INVALID_ID ? INVALID_ID : new_id(twin / 3);
+        if (across == INVALID_ID && open != nullptr)
+          open->push_back(static_cast<HalfedgeId>(h - 3 * shift));
+        return across == INVALID_ID ? INVALID_ID : 3 * across + twin % 3;
+      };
+      // The survivors whose new place lies before the range: set aside.
+      for (; t < stop && t - shift < begin; ++t) {
+        Moved moved{static_cast<TriangleId>(t - shift), {}, {}};
         for (std::size_t k = 0; k < 3; ++k) {
-          const HalfedgeId twin = twins[3 * t + k];
           moved.corners[k] = corners[3 * t + k];
-          if (std::size_t{twin} - first < size) {
-            moved.twins[k] = static_cast<HalfedgeId>(twin - 3 * shift);
-            continue;
-          }
-          const TriangleId across = twin == INVALID_ID ? INVALID_ID : new_id(twin / 3);
-          moved.twins[k] = across == INVALID_ID ? INVALID_ID : 3 * across + twin % 3;
-          if (across == INVALID_ID && open != nullptr)
-            open->push_back(static_cast<HalfedgeId>(3 * to + k));
+          moved.twins[k] = remap(3 * t + k);
         }
-        if (to < begin) {
-          aside[p].push_back(moved);
+        aside[p].push_back(moved);
+      }
+      if (t == stop)
+        continue;
+      // The rest of the run moves down by shift as a block, its halfedges in order
+      // (each read before its new place, at or before it, is written).
+      const std::size_t h_begin = 3 * t, h_end = 3 * stop, delta = 3 * shift;
+      std::size_t h = h_begin;
+#if defined(__SSE2__)
+      // Four halfedges at a time: their corners, and their twins when all four lie
+      // in the run (unsigned comparison of twin - first with size, through the
+      // sign bit). Both arrays are fetched AHEAD entries ahead (jittered 1e6:
+      // 7.3-8.0 ms against 9.2 without).
+      const __m128i bias = _mm_set1_epi32(std::numeric_limits<std::int32_t>::min());
+      const __m128i first4 = _mm_set1_epi32(static_cast<std::int32_t>(first));
+      const __m128i size4 = _mm_xor_si128(
+          bias,
+          _mm_set1_epi32(static_cast<std::int32_t>(static_cast<std::uint32_t>(size))));
+      const __m128i delta4 = _mm_set1_epi32(static_cast<std::int32_t>(delta));
+      constexpr std::size_t AHEAD = 512;
+      const std::size_t halfedge_count = 3 * count;
+      for (; h + 4 <= h_end; h += 4) {
+        const std::size_t ahead = std::min(h + AHEAD, halfedge_count - 1);
+        __builtin_prefetch(twins + ahead);
+        __builtin_prefetch(corners + ahead);
+        _mm_storeu_si128(
+            reinterpret_cast<__m128i*>(corners + h - delta),
+            _mm_loadu_si128(reinterpret_cast<const __m128i*>(corners + h)));
+        const __m128i twin4 =
+            _mm_loadu_si128(reinterpret_cast<const __m128i*>(twins + h));
+        const __m128i inside =
+            _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(twin4, first4), bias), size4);
+        if (_mm_movemask_epi8(inside) == 0xffff) {
+          _mm_storeu_si128(reinterpret_cast<__m128i*>(twins + h - delta),
+                           _mm_sub_epi32(twin4, delta4));
           continue;
         }
-        for (std::size_t k = 0; k < 3; ++k) {
-          corners[3 * to + k] = moved.corners[k];
-          twins[3 * to + k] = moved.twins[k];
-        }
+        for (std::size_t k = h; k < h + 4; ++k)
+          twins[k - delta] = remap(k);
       }
+#endif
+      for (; h < h_end; ++h) {
+        corners[h - delta] = corners[h];
+        twins[h - delta] = remap(h);
+      }
+      t = stop;
     }
   });
   for (const std::vector<Moved>& part : aside)

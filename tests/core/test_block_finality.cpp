@@ -170,4 +170,78 @@ TEST(BlockFinality, DisksTouchingTheWindowAreNotFinal)
   EXPECT_GT(accepted_of_those, inside_by_a_millionth / 2);
 }
 
+/// The exact circumdisk meets no point of the closed rectangle [x0, x1] x [y0, y1]
+/// (true when it is empty).
+bool diskMisses(const Exact::Point_2& m, const Exact::FT& r2, double x0, double x1,
+                double y0, double y1)
+{
+  if (!(x0 <= x1 && y0 <= y1))
+    return true;
+  const Exact::FT cx = m.x() < x0 ? Exact::FT(x0) : m.x() > x1 ? Exact::FT(x1) : m.x();
+  const Exact::FT cy = m.y() < y0 ? Exact::FT(y0) : m.y() > y1 ? Exact::FT(y1) : m.y();
+  return CGAL::squared_distance(m, Exact::Point_2(cx, cy)) > r2;
+}
+
+TEST(BlockFinality, DisksOverTheGridOutsideTheWindowAreNotFinal)
+{
+  // Windows on a side or corner of the grid (infinite there), triangles near that
+  // border, many flat ones along it (a hull's): finalInGrid may accept only disks
+  // whose exact circle meets none of the grid's box outside the window, and does
+  // accept some that finalTriangle refuses (those reaching out of the grid).
+  std::mt19937_64 rng(18);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int cases = 0, accepted = 0, beyond_final_triangle = 0;
+  for (const Box& b : windows()) {
+    const double cell = (b.x_hi - b.x_lo) / 32;
+    // The grid: 4 x 3 windows wide, the window at its lower left, lower middle or
+    // left middle.
+    for (int place = 0; place < 3; ++place) {
+      const double shift_x = place == 1 ? 32 * cell : 0.0;
+      const double shift_y = place == 2 ? 32 * cell : 0.0;
+      const double gx_lo = b.x_lo - shift_x, gx_hi = gx_lo + 128 * cell;
+      const double gy_lo = b.y_lo - shift_y, gy_hi = gy_lo + 96 * cell;
+      const double inf = INFINITY;
+      const Box w{place == 1 ? b.x_lo : -inf, b.x_hi, place == 2 ? b.y_lo : -inf,
+                  b.y_hi};
+      for (int k = 0; k < 3000; ++k) {
+        // Corners near the grid's lower side (within a cell or two of it) or its left
+        // side, some exactly on it, some a few ulps off a line.
+        const bool bottom = place != 2 && (place == 1 || k % 2 == 0);
+        Point2 p[3];
+        for (Point2& q : p) {
+          const double along = unit(rng) * 32 * cell;
+          const double off = k % 5 == 0 ? 0.0 : unit(rng) * 2 * cell;
+          q = bottom ? Point2{b.x_lo + along, gy_lo + off}
+                     : Point2{gx_lo + off, b.y_lo + along};
+        }
+        if (k % 7 == 0)
+          p[2].y = std::nextafter(p[2].y, INFINITY);
+        ++cases;
+        const bool in_grid =
+            LocalDelaunay::finalInGrid(p[0], p[1], p[2], w.x_lo, w.x_hi, w.y_lo, w.y_hi,
+                                       gx_lo, gx_hi, gy_lo, gy_hi);
+        if (!in_grid)
+          continue;
+        ++accepted;
+        beyond_final_triangle += !LocalDelaunay::finalTriangle(p[0], p[1], p[2], w.x_lo,
+                                                               w.x_hi, w.y_lo, w.y_hi);
+        const Exact::Point_2 e0(p[0].x, p[0].y), e1(p[1].x, p[1].y), e2(p[2].x, p[2].y);
+        ASSERT_FALSE(CGAL::collinear(e0, e1, e2));
+        const Exact::Point_2 m = CGAL::circumcenter(e0, e1, e2);
+        const Exact::FT r2 = CGAL::squared_distance(m, e0);
+        ASSERT_TRUE(diskMisses(m, r2, w.x_hi, gx_hi, gy_lo, gy_hi) &&
+                    diskMisses(m, r2, gx_lo, w.x_lo, gy_lo, gy_hi) &&
+                    diskMisses(m, r2, gx_lo, gx_hi, w.y_hi, gy_hi) &&
+                    diskMisses(m, r2, gx_lo, gx_hi, gy_lo, w.y_lo))
+            << std::hexfloat << "(" << p[0].x << ", " << p[0].y << ") (" << p[1].x
+            << ", " << p[1].y << ") (" << p[2].x << ", " << p[2].y << ") place "
+            << place;
+      }
+    }
+  }
+  // Not vacuous: some triangles pass, some of them only this way.
+  EXPECT_GT(accepted, cases / 10);
+  EXPECT_GT(beyond_final_triangle, 0);
+}
+
 } // namespace
