@@ -101,8 +101,7 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
     }
   }
   // Each walk starts from the triangle of the previous star that faces the point.
-  for (std::size_t k = 3; k < k_local; ++k)
-    insert(static_cast<std::int32_t>(k), p[k + 1 < k_local ? k + 1 : k]);
+  insertPoints(k_local);
   v.resize(3 * triangles_);
   return true;
 }
@@ -132,199 +131,219 @@ void LocalDelaunay::outsideBox(const Point2& q, double cx, double cy, double d)
     orient_bound_ = incircle_wide_bound_ = incircle_tight_bound_ = inf;
 }
 
-void LocalDelaunay::insert(std::int32_t k, const Point2& next)
+void LocalDelaunay::insertPoints(std::size_t count)
 {
+  // One loop over the points (not a call per point): the arrays' addresses, the
+  // bounds, the walk's start and the triangle count stay in registers or the frame.
   const Point2* const P = p.data();
-  const Point2 q = P[k];
   std::int32_t* V = v.data();
   Record* R = rec_.data();
   Corners* C = corners_.data();
-  std::uint32_t* const bad = bad_.data();
-  std::pair<std::int32_t, std::int32_t>* const boundary = boundary_.data();
+  std::uint32_t* bad = bad_.data();
+  std::pair<std::int32_t, std::int32_t>* boundary = boundary_.data();
+  std::uint32_t* stack = stack_.data();
   const double orient_bound = orient_bound_;
-  // Visibility walk from the star triangle the last insertion chose (it ends in a
-  // Delaunay mesh); the edge it came in by is not tested again. (A branch-free walk,
-  // all three sides tested, was slower: the exits are well predicted.)
-  std::uint32_t t = static_cast<std::uint32_t>(last_);
-  std::uint32_t entry = 3;
-  for (;;) {
-    const Record& r = R[t];
-    const Corners& c = C[t];
-    std::uint32_t e;
-    if (entry != 0 && orient2dInBox(c.p[0], c.p[1], q, orient_bound) == Sign::NEGATIVE)
-      e = 0;
-    else if (entry != 1 &&
-             orient2dInBox(c.p[1], r.apex, q, orient_bound) == Sign::NEGATIVE)
-      e = 1;
-    else if (entry != 2 &&
-             orient2dInBox(r.apex, c.p[0], q, orient_bound) == Sign::NEGATIVE)
-      e = 2;
-    else
-      break;
-    const auto o = static_cast<std::uint32_t>(r.adj[e]);
-    t = o >> 4;
-    entry = o & 15u;
-  }
-  // Cavity: the triangles whose perturbed circumcircle holds q, depth first from t. It
-  // is a disk with every vertex on its boundary (its triangles' adjacency is a tree),
-  // so no triangle is reached twice as bad and no marks are needed; entering each bad
-  // triangle by one edge and taking its other two in counter-clockwise order lists
-  // the boundary edges in counter-clockwise order around q: a closed chain, edge j
-  // from boundary[j].first to boundary[j + 1].first. A triangle's last vertex is the
-  // point whose insertion made it (the first super triangle, the only exception, is
-  // never tested: the first cavity starts there), so `real` picks the bound.
   const double bounds[2] = {incircle_wide_bound_, incircle_tight_bound_}; // by real
-  std::uint32_t* const stack = stack_.data();
-  std::size_t top = 0, bad_count = 0, boundary_count = 0;
-  bad[bad_count++] = t;
-  stack[top++] = 16 * t + 2;
-  stack[top++] = 16 * t + 1;
-  std::uint32_t h = 16 * t;
-  for (;;) {
-    const std::int32_t o = twinSlot(R, h);
-    if (o >= 0) {
-      const auto uo = static_cast<std::uint32_t>(o);
-      const Record& n = recordOf(R, uo);
-      const double det = incircleFromCoefficients(n.k, n.apex, q);
-      const double bound = bounds[n.real]; // a load, no branch
-      if (det > bound || (!(-det > bound) &&
-                          incirclePerturbedOutOfLine(C[uo >> 4].p[0], C[uo >> 4].p[1],
-                                                     n.apex, q) == Sign::POSITIVE)) {
-        bad[bad_count++] = uo >> 4;
-        // The edges before e (taken later) and after e (taken now): (e + 2) % 3 and
-        // (e + 1) % 3 read from 2-bit tables, no branch on e.
-        const std::uint32_t e = uo & 15u, base = uo - e;
-        stack[top++] = base + ((0x12u >> (2 * e)) & 3u);
-        h = base + ((0x09u >> (2 * e)) & 3u);
-        continue;
-      }
+  std::uint32_t last = static_cast<std::uint32_t>(last_);
+  std::size_t triangles = triangles_;
+  for (std::size_t point = 3; point < count; ++point) {
+    const auto k = static_cast<std::int32_t>(point);
+    const Point2 q = P[k];
+    const Point2& next = P[point + 1 < count ? point + 1 : point];
+    // Visibility walk from the star triangle the last insertion chose (it ends in a
+    // Delaunay mesh); the edge it came in by is not tested again. (A branch-free walk,
+    // all three sides tested, was slower: the exits are well predicted.)
+    std::uint32_t t = last;
+    std::uint32_t entry = 3;
+    for (;;) {
+      const Record& r = R[t];
+      const Corners& c = C[t];
+      std::uint32_t e;
+      if (entry != 0 &&
+          orient2dInBox(c.p[0], c.p[1], q, orient_bound) == Sign::NEGATIVE)
+        e = 0;
+      else if (entry != 1 &&
+               orient2dInBox(c.p[1], r.apex, q, orient_bound) == Sign::NEGATIVE)
+        e = 1;
+      else if (entry != 2 &&
+               orient2dInBox(r.apex, c.p[0], q, orient_bound) == Sign::NEGATIVE)
+        e = 2;
+      else
+        break;
+      const auto o = static_cast<std::uint32_t>(r.adj[e]);
+      t = o >> 4;
+      entry = o & 15u;
     }
-    boundary[boundary_count++] = {V[3 * (h >> 4) + (h & 15u)], o};
-    if (top == 0)
-      break;
-    h = stack[--top];
-  }
-  // The star of q over the chain: the cavity's slots, then new ones (a disk of m
-  // boundary edges holds m - 2 triangles: two new slots), listed after the cavity's.
-  // Each record is written once, its neighbours in the star known from the slots.
-  boundary[boundary_count] = boundary[0]; // the chain closed
-  const std::size_t first_new = triangles_;
-  triangles_ += 2;                 // boundary_count - bad_count
-  if (3 * triangles_ > v.size()) { // only if the 1 + 2n count were wrong
-    v.resize(6 * triangles_);
-    rec_.resize(2 * triangles_);
-    corners_.resize(2 * triangles_);
-    V = v.data();
-    R = rec_.data();
-    C = corners_.data();
-  }
-  // Two new slots (boundary_count is bad_count + 2), written as two: a loop over
-  // bad_count .. boundary_count compiled to a vectorised loop with its checks.
-  bad[bad_count] = static_cast<std::uint32_t>(first_new);
-  bad[bad_count + 1] = static_cast<std::uint32_t>(first_new + 1);
-  bad[boundary_count] = bad[0];
-  std::uint32_t previous = bad[boundary_count - 1];
-  // The next walk's start: the star triangle whose wedge at q holds the next point
-  // (left of or on the ray from q through its first corner, right of the one through
-  // its second), the last one if none does (the next point is q's neighbour in the
-  // insertion order, mostly within a cell or two). Rounding only changes the start.
-  // A chain vertex's point, offset from q and side of the ray to the next point serve
-  // the two star triangles that share it (computed once, carried to the next edge).
-  std::uint32_t start = previous;
-  // What differs by target is a chain vertex (its point, offset from q, lift and side
-  // of the ray to the next point) and how a star triangle's apex, coefficients and
-  // corners are written from two of them; the walk around the chain is one loop.
+    // Cavity: the triangles whose perturbed circumcircle holds q, depth first from t.
+    // It is a disk with every vertex on its boundary (its triangles' adjacency is a
+    // tree), so no triangle is reached twice as bad and no marks are needed; entering
+    // each bad triangle by one edge and taking its other two in counter-clockwise order
+    // lists the boundary edges in counter-clockwise order around q: a closed chain,
+    // edge j from boundary[j].first to boundary[j + 1].first. A triangle's last vertex
+    // is the point whose insertion made it (the first super triangle, the only
+    // exception, is never tested: the first cavity starts there), so `real` picks the
+    // bound.
+    std::size_t top = 0, bad_count = 0, boundary_count = 0;
+    bad[bad_count++] = t;
+    stack[top++] = 16 * t + 2;
+    stack[top++] = 16 * t + 1;
+    std::uint32_t h = 16 * t;
+    for (;;) {
+      const std::int32_t o = twinSlot(R, h);
+      if (o >= 0) {
+        const auto uo = static_cast<std::uint32_t>(o);
+        const Record& n = recordOf(R, uo);
+        const double det = incircleFromCoefficients(n.k, n.apex, q);
+        const double bound = bounds[n.real]; // a load, no branch
+        if (det > bound || (!(-det > bound) &&
+                            incirclePerturbedOutOfLine(C[uo >> 4].p[0], C[uo >> 4].p[1],
+                                                       n.apex, q) == Sign::POSITIVE)) {
+          bad[bad_count++] = uo >> 4;
+          // The edges before e (taken later) and after e (taken now): (e + 2) % 3 and
+          // (e + 1) % 3 read from 2-bit tables, no branch on e.
+          const std::uint32_t e = uo & 15u, base = uo - e;
+          stack[top++] = base + ((0x12u >> (2 * e)) & 3u);
+          h = base + ((0x09u >> (2 * e)) & 3u);
+          continue;
+        }
+      }
+      boundary[boundary_count++] = {V[3 * (h >> 4) + (h & 15u)], o};
+      if (top == 0)
+        break;
+      h = stack[--top];
+    }
+    // The star of q over the chain: the cavity's slots, then new ones (a disk of m
+    // boundary edges holds m - 2 triangles: two new slots), listed after the cavity's.
+    // Each record is written once, its neighbours in the star known from the slots.
+    boundary[boundary_count] = boundary[0]; // the chain closed
+    const std::size_t first_new = triangles;
+    triangles += 2;                 // boundary_count - bad_count
+    if (3 * triangles > v.size()) { // only if the 1 + 2n count were wrong
+      v.resize(6 * triangles);
+      rec_.resize(2 * triangles);
+      corners_.resize(2 * triangles);
+      V = v.data();
+      R = rec_.data();
+      C = corners_.data();
+    }
+    // Two new slots (boundary_count is bad_count + 2), written as two: a loop over
+    // bad_count .. boundary_count compiled to a vectorised loop with its checks.
+    bad[bad_count] = static_cast<std::uint32_t>(first_new);
+    bad[bad_count + 1] = static_cast<std::uint32_t>(first_new + 1);
+    bad[boundary_count] = bad[0];
+    std::uint32_t previous = bad[boundary_count - 1];
+    // The next walk's start: the star triangle whose wedge at q holds the next point
+    // (left of or on the ray from q through its first corner, right of the one through
+    // its second), the last one if none does (the next point is q's neighbour in the
+    // insertion order, mostly within a cell or two). Rounding only changes the start.
+    // A chain vertex's point, offset from q and side of the ray to the next point serve
+    // the two star triangles that share it (computed once, carried to the next edge).
+    std::uint32_t start = previous;
+    // What differs by target is a chain vertex (its point, offset from q, lift and side
+    // of the ray to the next point) and how a star triangle's apex, coefficients and
+    // corners are written from two of them; the walk around the chain is one loop.
 #if defined(__SSE2__)
-  // The same operations in (x, y) lanes, bit for bit: a vertex's offset o = p - q,
-  // its lift ox^2 + oy^2 broadcast, o turned to (oy, -ox) (negation is exact), and
-  // the side of the ray to the next point ox ny - oy nx. With u, w the offsets of a
-  // star triangle's first two corners, lu (wy, -wx) - lw (uy, -ux) is (Bx, By): lane
-  // 1 is (-lu wx) - (-lw ux), which is lw ux - lu wx (x - y is x + (-y) in IEEE
-  // arithmetic, and the sum commutes); A = ux wy + uy (-wx), which is ux wy - uy wx:
-  // predicates.h's incircleCoefficients(u, w).
-  const __m128d qv = _mm_loadu_pd(&q.x);
-  const __m128d nd = _mm_sub_pd(_mm_loadu_pd(&next.x), qv);
-  const __m128d nyx = _mm_shuffle_pd(nd, nd, 1); // (ny, nx)
-  const __m128d negate_high = _mm_set_pd(-0.0, 0.0);
-  struct ChainVertex {
-    __m128d p, o, turned, lift;
-    std::uint32_t left, real; // real: a point, not a super triangle corner
-  };
-  const auto chainVertex = [&](std::int32_t id) {
-    ChainVertex cv;
-    cv.real = static_cast<std::uint32_t>(id >= 3);
-    cv.p = _mm_loadu_pd(&P[id].x);
-    const __m128d o = cv.o = _mm_sub_pd(cv.p, qv);
-    const __m128d sq = _mm_mul_pd(o, o);
-    const __m128d lift = _mm_add_sd(sq, _mm_unpackhi_pd(sq, sq));
-    cv.lift = _mm_unpacklo_pd(lift, lift);
-    cv.turned = _mm_xor_pd(_mm_shuffle_pd(o, o, 1), negate_high);
-    const __m128d cross = _mm_mul_pd(o, nyx); // (ox ny, oy nx)
-    cv.left = static_cast<std::uint32_t>(_mm_comige_sd(
-        _mm_sub_sd(cross, _mm_unpackhi_pd(cross, cross)), _mm_setzero_pd()));
-    return cv;
-  };
-  const auto writeTriangle = [&](Record& r, Corners& c, const ChainVertex& va,
-                                 const ChainVertex& vb) {
-    _mm_storeu_pd(&r.apex.x, qv);
-    _mm_store_pd(r.k.b, _mm_sub_pd(_mm_mul_pd(va.lift, vb.turned),
-                                   _mm_mul_pd(vb.lift, va.turned)));
-    const __m128d products = _mm_mul_pd(va.o, vb.turned); // (ux wy, uy (-wx))
-    const __m128d a = _mm_add_sd(products, _mm_unpackhi_pd(products, products));
-    _mm_store_pd(r.k.a, _mm_unpacklo_pd(a, a));
-    _mm_storeu_pd(&c.p[0].x, va.p);
-    _mm_storeu_pd(&c.p[1].x, vb.p);
-  };
+    // The same operations in (x, y) lanes, bit for bit: a vertex's offset o = p - q,
+    // its lift ox^2 + oy^2 broadcast, o turned to (oy, -ox) (negation is exact), and
+    // the side of the ray to the next point ox ny - oy nx. With u, w the offsets of a
+    // star triangle's first two corners, lu (wy, -wx) - lw (uy, -ux) is (Bx, By): lane
+    // 1 is (-lu wx) - (-lw ux), which is lw ux - lu wx (x - y is x + (-y) in IEEE
+    // arithmetic, and the sum commutes); A = ux wy + uy (-wx), which is ux wy - uy wx:
+    // predicates.h's incircleCoefficients(u, w).
+    const __m128d qv = _mm_loadu_pd(&q.x);
+    const __m128d nd = _mm_sub_pd(_mm_loadu_pd(&next.x), qv);
+    const __m128d nyx = _mm_shuffle_pd(nd, nd, 1); // (ny, nx)
+    const __m128d negate_high = _mm_set_pd(-0.0, 0.0);
+    struct ChainVertex {
+      __m128d p, o, turned, lift;
+      std::uint32_t left, real; // real: a point, not a super triangle corner
+    };
+    const auto chainVertex = [&](std::int32_t id) {
+      ChainVertex cv;
+      cv.real = static_cast<std::uint32_t>(id >= 3);
+      cv.p = _mm_loadu_pd(&P[id].x);
+      const __m128d o = cv.o = _mm_sub_pd(cv.p, qv);
+      const __m128d sq = _mm_mul_pd(o, o);
+      const __m128d lift = _mm_add_sd(sq, _mm_unpackhi_pd(sq, sq));
+      cv.lift = _mm_unpacklo_pd(lift, lift);
+      cv.turned = _mm_xor_pd(_mm_shuffle_pd(o, o, 1), negate_high);
+      const __m128d cross = _mm_mul_pd(o, nyx); // (ox ny, oy nx)
+      cv.left = static_cast<std::uint32_t>(_mm_comige_sd(
+          _mm_sub_sd(cross, _mm_unpackhi_pd(cross, cross)), _mm_setzero_pd()));
+      return cv;
+    };
+    const auto writeTriangle = [&](Record& r, Corners& c, const ChainVertex& va,
+                                   const ChainVertex& vb) {
+      _mm_storeu_pd(&r.apex.x, qv);
+      _mm_store_pd(r.k.b, _mm_sub_pd(_mm_mul_pd(va.lift, vb.turned),
+                                     _mm_mul_pd(vb.lift, va.turned)));
+      const __m128d products = _mm_mul_pd(va.o, vb.turned); // (ux wy, uy (-wx))
+      const __m128d a = _mm_add_sd(products, _mm_unpackhi_pd(products, products));
+      _mm_store_pd(r.k.a, _mm_unpacklo_pd(a, a));
+      _mm_storeu_pd(&c.p[0].x, va.p);
+      _mm_storeu_pd(&c.p[1].x, vb.p);
+    };
 #else
-  const double nx = next.x - q.x, ny = next.y - q.y;
-  struct ChainVertex {
-    Point2 p;
-    CornerOffset o;
-    std::uint32_t left, real; // real: a point, not a super triangle corner
-  };
-  const auto chainVertex = [&](std::int32_t id) {
-    ChainVertex cv;
-    cv.real = static_cast<std::uint32_t>(id >= 3);
-    cv.p = P[id];
-    cv.o = cornerOffset(cv.p, q);
-    cv.left = static_cast<std::uint32_t>(cv.o.x * ny - cv.o.y * nx >= 0.0);
-    return cv;
-  };
-  const auto writeTriangle = [&](Record& r, Corners& c, const ChainVertex& va,
-                                 const ChainVertex& vb) {
-    r.apex = q;
-    r.k = incircleCoefficients(va.o, vb.o);
-    c = {{va.p, vb.p}};
-  };
+    const double nx = next.x - q.x, ny = next.y - q.y;
+    struct ChainVertex {
+      Point2 p;
+      CornerOffset o;
+      std::uint32_t left, real; // real: a point, not a super triangle corner
+    };
+    const auto chainVertex = [&](std::int32_t id) {
+      ChainVertex cv;
+      cv.real = static_cast<std::uint32_t>(id >= 3);
+      cv.p = P[id];
+      cv.o = cornerOffset(cv.p, q);
+      cv.left = static_cast<std::uint32_t>(cv.o.x * ny - cv.o.y * nx >= 0.0);
+      return cv;
+    };
+    const auto writeTriangle = [&](Record& r, Corners& c, const ChainVertex& va,
+                                   const ChainVertex& vb) {
+      r.apex = q;
+      r.k = incircleCoefficients(va.o, vb.o);
+      c = {{va.p, vb.p}};
+    };
 #endif
-  ChainVertex vb = chainVertex(boundary[0].first);
-  for (std::size_t j = 0; j < boundary_count; ++j) {
-    const std::uint32_t s = bad[j];
-    const std::pair<std::int32_t, std::int32_t>& edge = boundary[j];
-    const std::int32_t b = boundary[j + 1].first;
-    V[3 * s] = edge.first;
-    V[3 * s + 1] = b;
-    V[3 * s + 2] = k;
-    const ChainVertex va = vb;
-    vb = chainVertex(b);
-    Record& r = R[s];
-    writeTriangle(r, C[s], va, vb);
-    r.adj = {edge.second, static_cast<std::int32_t>(16 * bad[j + 1] + 2),
-             static_cast<std::int32_t>(16 * previous + 1)};
-    // In the wedge: left of or on the ray through pa, right of the one through pb.
-    const std::uint32_t in_wedge = va.left & (vb.left ^ 1u);
-    start ^= (start ^ s) & (0u - in_wedge); // s where in the wedge, without a branch
-    if (edge.second >= 0)
-      twinSlot(R, static_cast<std::uint32_t>(edge.second)) =
-          static_cast<std::int32_t>(16 * s);
-    // Stored last: beside the twins, GCC packed all four into one vector store
-    // (movd and unpack instructions, more than four plain stores).
-    r.real = static_cast<std::int32_t>(va.real & vb.real);
-    previous = s;
+    ChainVertex vb = chainVertex(boundary[0].first);
+    for (std::size_t j = 0; j < boundary_count; ++j) {
+      const std::uint32_t s = bad[j];
+      const std::pair<std::int32_t, std::int32_t>& edge = boundary[j];
+      const std::int32_t b = boundary[j + 1].first;
+      V[3 * s] = edge.first;
+      V[3 * s + 1] = b;
+      V[3 * s + 2] = k;
+      const ChainVertex va = vb;
+      vb = chainVertex(b);
+      Record& r = R[s];
+      writeTriangle(r, C[s], va, vb);
+      r.adj = {edge.second, static_cast<std::int32_t>(16 * bad[j + 1] + 2),
+               static_cast<std::int32_t>(16 * previous + 1)};
+      // In the wedge: left of or on the ray through pa, right of the one through pb.
+      const std::uint32_t in_wedge = va.left & (vb.left ^ 1u);
+      start ^= (start ^ s) & (0u - in_wedge); // s where in the wedge, without a branch
+      if (edge.second >= 0)
+        twinSlot(R, static_cast<std::uint32_t>(edge.second)) =
+            static_cast<std::int32_t>(16 * s);
+      // Stored last: beside the twins, GCC packed all four into one vector store
+      // (movd and unpack instructions, more than four plain stores).
+      r.real = static_cast<std::int32_t>(va.real & vb.real);
+      previous = s;
+    }
+    last = start;
+    if (bad_.size() <
+        triangles + 3) { // the next cavity's arrays (as above: not expected)
+      reserveTriangles(v.size() / 3);
+      V = v.data();
+      R = rec_.data();
+      C = corners_.data();
+      bad = bad_.data();
+      boundary = boundary_.data();
+      stack = stack_.data();
+    }
   }
-  last_ = static_cast<std::int32_t>(start);
-  if (bad_.size() < triangles_ + 3) // the next cavity's arrays (as above: not expected)
-    reserveTriangles(v.size() / 3);
+  last_ = static_cast<std::int32_t>(last);
+  triangles_ = triangles;
 }
 
 } // namespace detail

@@ -134,7 +134,8 @@ class LocalDelaunay {
                           double gx_lo, double gx_hi, double gy_lo, double gy_hi);
 
  private:
-  void insert(std::int32_t k, const Point2& next);
+  /// Inserts local vertices 3 .. count - 1 in order.
+  void insertPoints(std::size_t count);
   void outsideBox(const Point2& q, double cx, double cy, double d);
   void reserveTriangles(std::size_t count);
 

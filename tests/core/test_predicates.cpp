@@ -494,6 +494,12 @@ TEST(Orient2d, ExactOnSharedRowsAndColumns)
   for (const double x : xs)
     for (const double y : ys)
       pts.push_back(f32(x, y));
+  // The box filter of the cache blocks' walk, with the box of these points and a
+  // far wider one (no test decided by the filter there: the bound exceeds every
+  // determinant), takes the same shortcut.
+  const double bound = detail::boxBounds(xs[0], xs[2], ys[0], ys[2]).orient;
+  const double wide =
+      detail::boxBounds(xs[0] - 1e8, xs[2] + 1e8, ys[0] - 1e8, ys[2] + 1e8).orient;
   int both_zero = 0, one_zero = 0;
   for (const Point2& a : pts)
     for (const Point2& b : pts)
@@ -502,6 +508,8 @@ TEST(Orient2d, ExactOnSharedRowsAndColumns)
         both_zero += left && right;
         one_zero += left != right;
         expectOrientExact(a, b, c);
+        EXPECT_EQ(detail::orient2dInBox(a, b, c, bound), orientRational(a, b, c));
+        EXPECT_EQ(detail::orient2dInBox(a, b, c, wide), orientRational(a, b, c));
       }
   EXPECT_GT(both_zero, 100);
   EXPECT_GT(one_zero, 100);
