@@ -425,18 +425,19 @@ inline __m128d laneMedian(__m128d* a)
   return a[N / 2];
 }
 
-/// ownMedian of u and w, both with rows of N entries, one per lane, into own; false,
-/// nothing written, when a squared length is NaN (ownMedian's own path then).
+/// ownMedian of u and w, both with rows of N entries, one per lane, into
+/// medians[u - first] and medians[w - first]; false, nothing written, when a squared
+/// length is NaN (ownMedian's own path then).
 template <std::size_t N, typename Index>
 inline bool laneMedians(const Point2* xy, const VertexId* ring, const Index* start,
-                        VertexId u, VertexId w, double* own, __m128d& low,
-                        __m128d& high)
+                        VertexId u, VertexId w, double* medians, std::size_t first,
+                        __m128d& low, __m128d& high)
 {
   const __m128d pu = _mm_loadu_pd(&xy[u].x), pw = _mm_loadu_pd(&xy[w].x);
   const VertexId* row_u = ring + start[u];
   const VertexId* row_w = ring + start[w];
   __m128d a[N];
-  __m128d nan = _mm_setzero_pd();
+  __m128d sum = _mm_setzero_pd(); // NaN when a square is (none is -inf)
 #pragma GCC unroll 8
   for (std::size_t k = 0; k < N; ++k) {
     const __m128d du = _mm_sub_pd(pu, _mm_loadu_pd(&xy[row_u[k]].x));
@@ -444,13 +445,13 @@ inline bool laneMedians(const Point2* xy, const VertexId* ring, const Index* sta
     const __m128d su = _mm_mul_pd(du, du), sw = _mm_mul_pd(dw, dw);
     // (dx * dx of u, of w) + (dy * dy of u, of w): ownMedian's squares.
     a[k] = _mm_add_pd(_mm_unpacklo_pd(su, sw), _mm_unpackhi_pd(su, sw));
-    nan = _mm_or_pd(nan, _mm_cmpunord_pd(a[k], a[k]));
+    sum = _mm_add_pd(sum, a[k]);
   }
-  if (_mm_movemask_pd(nan) != 0)
+  if (_mm_movemask_pd(_mm_cmpunord_pd(sum, sum)) != 0)
     return false;
   const __m128d median = _mm_sqrt_pd(laneMedian<N>(a));
-  _mm_storel_pd(own + u, median);
-  _mm_storeh_pd(own + w, median);
+  _mm_storel_pd(medians + (u - first), median);
+  _mm_storeh_pd(medians + (w - first), median);
   low = _mm_min_pd(low, median);
   high = _mm_max_pd(high, median);
   return true;
@@ -459,26 +460,26 @@ inline bool laneMedians(const Point2* xy, const VertexId* ring, const Index* sta
 /// laneMedians for rows of `size` entries, 1 <= size <= MAX_LANE_ROW.
 template <typename Index>
 bool laneMedians(std::size_t size, const Point2* xy, const VertexId* ring,
-                 const Index* start, VertexId u, VertexId w, double* own, __m128d& low,
-                 __m128d& high)
+                 const Index* start, VertexId u, VertexId w, double* medians,
+                 std::size_t first, __m128d& low, __m128d& high)
 {
   switch (size) {
   case 1:
-    return laneMedians<1>(xy, ring, start, u, w, own, low, high);
+    return laneMedians<1>(xy, ring, start, u, w, medians, first, low, high);
   case 2:
-    return laneMedians<2>(xy, ring, start, u, w, own, low, high);
+    return laneMedians<2>(xy, ring, start, u, w, medians, first, low, high);
   case 3:
-    return laneMedians<3>(xy, ring, start, u, w, own, low, high);
+    return laneMedians<3>(xy, ring, start, u, w, medians, first, low, high);
   case 4:
-    return laneMedians<4>(xy, ring, start, u, w, own, low, high);
+    return laneMedians<4>(xy, ring, start, u, w, medians, first, low, high);
   case 5:
-    return laneMedians<5>(xy, ring, start, u, w, own, low, high);
+    return laneMedians<5>(xy, ring, start, u, w, medians, first, low, high);
   case 6:
-    return laneMedians<6>(xy, ring, start, u, w, own, low, high);
+    return laneMedians<6>(xy, ring, start, u, w, medians, first, low, high);
   case 7:
-    return laneMedians<7>(xy, ring, start, u, w, own, low, high);
+    return laneMedians<7>(xy, ring, start, u, w, medians, first, low, high);
   default:
-    return laneMedians<8>(xy, ring, start, u, w, own, low, high);
+    return laneMedians<8>(xy, ring, start, u, w, medians, first, low, high);
   }
 }
 #endif
@@ -497,39 +498,48 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
   std::vector<double> own;
   own.reserve(n);
   detail::populatePages(own.data(), own.data() + n);
-  own.assign(n, 0.0);
   const auto parts = static_cast<unsigned>(
       std::min<std::size_t>(threads, std::max<std::size_t>(1, n >> 16)));
+#if defined(__SSE2__)
+  // One range appends its chunks (no pass of zeros before), several write their
+  // slots.
+  if (parts > 1)
+    own.assign(n, 0.0);
+#else
+  own.assign(n, 0.0);
+#endif
   std::vector<OwnStats> part_stats(parts);
   parallelChunks(parts, n, [&](std::size_t begin, std::size_t end, unsigned p) {
     std::vector<double> values; // reused across the range: no copy per vertex
     OwnStats local;
-    auto scalar = [&](std::size_t v) {
-      own[v] = ownMedian(mesh, rows, v, values);
-      const std::uint64_t bits = bitsOf(own[v]);
-      local.low = std::min(local.low, bits);
-      local.high = std::max(local.high, bits);
-    };
 #if defined(__SSE2__)
     // The vertices of a chunk listed by row size, then each size's in pairs, one per
-    // lane, through that size's network: no branch on the size per vertex.
+    // lane, through that size's network: no branch on the size per vertex. The
+    // chunk's medians go to a buffer, then to own.
     rows.visitStarts([&](const auto* start) {
       constexpr std::size_t CHUNK = 256, OTHER = MAX_LANE_ROW + 1;
       VertexId listed[OTHER + 1][CHUNK];
       std::size_t listed_count[OTHER + 1];
+      double medians[CHUNK];
       const VertexId* ring = rows.ring.get();
       const Point2* xy = mesh.xy.data();
-      double* out = own.data();
       __m128d lanes_low = _mm_set1_pd(std::numeric_limits<double>::infinity());
       __m128d lanes_high = _mm_setzero_pd();
       bool any_lane = false;
       for (std::size_t first = begin; first < end; first += CHUNK) {
         const std::size_t last = std::min(end, first + CHUNK);
+        auto scalar = [&](std::size_t v) {
+          const double median = ownMedian(mesh, rows, v, values);
+          medians[v - first] = median;
+          local.low = std::min(local.low, bitsOf(median));
+          local.high = std::max(local.high, bitsOf(median));
+        };
         std::fill(listed_count, listed_count + OTHER + 1, std::size_t{0});
         for (std::size_t v = first; v < last; ++v) {
           const std::size_t size = start[v + 1] - start[v];
           const std::size_t slot = size < OTHER ? size : OTHER;
           listed[slot][listed_count[slot]++] = static_cast<VertexId>(v);
+          medians[v - first] = 0.0; // an empty row's
         }
         local.count += last - first - listed_count[0];
         for (std::size_t size = 1; size <= OTHER; ++size) {
@@ -538,8 +548,8 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
           std::size_t k = 0;
           if (size < OTHER) {
             for (; k + 1 < count; k += 2)
-              if (laneMedians(size, xy, ring, start, ids[k], ids[k + 1], out, lanes_low,
-                              lanes_high))
+              if (laneMedians(size, xy, ring, start, ids[k], ids[k + 1], medians, first,
+                              lanes_low, lanes_high))
                 any_lane = true;
               else {
                 scalar(ids[k]);
@@ -549,6 +559,10 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
           for (; k < count; ++k)
             scalar(ids[k]);
         }
+        if (parts == 1)
+          own.insert(own.end(), medians, medians + (last - first));
+        else
+          std::copy(medians, medians + (last - first), own.begin() + first);
       }
       if (any_lane) {
         lanes_low = _mm_min_pd(lanes_low, _mm_unpackhi_pd(lanes_low, lanes_low));
@@ -561,7 +575,9 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
     for (std::size_t v = begin; v < end; ++v) {
       if (rows.begin(v) == rows.end(v))
         continue;
-      scalar(v);
+      own[v] = ownMedian(mesh, rows, v, values);
+      local.low = std::min(local.low, bitsOf(own[v]));
+      local.high = std::max(local.high, bitsOf(own[v]));
       ++local.count;
     }
 #endif
