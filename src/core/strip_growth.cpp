@@ -411,7 +411,11 @@ class Growth {
         FOREIGN + static_cast<HalfedgeId>(foreign_triangles_.size());
     kept_twin_.assign(local_triangles, CLOSED);
     HalfedgeId* const twin_of = kept_twin_.data();
-    kept_.clear();
+    // Written by index (no capacity check per triangle): room for every triangle.
+    if (kept_.size() < local_triangles)
+      kept_.resize(local_triangles);
+    std::uint32_t* const kept = kept_.data();
+    std::size_t kept_count = 0;
     HalfedgeId next = first, next_foreign = first_foreign;
     dt.forEachFinal(
         grid_, window,
@@ -421,7 +425,7 @@ class Growth {
           return (std::min(k0, std::min(k1, k2)) & 1u) == 0;
         },
         [&](std::size_t t) {
-          kept_.push_back(static_cast<std::uint32_t>(t));
+          kept[kept_count++] = static_cast<std::uint32_t>(t);
           std::uint8_t& f0 = flags[tv[3 * t]];
           std::uint8_t& f1 = flags[tv[3 * t + 1]];
           std::uint8_t& f2 = flags[tv[3 * t + 2]];
@@ -433,7 +437,7 @@ class Growth {
           f1 |= USED;
           f2 |= USED;
         });
-    if (kept_.empty())
+    if (kept_count == 0)
       return;
     const std::size_t added = (next - first) / 3,
                       foreign = (next_foreign - first_foreign) / 3;
@@ -458,13 +462,19 @@ class Growth {
     // place; the other edges are listed and then go through the open lists in the
     // same order (an open list never holds an edge paired in the block).
     open_edges_.clear();
-    for (const std::uint32_t t : kept_) {
+    // The arrays' starts in locals: open_edges_'s push_back would make the compiler
+    // reload them from the vectors at every triangle.
+    VertexId* const owned_vertices = mesh_.triangles.data();
+    HalfedgeId* const owned_twins = mesh_.halfedges.data();
+    VertexId* const foreign_vertices = foreign_triangles_.data();
+    HalfedgeId* const foreign_twins = foreign_halfedges_.data();
+    for (std::size_t i = 0; i < kept_count; ++i) {
+      const std::uint32_t t = kept[i];
       const HalfedgeId f = twin_of[t];
-      VertexId* const out = f < FOREIGN ? mesh_.triangles.data() + f
-                                        : foreign_triangles_.data() + (f - FOREIGN);
-      HalfedgeId* const halfedges = f < FOREIGN
-                                        ? mesh_.halfedges.data() + f
-                                        : foreign_halfedges_.data() + (f - FOREIGN);
+      VertexId* const out =
+          f < FOREIGN ? owned_vertices + f : foreign_vertices + (f - FOREIGN);
+      HalfedgeId* const halfedges =
+          f < FOREIGN ? owned_twins + f : foreign_twins + (f - FOREIGN);
       const std::int32_t* const c = tv + 3 * static_cast<std::size_t>(t);
       out[0] = ids[c[0]];
       out[1] = ids[c[1]];
@@ -651,7 +661,8 @@ class Growth {
   const bool cache_blocks_;
   /// Per local halfedge of the block: its strip halfedge once added, or CLOSED.
   std::vector<HalfedgeId> kept_twin_;
-  std::vector<std::uint32_t> kept_; ///< local triangles added, in order
+  /// Local triangles added, in order (the first ones; sized for a whole block).
+  std::vector<std::uint32_t> kept_;
   /// Halfedges (local triangle, edge) of the block's kept triangles left unpaired.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> open_edges_;
   std::vector<std::uint8_t> vertex_flags_; ///< per local vertex of the block
