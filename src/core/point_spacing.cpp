@@ -816,7 +816,35 @@ double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
   std::vector<double>& chosen = histogram.members;
   chosen.clear();
   chosen.reserve(histogram.histogram[bucket]);
-  for (std::size_t v = 0; v < own.size(); ++v)
+  std::size_t v = 0;
+#if defined(__SSE2__)
+  // The bucket's bits are [first, end): with every figure of a row non-negative and
+  // not NaN (histogramFits) and 0 without a row, that is first's value <= x < end's
+  // as doubles when end is a double's bits too (not past +inf's).
+  const std::uint64_t first =
+      histogram.low + (std::uint64_t{bucket} << histogram.shift);
+  const std::uint64_t end = first + (std::uint64_t{1} << histogram.shift);
+  if (end <= PLAIN_BITS) {
+    double low = 0.0, high = 0.0;
+    std::memcpy(&low, &first, sizeof low);
+    std::memcpy(&high, &end, sizeof high);
+    const __m128d low2 = _mm_set1_pd(low), high2 = _mm_set1_pd(high);
+    const double* values = own.data();
+    auto inside = [&](std::size_t u) {
+      const __m128d x = _mm_loadu_pd(values + u);
+      return _mm_movemask_pd(_mm_and_pd(_mm_cmple_pd(low2, x), _mm_cmplt_pd(x, high2)));
+    };
+    for (; v + 4 <= own.size(); v += 4) {
+      const int mask = inside(v) | inside(v + 2) << 2;
+      if (mask == 0)
+        continue;
+      for (std::size_t k = 0; k < 4; ++k)
+        if (((mask >> k) & 1) != 0 && rows.begin(v + k) != rows.end(v + k))
+          chosen.push_back(values[v + k]);
+    }
+  }
+#endif
+  for (; v < own.size(); ++v)
     if (((bitsOf(own[v]) - histogram.low) >> histogram.shift) == bucket &&
         rows.begin(v) != rows.end(v))
       chosen.push_back(own[v]);
