@@ -36,9 +36,9 @@ unsigned usefulThreads(unsigned threads, std::size_t n)
       std::max(1u, threads), std::max<std::size_t>(1, n / MIN_POINTS_PER_THREAD)));
 }
 
-/// CellGrid::column and row (the same values) on local copies of the grid's geometry:
-/// a loop that stores 32-bit counts would otherwise reload nx and ny (such stores may
-/// alias them) and convert them to double again at each point.
+/// CellGrid::column and row (the same rule, CellGrid::clampIndex) on local copies of
+/// the grid's geometry: a loop that stores 32-bit counts would otherwise reload nx and
+/// ny (such stores may alias them) and convert them to double again at each point.
 struct CellLookup {
   double origin_x, origin_y, inv, columns, rows;
   std::uint32_t nx, ny;
@@ -51,19 +51,14 @@ struct CellLookup {
       , nx(grid.nx)
       , ny(grid.ny)
   {}
-  static std::uint32_t clamp(double t, double limit, std::uint32_t n)
-  {
-    if (!(t > 0.0))
-      return 0;
-    if (t >= limit)
-      return n - 1;
-    return static_cast<std::uint32_t>(t);
-  }
   std::uint32_t column(double x) const
   {
-    return clamp((x - origin_x) * inv, columns, nx);
+    return CellGrid::clampIndex((x - origin_x) * inv, columns, nx);
   }
-  std::uint32_t row(double y) const { return clamp((y - origin_y) * inv, rows, ny); }
+  std::uint32_t row(double y) const
+  {
+    return CellGrid::clampIndex((y - origin_y) * inv, rows, ny);
+  }
 };
 
 /// The finite points: xyz itself, or a compacted copy when some were dropped.

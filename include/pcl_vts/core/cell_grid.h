@@ -52,14 +52,21 @@ struct CellGrid {
   }
   CellId cellOf(const Point2& p) const { return cellId(column(p.x), row(p.y)); }
 
- private:
-  static std::uint32_t clampIndex(double t, std::uint32_t n)
+  /// The column and row rule: floor(t) clamped to [0, n - 1] (0 when t is NaN),
+  /// `limit` being n as a double (the grid stage's lookups keep it converted).
+  static std::uint32_t clampIndex(double t, double limit, std::uint32_t n)
   {
     if (!(t > 0.0))
       return 0;
-    if (t >= static_cast<double>(n))
+    if (t >= limit)
       return n - 1;
     return static_cast<std::uint32_t>(t);
+  }
+
+ private:
+  static std::uint32_t clampIndex(double t, std::uint32_t n)
+  {
+    return clampIndex(t, static_cast<double>(n), n);
   }
 };
 
