@@ -95,6 +95,9 @@ struct Clearance {
   /// beyond the float range. need is never NaN, so the bits order as the values.
   static std::uint32_t roundedUp(double need)
   {
+    // Past the float range (+inf included) the conversion is undefined: +inf's bits.
+    if (!(need <= static_cast<double>(std::numeric_limits<float>::max())))
+      return 0x7f800000u;
     const auto f = static_cast<float>(need);
     std::uint32_t bits = 0;
     std::memcpy(&bits, &f, sizeof bits);
