@@ -364,15 +364,21 @@ double ownMedian(const TriangleMesh& mesh, const VertexRows& rows, std::size_t v
 
 #if defined(__SSE2__)
 /// The longest row ownMedians takes two vertices at a time (one per SSE2 lane).
-constexpr std::size_t MAX_LANE_ROW = 8;
+constexpr std::size_t MAX_LANE_ROW = 12;
+
+/// The lanes a row of N entries takes: rows of 9 and more are padded with +inf
+/// to smallMedian<16>'s network, as in the scalar path.
+template <std::size_t N>
+constexpr std::size_t LANE_SLOTS = N <= 8 ? N : 16;
 
 /// The compare-exchanges (lo, hi) of a sorting network of N values, N <= 8 (those
 /// that do not reach the median are left to the compiler to drop).
 constexpr std::uint8_t SORT_TWO[1][2] = {{0, 1}};
 constexpr std::uint8_t SORT_THREE[3][2] = {{0, 1}, {1, 2}, {0, 1}};
 constexpr std::uint8_t SORT_FOUR[5][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}};
-/// smallMedian<8>'s network (Batcher's odd-even merge sort of eight values).
+/// smallMedian<8>'s and smallMedian<16>'s networks (Batcher's odd-even merge sort).
 constexpr SortNetwork<8>::Table SORT_EIGHT = SortNetwork<8>::table();
+constexpr SortNetwork<16>::Table SORT_SIXTEEN = SortNetwork<16>::table();
 
 template <std::size_t M, std::size_t... I>
 inline void exchangeLanes(__m128d* a, const std::uint8_t (&pairs)[M][2],
@@ -398,8 +404,9 @@ inline void exchangeLanes(__m128d* a, const typename SortNetwork<N>::Table& tabl
   (exchange(table.pairs[I].lo, table.pairs[I].hi), ...);
 }
 
-/// The element at index N / 2 of each lane's N values sorted (ownMedian's networks:
-/// min and max in the lanes pick the same values, none being NaN or -0).
+/// The element at index N / 2 of each lane's N values sorted, a[N, LANE_SLOTS<N>)
+/// holding +inf (ownMedian's networks: min and max in the lanes pick the same
+/// values, none being NaN or -0).
 template <std::size_t N>
 inline __m128d laneMedian(__m128d* a)
 {
@@ -418,9 +425,12 @@ inline __m128d laneMedian(__m128d* a)
     return _mm_min_pd(a[3], a[4]);
   } else if constexpr (N == 7)
     exchangeLanes(a, MEDIAN_OF_SEVEN, std::make_index_sequence<14>());
-  else {
-    static_assert(N == 8);
+  else if constexpr (N == 8)
     exchangeLanes<8>(a, SORT_EIGHT, std::make_index_sequence<SortNetwork<8>::size()>());
+  else {
+    static_assert(N <= 16);
+    exchangeLanes<16>(a, SORT_SIXTEEN,
+                      std::make_index_sequence<SortNetwork<16>::size()>());
   }
   return a[N / 2];
 }
@@ -436,9 +446,9 @@ inline bool laneMedians(const Point2* xy, const VertexId* ring, const Index* sta
   const __m128d pu = _mm_loadu_pd(&xy[u].x), pw = _mm_loadu_pd(&xy[w].x);
   const VertexId* row_u = ring + start[u];
   const VertexId* row_w = ring + start[w];
-  __m128d a[N];
+  __m128d a[LANE_SLOTS<N>];
   __m128d sum = _mm_setzero_pd(); // NaN when a square is (none is -inf)
-#pragma GCC unroll 8
+#pragma GCC unroll 16
   for (std::size_t k = 0; k < N; ++k) {
     const __m128d du = _mm_sub_pd(pu, _mm_loadu_pd(&xy[row_u[k]].x));
     const __m128d dw = _mm_sub_pd(pw, _mm_loadu_pd(&xy[row_w[k]].x));
@@ -449,6 +459,8 @@ inline bool laneMedians(const Point2* xy, const VertexId* ring, const Index* sta
   }
   if (_mm_movemask_pd(_mm_cmpunord_pd(sum, sum)) != 0)
     return false;
+  for (std::size_t k = N; k < LANE_SLOTS<N>; ++k)
+    a[k] = _mm_set1_pd(std::numeric_limits<double>::infinity());
   const __m128d median = _mm_sqrt_pd(laneMedian<N>(a));
   _mm_storel_pd(medians + (u - first), median);
   _mm_storeh_pd(medians + (w - first), median);
@@ -478,8 +490,16 @@ bool laneMedians(std::size_t size, const Point2* xy, const VertexId* ring,
     return laneMedians<6>(xy, ring, start, u, w, medians, first, low, high);
   case 7:
     return laneMedians<7>(xy, ring, start, u, w, medians, first, low, high);
-  default:
+  case 8:
     return laneMedians<8>(xy, ring, start, u, w, medians, first, low, high);
+  case 9:
+    return laneMedians<9>(xy, ring, start, u, w, medians, first, low, high);
+  case 10:
+    return laneMedians<10>(xy, ring, start, u, w, medians, first, low, high);
+  case 11:
+    return laneMedians<11>(xy, ring, start, u, w, medians, first, low, high);
+  default:
+    return laneMedians<12>(xy, ring, start, u, w, medians, first, low, high);
   }
 }
 #endif
