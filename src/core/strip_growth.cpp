@@ -10,6 +10,10 @@
 #include <string>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace pcl_vts {
 namespace detail {
 namespace {
@@ -593,11 +597,38 @@ class Growth {
       appendTo(*sink);
       return;
     }
-    VertexId* const v = mesh_.triangles.data();
-    HalfedgeId* const h = mesh_.halfedges.data();
-    const auto end = static_cast<HalfedgeId>(mesh_.halfedges.size());
-    for (HalfedgeId g = 0; g < end; ++g)
-      h[g] = ownTwin(v, h[g], g, 0, mesh_.border);
+    rewriteTwins(mesh_.triangles.data(), mesh_.halfedges.data(), 0,
+                 mesh_.halfedges.size(), 0, mesh_.border);
+  }
+
+  /// twins[i] = ownTwin of halfedge first + i, in order. Four at a time where all four
+  /// are owned twins (below FOREIGN: shifted, the common case), else one by one.
+  void rewriteTwins(const VertexId* v, HalfedgeId* twins, std::size_t first,
+                    std::size_t count, HalfedgeId shift,
+                    std::vector<BorderHalfedge>& border) const
+  {
+    std::size_t i = 0;
+#if defined(__SSE2__)
+    // e < FOREIGN unsigned: (e ^ 0x80000000) < (FOREIGN ^ 0x80000000) signed.
+    const __m128i flip = _mm_set1_epi32(static_cast<int>(0x80000000u));
+    const __m128i limit = _mm_set1_epi32(static_cast<int>(FOREIGN ^ 0x80000000u));
+    const __m128i add = _mm_set1_epi32(static_cast<int>(shift));
+    for (; i + 4 <= count; i += 4) {
+      auto* const at = reinterpret_cast<__m128i*>(twins + i);
+      const __m128i e = _mm_loadu_si128(at);
+      const __m128i owned = _mm_cmplt_epi32(_mm_xor_si128(e, flip), limit);
+      if (_mm_movemask_epi8(owned) == 0xffff) {
+        _mm_storeu_si128(at, _mm_add_epi32(e, add));
+        continue;
+      }
+      for (std::size_t k = i; k < i + 4; ++k)
+        twins[k] =
+            ownTwin(v, twins[k], static_cast<HalfedgeId>(first + k), shift, border);
+    }
+#endif
+    for (; i < count; ++i)
+      twins[i] =
+          ownTwin(v, twins[i], static_cast<HalfedgeId>(first + i), shift, border);
   }
 
   /// The output twin of owned halfedge g (twin e while grown), ids shifted by
@@ -636,10 +667,8 @@ class Growth {
       // halfedge: its capacity check and size update cost more than the rewrite).
       const std::size_t at = sink.halfedges.size();
       sink.halfedges.insert(sink.halfedges.end(), h + begin, h + end);
-      HalfedgeId* const out = sink.halfedges.data() + at;
-      for (std::size_t g = begin; g < end; ++g)
-        out[g - begin] =
-            ownTwin(v, out[g - begin], static_cast<HalfedgeId>(g), shift, sink.border);
+      rewriteTwins(v, sink.halfedges.data() + at, begin, end - begin, shift,
+                   sink.border);
     }
   }
 
