@@ -409,9 +409,45 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
   // vertices: each from the fan of its smallest corner, when every such fan, walked
   // from the triangle ringLowerBounds kept, holds all the vertex's triangles (its
   // row's count: a triangle per halfedge leaving it, one more for an open fan) and
-  // they are few; else a pass over every triangle tests its corners' bits.
+  // they are few (one per 256 triangles: the walks' accesses are random, and uniform
+  // points leave one vertex in 30 uncleared); else a pass over every triangle tests
+  // its corners' bits.
+  // v's triangles into fan, walked both ways around v from `out` (a halfedge
+  // leaving v; any order: fanOf's is not needed); false unless every halfedge
+  // reached leaves v and they are all of v's triangles by its row's count.
+  const HalfedgeId* twins = mesh.halfedges.data();
+  auto fanAround = [&](VertexId v, HalfedgeId out, std::vector<TriangleId>& fan) {
+    fan.clear();
+    const std::size_t row = rows.end(v) - rows.begin(v);
+    bool closed = false;
+    HalfedgeId e = out;
+    for (std::size_t steps = 0; steps <= row && ids[e] == v; ++steps) {
+      fan.push_back(triangleOf(e));
+      const HalfedgeId across = twins[prevHalfedge(e)]; // leaves v
+      if (across == INVALID_ID)
+        break;
+      if (across == out) {
+        closed = true;
+        break;
+      }
+      e = across;
+    }
+    if (ids[e] != v)
+      return false;
+    e = out;
+    for (std::size_t steps = 0; !closed && steps <= row; ++steps) {
+      const HalfedgeId across = twins[e]; // enters v
+      if (across == INVALID_ID)
+        break;
+      e = nextHalfedge(across);
+      if (ids[e] != v)
+        return false;
+      fan.push_back(triangleOf(e));
+    }
+    return fan.size() + (closed ? 0 : 1) == row;
+  };
   std::vector<std::vector<TriangleId>> unclear(parts);
-  bool fans = cleared.uncleared.size() <= count / 32;
+  bool fans = cleared.uncleared.size() <= count / 256;
   if (fans) {
     std::vector<TriangleId> fan, found;
     for (const auto& [v, t0] : cleared.uncleared) {
@@ -422,9 +458,7 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
         fans = false;
         break;
       }
-      bool closed = false;
-      fanOf(mesh, out, closed, fan);
-      if (fan.size() + (closed ? 0 : 1) != rows.end(v) - rows.begin(v)) {
+      if (!fanAround(v, out, fan)) {
         fans = false;
         break;
       }
