@@ -380,28 +380,26 @@ constexpr std::uint8_t SORT_FOUR[5][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}
 constexpr SortNetwork<8>::Table SORT_EIGHT = SortNetwork<8>::table();
 constexpr SortNetwork<16>::Table SORT_SIXTEEN = SortNetwork<16>::table();
 
+/// One compare-exchange in both lanes: a[lo] gets the smaller, a[hi] the larger.
+inline void exchangeLanes(__m128d* a, std::size_t lo, std::size_t hi)
+{
+  const __m128d low = _mm_min_pd(a[lo], a[hi]);
+  a[hi] = _mm_max_pd(a[lo], a[hi]);
+  a[lo] = low;
+}
+
 template <std::size_t M, std::size_t... I>
 inline void exchangeLanes(__m128d* a, const std::uint8_t (&pairs)[M][2],
                           std::index_sequence<I...>)
 {
-  auto exchange = [a](std::size_t lo, std::size_t hi) {
-    const __m128d low = _mm_min_pd(a[lo], a[hi]);
-    a[hi] = _mm_max_pd(a[lo], a[hi]);
-    a[lo] = low;
-  };
-  (exchange(pairs[I][0], pairs[I][1]), ...);
+  (exchangeLanes(a, pairs[I][0], pairs[I][1]), ...);
 }
 
 template <std::size_t N, std::size_t... I>
 inline void exchangeLanes(__m128d* a, const typename SortNetwork<N>::Table& table,
                           std::index_sequence<I...>)
 {
-  auto exchange = [a](std::size_t lo, std::size_t hi) {
-    const __m128d low = _mm_min_pd(a[lo], a[hi]);
-    a[hi] = _mm_max_pd(a[lo], a[hi]);
-    a[lo] = low;
-  };
-  (exchange(table.pairs[I].lo, table.pairs[I].hi), ...);
+  (exchangeLanes(a, table.pairs[I].lo, table.pairs[I].hi), ...);
 }
 
 /// The element at index N / 2 of each lane's N values sorted, a[N, LANE_SLOTS<N>)
@@ -469,38 +467,43 @@ inline bool laneMedians(const Point2* xy, const VertexId* ring, const Index* sta
   return true;
 }
 
-/// laneMedians for rows of `size` entries, 1 <= size <= MAX_LANE_ROW.
-template <typename Index>
-bool laneMedians(std::size_t size, const Point2* xy, const VertexId* ring,
-                 const Index* start, VertexId u, VertexId w, double* medians,
-                 std::size_t first, __m128d& low, __m128d& high)
+/// laneMedians over the pairs of ids[0, count), vertices with rows of N entries, in
+/// order; a pair with a NaN square and an odd last vertex go to scalar(v). True when
+/// a pair took the lanes.
+template <std::size_t N, typename Index, typename Scalar>
+bool laneMediansOfRows(const Point2* xy, const VertexId* ring, const Index* start,
+                       const VertexId* ids, std::size_t count, double* medians,
+                       std::size_t first, __m128d& low, __m128d& high, Scalar& scalar)
 {
-  switch (size) {
-  case 1:
-    return laneMedians<1>(xy, ring, start, u, w, medians, first, low, high);
-  case 2:
-    return laneMedians<2>(xy, ring, start, u, w, medians, first, low, high);
-  case 3:
-    return laneMedians<3>(xy, ring, start, u, w, medians, first, low, high);
-  case 4:
-    return laneMedians<4>(xy, ring, start, u, w, medians, first, low, high);
-  case 5:
-    return laneMedians<5>(xy, ring, start, u, w, medians, first, low, high);
-  case 6:
-    return laneMedians<6>(xy, ring, start, u, w, medians, first, low, high);
-  case 7:
-    return laneMedians<7>(xy, ring, start, u, w, medians, first, low, high);
-  case 8:
-    return laneMedians<8>(xy, ring, start, u, w, medians, first, low, high);
-  case 9:
-    return laneMedians<9>(xy, ring, start, u, w, medians, first, low, high);
-  case 10:
-    return laneMedians<10>(xy, ring, start, u, w, medians, first, low, high);
-  case 11:
-    return laneMedians<11>(xy, ring, start, u, w, medians, first, low, high);
-  default:
-    return laneMedians<12>(xy, ring, start, u, w, medians, first, low, high);
-  }
+  bool any_lane = false;
+  std::size_t k = 0;
+  for (; k + 1 < count; k += 2)
+    if (laneMedians<N>(xy, ring, start, ids[k], ids[k + 1], medians, first, low, high))
+      any_lane = true;
+    else {
+      scalar(ids[k]);
+      scalar(ids[k + 1]);
+    }
+  if (k < count)
+    scalar(ids[k]);
+  return any_lane;
+}
+
+/// laneMediansOfRows for rows of `size` entries, 1 <= size <= MAX_LANE_ROW: the
+/// size picks its instance once for all its vertices.
+template <typename Index, typename Scalar, std::size_t... S>
+bool laneMediansOfRows(std::size_t size, std::index_sequence<S...>, const Point2* xy,
+                       const VertexId* ring, const Index* start, const VertexId* ids,
+                       std::size_t count, double* medians, std::size_t first,
+                       __m128d& low, __m128d& high, Scalar& scalar)
+{
+  bool any_lane = false;
+  (void)((size == S + 1 &&
+          (any_lane = laneMediansOfRows<S + 1>(xy, ring, start, ids, count, medians,
+                                               first, low, high, scalar),
+           true)) ||
+         ...);
+  return any_lane;
 }
 #endif
 
@@ -565,19 +568,14 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
         for (std::size_t size = 1; size <= OTHER; ++size) {
           const VertexId* ids = listed[size];
           const std::size_t count = listed_count[size];
-          std::size_t k = 0;
           if (size < OTHER) {
-            for (; k + 1 < count; k += 2)
-              if (laneMedians(size, xy, ring, start, ids[k], ids[k + 1], medians, first,
-                              lanes_low, lanes_high))
-                any_lane = true;
-              else {
-                scalar(ids[k]);
-                scalar(ids[k + 1]);
-              }
-          }
-          for (; k < count; ++k)
-            scalar(ids[k]);
+            if (laneMediansOfRows(size, std::make_index_sequence<MAX_LANE_ROW>(), xy,
+                                  ring, start, ids, count, medians, first, lanes_low,
+                                  lanes_high, scalar))
+              any_lane = true;
+          } else
+            for (std::size_t k = 0; k < count; ++k)
+              scalar(ids[k]);
         }
         if (parts == 1)
           own.insert(own.end(), medians, medians + (last - first));
