@@ -257,14 +257,24 @@ int incircleExactDifferences(double adx, double ady, double bdx, double bdy, dou
 
 } // namespace
 
+namespace {
+
+/// Both products of orient2d(a, b, c) = (a.x - c.x)(b.y - c.y) - (a.y - c.y)(b.x - c.x)
+/// have a zero factor (equal coordinates: their difference is exactly 0), so the
+/// determinant is exactly 0: points on one row or column of a lattice (the float32
+/// UTM input's coarse y), most of the ties the filters leave.
+bool bothProductsZero(const Point2& a, const Point2& b, const Point2& c)
+{
+  return (a.x == c.x || b.y == c.y) && (a.y == c.y || b.x == c.x);
+}
+
+} // namespace
+
 namespace detail {
 
 Sign orient2dExact(const Point2& a, const Point2& b, const Point2& c)
 {
-  // Both products with a zero factor (equal coordinates: their difference is exactly
-  // 0): the determinant is exactly 0. Points on one row or column of a lattice (the
-  // float32 UTM input's coarse y), most of the ties the filters leave.
-  if ((a.x == c.x || b.y == c.y) && (a.y == c.y || b.x == c.x))
+  if (bothProductsZero(a, b, c))
     return Sign::ZERO;
   const bool in_range = allInExpansionRange<3>({&a, &b, &c});
   if (in_range && exactDifference(a.x, c.x) && exactDifference(a.y, c.y) &&
@@ -298,7 +308,7 @@ Sign orient2dOutOfLine(Point2 a, Point2 b, Point2 c)
 {
   // orient2dExact's first case before the dynamic filter: the box filters' callers
   // (the cache blocks' walk) meet it on every lattice row and column.
-  if ((a.x == c.x || b.y == c.y) && (a.y == c.y || b.x == c.x))
+  if (bothProductsZero(a, b, c))
     return Sign::ZERO;
   return orient2d(a, b, c);
 }
