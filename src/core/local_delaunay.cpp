@@ -170,9 +170,8 @@ void LocalDelaunay::insertPoints(std::size_t count)
         e = 2;
       else
         break;
-      const auto o = static_cast<std::uint32_t>(r.adj[e]);
-      t = o >> 4;
-      entry = o & 15u;
+      t = twinTriangle(r.adj[e]);
+      entry = twinEdge(r.adj[e]);
     }
     // Cavity: the triangles whose perturbed circumcircle holds q, depth first from t.
     // It is a disk with every vertex on its boundary (its triangles' adjacency is a
@@ -196,12 +195,13 @@ void LocalDelaunay::insertPoints(std::size_t count)
         const double det = incircleFromCoefficients(n.k, n.apex, q);
         const double bound = bounds[n.real]; // a load, no branch
         if (det > bound || (!(-det > bound) &&
-                            incirclePerturbedOutOfLine(C[uo >> 4].p[0], C[uo >> 4].p[1],
-                                                       n.apex, q) == Sign::POSITIVE)) {
-          bad[bad_count++] = uo >> 4;
+                            incirclePerturbedOutOfLine(C[twinTriangle(o)].p[0],
+                                                       C[twinTriangle(o)].p[1], n.apex,
+                                                       q) == Sign::POSITIVE)) {
+          bad[bad_count++] = twinTriangle(o);
           // The edges before e (taken later) and after e (taken now): (e + 2) % 3 and
           // (e + 1) % 3 read from 2-bit tables, no branch on e.
-          const std::uint32_t e = uo & 15u, base = uo - e;
+          const std::uint32_t e = twinEdge(o), base = uo - e;
           stack[top++] = base + ((0x12u >> (2 * e)) & 3u);
           h = base + ((0x09u >> (2 * e)) & 3u);
           continue;
