@@ -515,14 +515,22 @@ TEST(Orient2d, ExactOnSharedRowsAndColumns)
   EXPECT_GT(one_zero, 100);
 }
 
+/// The points of {0..side-1}^2, column by column: small grids are full of
+/// cocircular quadruples and collinear triples.
+std::vector<Point2> integerGrid(int side)
+{
+  std::vector<Point2> grid;
+  for (int x = 0; x < side; ++x)
+    for (int y = 0; y < side; ++y)
+      grid.push_back({static_cast<double>(x), static_cast<double>(y)});
+  return grid;
+}
+
 TEST(IncirclePerturbed, EqualPointsKeepTheirOrderInTheTieBreak)
 {
   // Coordinates in {0..2}^2 with repeated points: the tie-break ranks equal points in
   // argument order (a stable sort), as the perturbed lift's reference does.
-  std::vector<Point2> grid;
-  for (int x = 0; x < 3; ++x)
-    for (int y = 0; y < 3; ++y)
-      grid.push_back({static_cast<double>(x), static_cast<double>(y)});
+  const std::vector<Point2> grid = integerGrid(3);
   std::mt19937_64 rng(12);
   std::uniform_int_distribution<std::size_t> pick(0, grid.size() - 1);
   int repeated = 0;
@@ -662,10 +670,7 @@ TEST(IncirclePerturbed, CocircularLatticePointsMatchPerturbedLift)
 TEST(IncirclePerturbed, SmallIntegerGridDegeneraciesMatchPerturbedLift)
 {
   // Coordinates in {0..3}^2: cocircular squares, collinear triples and quadruples.
-  std::vector<Point2> grid;
-  for (int x = 0; x < 4; ++x)
-    for (int y = 0; y < 4; ++y)
-      grid.push_back({static_cast<double>(x), static_cast<double>(y)});
+  const std::vector<Point2> grid = integerGrid(4);
   std::mt19937_64 rng(11);
   std::uniform_int_distribution<std::size_t> pick(0, grid.size() - 1);
   int zero = 0, cocircular = 0;
