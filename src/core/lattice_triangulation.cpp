@@ -602,6 +602,15 @@ Status latticeHull(Lattice& lat, std::vector<VertexId>& hull)
   return Status::success();
 }
 
+/// Every position of the lattice row holds a point: vertex ids grow by one along a
+/// row's present positions (lattice row-major order), so its ends are nx - 1 apart
+/// exactly when none is missing.
+bool fullRow(const VertexId* row, std::uint32_t nx)
+{
+  return row[0] != INVALID_ID && row[nx - 1] != INVALID_ID &&
+         row[nx - 1] - row[0] == nx - 1;
+}
+
 /// The complete cells' row offsets, the incomplete cells.
 void rankCompleteCells(Lattice& lat, unsigned threads)
 {
@@ -613,6 +622,10 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
       const VertexId* below = &lat.vertex_at[lat.position(0, j)];
       const VertexId* above = below + lat.nx;
       std::uint32_t count = 0;
+      if (fullRow(below, lat.nx) && fullRow(above, lat.nx)) {
+        lat.row_start[j + 1] = cx; // every cell complete
+        continue;
+      }
       for (std::uint32_t i = 0; i < cx; ++i)
         if (below[i] != INVALID_ID && below[i + 1] != INVALID_ID &&
             above[i] != INVALID_ID && above[i + 1] != INVALID_ID)
@@ -631,24 +644,119 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
 /// The first triangle of each cell of cell row r in the output (complete cells are
 /// numbered in row-major order, two triangles each), INVALID_ID for an incomplete
 /// cell and for every cell of a row beyond the lattice (r = -1 or r = cy): idx[i + 1]
-/// for cell i, idx[0] and idx[cx + 1] INVALID_ID.
-void indexCellRow(const Lattice& lat, std::int64_t r, std::vector<HalfedgeId>& idx)
-{
-  const std::uint32_t cx = lat.nx - 1;
-  idx.assign(static_cast<std::size_t>(cx) + 2, INVALID_ID);
-  if (r < 0 || r >= static_cast<std::int64_t>(lat.ny) - 1)
-    return;
-  const auto j = static_cast<std::uint32_t>(r);
-  const VertexId* low = &lat.vertex_at[lat.position(0, j)];
-  const VertexId* high = low + lat.nx;
-  auto t = static_cast<HalfedgeId>(2 * lat.row_start[j]);
-  HalfedgeId* out = idx.data() + 1;
-  for (std::uint32_t i = 0; i < cx; ++i) {
-    const bool complete = low[i] != INVALID_ID && low[i + 1] != INVALID_ID &&
-                          high[i] != INVALID_ID && high[i + 1] != INVALID_ID;
-    out[i] = complete ? t : INVALID_ID;
-    t += complete ? 2 : 0;
+/// for cell i, idx[0] and idx[cx + 1] INVALID_ID. A row beyond the lattice (NONE) or
+/// with every cell complete (FULL: cell i's first triangle is first + 2 i) is not
+/// listed.
+struct CellRow {
+  enum Kind { NONE, FULL, PARTIAL };
+  Kind kind = NONE;
+  HalfedgeId first = 0; ///< the row's first triangle
+  std::vector<HalfedgeId> idx;
+
+  void index(const Lattice& lat, std::int64_t r)
+  {
+    kind = NONE;
+    if (r < 0 || r >= static_cast<std::int64_t>(lat.ny) - 1)
+      return;
+    const auto j = static_cast<std::uint32_t>(r);
+    const std::uint32_t cx = lat.nx - 1;
+    first = static_cast<HalfedgeId>(2 * lat.row_start[j]);
+    if (lat.row_start[j + 1] - lat.row_start[j] == cx) {
+      kind = FULL;
+      return;
+    }
+    kind = PARTIAL;
+    idx.resize(static_cast<std::size_t>(cx) + 2);
+    idx[0] = idx[static_cast<std::size_t>(cx) + 1] = INVALID_ID;
+    const VertexId* low = &lat.vertex_at[lat.position(0, j)];
+    const VertexId* high = low + lat.nx;
+    HalfedgeId t = first;
+    HalfedgeId* out = idx.data() + 1;
+    for (std::uint32_t i = 0; i < cx; ++i) {
+      const bool complete = low[i] != INVALID_ID && low[i + 1] != INVALID_ID &&
+                            high[i] != INVALID_ID && high[i + 1] != INVALID_ID;
+      out[i] = complete ? t : INVALID_ID;
+      t += complete ? 2 : 0;
+    }
   }
+};
+
+/// Emits the run [i0, i1) of complete cells of a cell row (the cells beside it
+/// incomplete or beyond the lattice): their corners are present, so the vertex ids
+/// (low0 and high0 at column i0), the triangles (first: cell i0's first) and the
+/// twins inside the run are arithmetic in i; the twins below and above likewise when
+/// that row is FULL, none when it is beyond the lattice, looked up otherwise. The
+/// same values and open halfedges as a loop over the cells (not in the same order).
+template <CellRow::Kind BELOW, CellRow::Kind ABOVE>
+void emitRun(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
+             HalfedgeId first, const CellRow& below, const CellRow& above,
+             VertexId* tri, HalfedgeId* twin, std::vector<HalfedgeId>& open)
+{
+  const HalfedgeId* b = BELOW == CellRow::PARTIAL ? below.idx.data() + 1 : nullptr;
+  const HalfedgeId* a = ABOVE == CellRow::PARTIAL ? above.idx.data() + 1 : nullptr;
+  const HalfedgeId below_e = 3 * below.first + 4, above_e = 3 * above.first;
+  HalfedgeId e0 = 3 * first;
+  VertexId* v = tri + e0;
+  HalfedgeId* h = twin + e0;
+  VertexId lo = low0, hi = high0;
+  for (std::uint32_t i = i0; i < i1; ++i, e0 += 6, v += 6, h += 6, ++lo, ++hi) {
+    v[0] = lo;
+    v[1] = lo + 1;
+    v[2] = hi;
+    v[3] = lo + 1;
+    v[4] = hi + 1;
+    v[5] = hi;
+    HalfedgeId down = INVALID_ID, up = INVALID_ID;
+    if constexpr (BELOW == CellRow::FULL)
+      down = below_e + 6 * i;
+    else if constexpr (BELOW == CellRow::PARTIAL)
+      down = b[i] != INVALID_ID ? 3 * b[i] + 4 : INVALID_ID;
+    if constexpr (ABOVE == CellRow::FULL)
+      up = above_e + 6 * i;
+    else if constexpr (ABOVE == CellRow::PARTIAL)
+      up = a[i] != INVALID_ID ? 3 * a[i] : INVALID_ID;
+    h[0] = down;
+    h[1] = e0 + 5;
+    h[2] = e0 - 3;
+    h[3] = e0 + 8;
+    h[4] = up;
+    h[5] = e0 + 1;
+  }
+  // The run's ends face incomplete cells or the border; the open halfedges below and
+  // above (their order in `open` does not matter: pairHalfedges sorts them).
+  const HalfedgeId start = 3 * first, last = start + 6 * (i1 - i0 - 1);
+  twin[start + 2] = INVALID_ID;
+  twin[last + 3] = INVALID_ID;
+  open.push_back(start + 2);
+  open.push_back(last + 3);
+  if constexpr (BELOW != CellRow::FULL)
+    for (std::uint32_t i = i0; i < i1; ++i)
+      if (BELOW == CellRow::NONE || b[i] == INVALID_ID)
+        open.push_back(start + 6 * (i - i0));
+  if constexpr (ABOVE != CellRow::FULL)
+    for (std::uint32_t i = i0; i < i1; ++i)
+      if (ABOVE == CellRow::NONE || a[i] == INVALID_ID)
+        open.push_back(start + 6 * (i - i0) + 4);
+}
+
+/// emitRun for the kinds of the rows below and above.
+void emitRunOf(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
+               HalfedgeId first, const CellRow& below, const CellRow& above,
+               VertexId* tri, HalfedgeId* twin, std::vector<HalfedgeId>& open)
+{
+  using K = CellRow;
+  using Emit = void (*)(std::uint32_t, std::uint32_t, VertexId, VertexId, HalfedgeId,
+                        const CellRow&, const CellRow&, VertexId*, HalfedgeId*,
+                        std::vector<HalfedgeId>&);
+  static constexpr Emit EMIT[3][3] = {
+      {emitRun<K::NONE, K::NONE>, emitRun<K::NONE, K::FULL>,
+       emitRun<K::NONE, K::PARTIAL>},
+      {emitRun<K::FULL, K::NONE>, emitRun<K::FULL, K::FULL>,
+       emitRun<K::FULL, K::PARTIAL>},
+      {emitRun<K::PARTIAL, K::NONE>, emitRun<K::PARTIAL, K::FULL>,
+       emitRun<K::PARTIAL, K::PARTIAL>}};
+  EMIT[below.kind][above.kind](i0, i1, low0, high0, first, below, above, tri, twin,
+                               open);
 }
 
 /// The triangles of every complete cell in row-major order (the first
@@ -667,26 +775,27 @@ void emitCompleteCells(Lattice& lat, unsigned threads, std::vector<VertexId>& tr
   // C->D, halfedge 4), D->A the cell on the left (its B->C, halfedge 3), B->C the
   // cell on the right (its D->A, halfedge 2), C->D the cell above (its A->B,
   // halfedge 0); B-D is shared. Each cell's first triangle in the rows below, at and
-  // above the row is looked up in three rolling rows of indexCellRow (sentinels at
-  // both ends: no bounds work per cell). Row j's halfedges are [6 row_start[j],
-  // 6 row_start[j + 1]): one thread grows the arrays row by row (no pass zeroing
-  // them first: the zeros of a row are in cache when it is written), with their
-  // pages faulted in a chunk ahead (populateAhead) and the lattice rows no longer
+  // above the row is looked up in three rolling CellRows (sentinels at both ends: no
+  // bounds work per cell), only below and above: emitRun writes each run of complete
+  // cells with the vertices and the twins inside it counted up. Row j's halfedges are
+  // [6 row_start[j], 6 row_start[j + 1]): one thread grows the arrays row by row (no
+  // pass zeroing them first: the zeros of a row are in cache when it is written), with
+  // their pages faulted in a chunk ahead (populateAhead) and the lattice rows no longer
   // read handed back (releasePages: the peak holds the cells' arrays, not vertex_at
   // too).
   const auto emitRows = [&lat, &triangles,
                          &halfedges](std::size_t begin, std::size_t end,
                                      std::vector<HalfedgeId>& my_open, bool grow) {
     const std::uint32_t cx = lat.nx - 1;
-    std::vector<HalfedgeId> below, at, above;
-    indexCellRow(lat, static_cast<std::int64_t>(begin) - 1, below);
-    indexCellRow(lat, static_cast<std::int64_t>(begin), at);
+    CellRow below, at, above;
+    below.index(lat, static_cast<std::int64_t>(begin) - 1);
+    at.index(lat, static_cast<std::int64_t>(begin));
     const void* populated_triangles = nullptr; // populateAhead's marks
     const void* populated_halfedges = nullptr;
     const void* released = lat.vertex_at.data();
     constexpr std::ptrdiff_t RELEASE_STEP = std::ptrdiff_t{1} << 18; // bytes at a time
     for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j) {
-      indexCellRow(lat, static_cast<std::int64_t>(j) + 1, above);
+      above.index(lat, static_cast<std::int64_t>(j) + 1);
       const std::size_t size = 6 * lat.row_start[j + 1];
       if (grow && size > triangles.size()) {
         detail::populateAhead(triangles, size - triangles.size(), populated_triangles);
@@ -698,36 +807,22 @@ void emitCompleteCells(Lattice& lat, unsigned threads, std::vector<VertexId>& tr
       const VertexId* high = low + lat.nx;
       VertexId* tri = triangles.data();
       HalfedgeId* twin = halfedges.data();
-      // Cell i's entry in the rows below, at and above, its left and right neighbours'.
-      const HalfedgeId *b = below.data() + 1, *c = at.data() + 1, *a = above.data() + 1;
-      const HalfedgeId *left = at.data(), *right = at.data() + 2;
-      for (std::uint32_t i = 0; i < cx; ++i) {
-        const HalfedgeId t = c[i];
-        if (t == INVALID_ID)
-          continue;
-        const HalfedgeId e0 = 3 * t;
-        VertexId* const v = tri + e0;
-        HalfedgeId* const h = twin + e0;
-        v[0] = low[i];
-        v[1] = low[i + 1];
-        v[2] = high[i];
-        v[3] = low[i + 1];
-        v[4] = high[i + 1];
-        v[5] = high[i];
-        // The complete cells of a row are numbered consecutively: the left one's
-        // triangles end where this one's start, the right one's start after them.
-        const bool has_below = b[i] != INVALID_ID, has_left = left[i] != INVALID_ID,
-                   has_right = right[i] != INVALID_ID, has_above = a[i] != INVALID_ID;
-        h[0] = has_below ? 3 * b[i] + 4 : INVALID_ID;
-        h[1] = e0 + 5;
-        h[2] = has_left ? e0 - 3 : INVALID_ID;
-        h[3] = has_right ? e0 + 8 : INVALID_ID;
-        h[4] = has_above ? 3 * a[i] : INVALID_ID;
-        h[5] = e0 + 1;
-        if (!(has_below && has_left && has_right && has_above))
-          for (const unsigned k : {0u, 2u, 3u, 4u})
-            if (h[k] == INVALID_ID)
-              my_open.push_back(e0 + k);
+      if (at.kind == CellRow::FULL) {
+        emitRunOf(0, cx, low[0], high[0], at.first, below, above, tri, twin, my_open);
+      } else {
+        // The runs of complete cells (idx[cx + 1], past the last cell, is INVALID_ID).
+        const HalfedgeId* c = at.idx.data() + 1;
+        for (std::uint32_t i = 0; i < cx;) {
+          if (c[i] == INVALID_ID) {
+            ++i;
+            continue;
+          }
+          std::uint32_t i1 = i + 1;
+          while (c[i1] != INVALID_ID)
+            ++i1;
+          emitRunOf(i, i1, low[i], high[i], c[i], below, above, tri, twin, my_open);
+          i = i1;
+        }
       }
       if (grow) { // lattice rows up to j are read no more
         const void* done = lat.vertex_at.data() + lat.position(0, j + 1);
