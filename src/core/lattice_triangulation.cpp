@@ -62,8 +62,13 @@
 #include <cstring>
 #include <limits>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace pcl_vts {
 namespace {
@@ -234,48 +239,82 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
   double last_x = std::nan(""), last_y = std::nan("");
   std::uint32_t id_x = 0, id_y = 0;
   const std::size_t limit = LATTICE_FILL_FACTOR * n;
-  // Raster order: the value is usually the last one or the one after it.
-  const auto lookup = [](ValueTable& table, double v, std::uint32_t& id) {
-    if (id + 1 < table.size() && table.value(id + 1) == v) {
-      ++id;
-      return false;
-    }
-    const std::uint32_t before = table.size();
+  std::size_t finite_count = 0, dropped_count = 0; // in registers
+  // Raster order: the value is usually the last one or the one after it (the tables'
+  // values and sizes are held here, reloaded when a value is looked up).
+  const double* x_values = xt.values().data();
+  const double* y_values = yt.values().data();
+  std::uint32_t x_count = xt.size(), y_count = yt.size();
+  const auto lookup = [](ValueTable& table, double v, std::uint32_t& id,
+                         const double*& values, std::uint32_t& count) {
     id = table.idOf(v);
-    return table.size() != before;
+    values = table.values().data();
+    const bool grew = table.size() != count;
+    count = table.size();
+    return grew;
+  };
+  // A point whose x and y are values of the tables (the next one or the last one) is
+  // finite and within the range (checked when they entered); only its height is
+  // tested. Any other goes through `checked`, which tests the three before anything
+  // enters the tables (a point with a non-finite coordinate is dropped whole).
+  enum Check { OK, DROP, OUT_OF_RANGE };
+  const auto checked = [](double x, double y, double h) {
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h))
+      return DROP;
+    return std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE
+               ? OUT_OF_RANGE
+               : OK;
   };
   for (std::size_t k = 0; k < n; ++k) {
     const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) {
-      ++dropped;
+    if (!(std::fabs(h) <= std::numeric_limits<double>::max())) {
+      ++dropped_count; // h not finite
       continue;
     }
-    if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE)
-      return false;
     bool grew = false;
-    if (!(x == last_x)) {
+    if (id_x + 1 < x_count && x_values[id_x + 1] == x) {
+      ++id_x;
       last_x = x;
-      grew = lookup(xt, x, id_x);
+    } else if (!(x == last_x)) {
+      if (const Check c = checked(x, y, h); c != OK) {
+        if (c == OUT_OF_RANGE)
+          return false;
+        ++dropped_count;
+        continue;
+      }
+      last_x = x;
+      grew = lookup(xt, x, id_x, x_values, x_count);
     }
     if (!(y == last_y)) {
-      last_y = y;
       const std::uint32_t before = id_y;
-      grew = lookup(yt, y, id_y) || grew;
+      if (id_y + 1 < y_count && y_values[id_y + 1] == y) {
+        ++id_y;
+      } else {
+        if (const Check c = checked(x, y, h); c != OK) {
+          if (c == OUT_OF_RANGE)
+            return false;
+          ++dropped_count;
+          continue;
+        }
+        grew = lookup(yt, y, id_y, y_values, y_count) || grew;
+      }
+      last_y = y;
       if (runs_ok && (y_runs.empty() || id_y != before)) {
         if (y_runs.size() < max_runs) {
-          y_runs.push_back({k, finite, id_y});
+          y_runs.push_back({k, finite_count, id_y});
         } else { // not in rows
           runs_ok = false;
           YRuns().swap(y_runs);
         }
       }
     }
-    ++finite;
+    ++finite_count;
     if (grew &&
-        static_cast<std::size_t>(xt.size()) * static_cast<std::size_t>(yt.size()) >
-            limit)
+        static_cast<std::size_t>(x_count) * static_cast<std::size_t>(y_count) > limit)
       return false; // scattered: stops after about sqrt(8 n) points
   }
+  finite += finite_count;
+  dropped += dropped_count;
   return true;
 }
 
@@ -325,27 +364,38 @@ bool readRows(const double* xyz, std::size_t n, const YRuns& runs, std::size_t f
     Point2* xy = mesh.xy.data();
     double* z = mesh.z.data();
     std::uint32_t allowed = 0; // the smallest x rank the run may take next
-    const bool all_finite = count == end - run.first; // nothing to skip
-    for (std::size_t k = run.first; k < end; ++k) {
-      const double* p = xyz + 3 * k;
-      if (!all_finite &&
-          (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])))
-        continue; // dropped by pass 1
-      std::uint32_t i = allowed;
-      if (!(i < nx && xs[i] == p[0])) {
-        i = rank_x[xt.idOf(p[0])];
-        if (i < allowed)
-          return false; // a duplicate, or the row is not in order of x
+    // The run's points; SKIP: some are not finite (dropped by pass 1), MAP: input_map.
+    const auto readRun = [&](auto skip, auto map) {
+      for (std::size_t k = run.first; k < end; ++k) {
+        const double* p = xyz + 3 * k;
+        if (decltype(skip)::value &&
+            (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])))
+          continue;
+        std::uint32_t i = allowed;
+        if (!(i < nx && xs[i] == p[0])) {
+          i = rank_x[xt.idOf(p[0])];
+          if (i < allowed)
+            return false; // a duplicate, or the row is not in order of x
+        }
+        allowed = i + 1;
+        row[i] = next;
+        src[next] = static_cast<std::uint32_t>(k);
+        xy[next] = {p[0], p[1]};
+        z[next] = p[2];
+        if (decltype(map)::value)
+          code[k] = next;
+        ++next;
       }
-      allowed = i + 1;
-      row[i] = next;
-      src[next] = static_cast<std::uint32_t>(k);
-      xy[next] = {p[0], p[1]};
-      z[next] = p[2];
-      if (input_map)
-        code[k] = next;
-      ++next;
-    }
+      return true;
+    };
+    using Yes = std::true_type;
+    using No = std::false_type;
+    const bool all_finite = count == end - run.first; // nothing to skip
+    const bool read = all_finite
+                          ? (input_map ? readRun(No(), Yes()) : readRun(No(), No()))
+                          : (input_map ? readRun(Yes(), Yes()) : readRun(Yes(), No()));
+    if (!read)
+      return false;
   }
   return true;
 }
@@ -626,7 +676,28 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
         lat.row_start[j + 1] = cx; // every cell complete
         continue;
       }
-      for (std::uint32_t i = 0; i < cx; ++i)
+      std::uint32_t i = 0;
+#if defined(__SSE2__)
+      // Four cells at a time: a lane is set where a corner is missing.
+      static constexpr std::uint8_t SET_BITS[16] = {0, 1, 1, 2, 1, 2, 2, 3,
+                                                    1, 2, 2, 3, 2, 3, 3, 4};
+      const __m128i absent = _mm_set1_epi32(-1);
+      const auto missing = [&absent](const VertexId* q) {
+        return _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q)),
+                               absent);
+      };
+      for (; i + 4 <= cx; i += 4) {
+        const __m128i m =
+            _mm_or_si128(_mm_or_si128(missing(below + i), missing(below + i + 1)),
+                         _mm_or_si128(missing(above + i), missing(above + i + 1)));
+        auto bits = static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(m)));
+        count += 4u - SET_BITS[bits];
+        for (; bits != 0; bits &= bits - 1)
+          incomplete[t].push_back(
+              lat.cell(i + static_cast<std::uint32_t>(__builtin_ctz(bits)), j));
+      }
+#endif
+      for (; i < cx; ++i)
         if (below[i] != INVALID_ID && below[i + 1] != INVALID_ID &&
             above[i] != INVALID_ID && above[i + 1] != INVALID_ID)
           ++count;
@@ -668,16 +739,21 @@ struct CellRow {
     kind = PARTIAL;
     idx.resize(static_cast<std::size_t>(cx) + 2);
     idx[0] = idx[static_cast<std::size_t>(cx) + 1] = INVALID_ID;
-    const VertexId* low = &lat.vertex_at[lat.position(0, j)];
-    const VertexId* high = low + lat.nx;
+    // From the row's incomplete cells (lat.incomplete, sorted): the complete cells
+    // between them count up.
+    const std::size_t row = lat.cell(0, j);
+    auto it = std::lower_bound(lat.incomplete.begin(), lat.incomplete.end(), row);
     HalfedgeId t = first;
     HalfedgeId* out = idx.data() + 1;
-    for (std::uint32_t i = 0; i < cx; ++i) {
-      const bool complete = low[i] != INVALID_ID && low[i + 1] != INVALID_ID &&
-                            high[i] != INVALID_ID && high[i + 1] != INVALID_ID;
-      out[i] = complete ? t : INVALID_ID;
-      t += complete ? 2 : 0;
+    std::uint32_t i = 0;
+    for (; it != lat.incomplete.end() && *it < row + cx; ++it) {
+      const auto gap = static_cast<std::uint32_t>(*it - row);
+      for (; i < gap; ++i, t += 2)
+        out[i] = t;
+      out[i++] = INVALID_ID;
     }
+    for (; i < cx; ++i, t += 2)
+      out[i] = t;
   }
 };
 

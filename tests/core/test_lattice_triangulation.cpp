@@ -383,6 +383,32 @@ TEST(LatticeTriangulation, RowsInOrderOrFallBack)
     }
 }
 
+TEST(LatticeTriangulation, NonFiniteOrHugeCoordinateInsideRows)
+{
+  // Rows from the top with one point broken inside a row: its x the lattice's next
+  // value (read without a lookup) and its y NaN, +inf or beyond the trusted range
+  // (1e61), or its x so and its y the row's, or its z infinite. Non-finite points are
+  // dropped whole (neither coordinate joins the lattice); a coordinate beyond the
+  // range is the ordinary path's error.
+  const std::vector<double> xs = uniformSteps(15, 0.0, 1.0),
+                            ys = uniformSteps(11, 0.0, 1.0);
+  std::vector<double> top_down;
+  for (std::size_t r = ys.size(); r-- > 0;)
+    for (const double x : xs)
+      top_down.insert(top_down.end(), {x, ys[r], std::sin(0.4 * x) + 0.2 * ys[r]});
+  const std::size_t k = 3 * (2 * xs.size() + 6); // inside the third row
+  for (unsigned c = 0; c < 3; ++c)
+    for (const double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL, 1e61, -1e61}) {
+      SCOPED_TRACE(std::to_string(c) + " " + std::to_string(bad));
+      auto xyz = top_down;
+      xyz[k + c] = bad;
+      VtsOptions options;
+      expectSameAsOrdinary(xyz, options);
+      options.input_map = false;
+      expectSameAsOrdinary(xyz, options, false);
+    }
+}
+
 TEST(LatticeTriangulation, InputOrderAndThreadsDoNotChangeTheArrays)
 {
   const auto xyz =
