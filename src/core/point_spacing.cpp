@@ -170,6 +170,10 @@ bool VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* bounda
   // A row entry per halfedge, two for a boundary one.
   if (boundary != nullptr)
     boundary->clear();
+  offsets_.reset();
+  ids_.reset();
+  wide_entries_.clear();
+  wide_rows_.clear();
   const bool built =
       2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max()
           ? fill(mesh, start32_, boundary, need, edge_limit2)
@@ -238,7 +242,9 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     start[v] = static_cast<Index>(sum);
   }
   bytes.reset();
-  if (sum != corners + open) {
+  // The ends of the rows counted in full width (a byte count wrapped, or the
+  // scatter of 16-bit entries gave up: the starts are then moved).
+  auto count_in_full = [&] {
     start.assign(n + 1, 0);
     for (std::size_t e = 0; e < corners; ++e) {
       ++start[corner[e]];
@@ -247,21 +253,47 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     }
     for (std::size_t v = 1; v < n; ++v)
       start[v] += start[v - 1];
-  }
+  };
+  if (sum != corners + open)
+    count_in_full();
   const Index total = n > 0 ? start[n - 1] : 0;
-  ring.reset(new VertexId[total]);
-  detail::populatePages(ring.get(), ring.get() + total);
   // The rows written by a triangle lie far apart: each corner's next entry is
   // fetched AHEAD triangles before (the scatter otherwise waits on the writes'
   // cache misses; jittered 1e6: 16 -> 11 ms).
   constexpr std::size_t AHEAD = 3 * 64;
-  auto scatter = [&](auto with_need) {
+  // 16-bit entries first; ids when more than one neighbour in 2048 is farther than
+  // 32767 ids (the starts counted again, the needs from zero).
+  const std::size_t far_limit = corners / 2048;
+  auto scatter = [&](auto with_need, auto* row) {
     constexpr bool NEED = decltype(with_need)::value;
     double* needs = NEED ? need->data() : nullptr;
     const Point2* xy = mesh.xy.data();
     const std::uint64_t* open_bits = open_triangles.data();
-    VertexId* row = ring.get();
     Index* first = start.data();
+    // Neighbour u into v's row (its next slot from the end). The 16-bit entries
+    // give up past far_limit farther neighbours (ids in no spatial order).
+    bool given_up = false;
+    auto put = [&](VertexId v, VertexId u) {
+      using Entry = std::remove_pointer_t<decltype(row)>;
+      const Index k = --first[v];
+      if constexpr (std::is_same_v<Entry, VertexId>)
+        row[k] = u;
+      else {
+        constexpr std::int64_t NEAR = std::numeric_limits<std::int16_t>::max();
+        const std::int64_t offset =
+            static_cast<std::int64_t>(u) - static_cast<std::int64_t>(v);
+        if (__builtin_expect(static_cast<std::uint64_t>(offset + NEAR) <=
+                                 static_cast<std::uint64_t>(2 * NEAR),
+                             1))
+          row[k] = static_cast<Entry>(offset);
+        else {
+          row[k] = FAR;
+          wide_entries_.emplace_back(k, u);
+          wide_rows_.push_back(v);
+          given_up = wide_entries_.size() > far_limit;
+        }
+      }
+    };
     for (std::size_t e = 0, t = 0; e + 2 < corners; e += 3, ++t) {
       if (e + AHEAD + 2 < corners) {
         const VertexId pa = corner[e + AHEAD], pb = corner[e + AHEAD + 1],
@@ -280,19 +312,19 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
       }
       const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
       if (((open_bits[t / 64] >> (t % 64)) & 1u) == 0) {
-        row[--first[a]] = b;
-        row[--first[b]] = c;
-        row[--first[c]] = a;
+        put(a, b);
+        put(b, c);
+        put(c, a);
       } else {
-        row[--first[a]] = b;
+        put(a, b);
         if (twin[e] == INVALID_ID)
-          row[--first[b]] = a;
-        row[--first[b]] = c;
+          put(b, a);
+        put(b, c);
         if (twin[e + 1] == INVALID_ID)
-          row[--first[c]] = b;
-        row[--first[c]] = a;
+          put(c, b);
+        put(c, a);
         if (twin[e + 2] == INVALID_ID)
-          row[--first[a]] = c;
+          put(a, c);
       }
       if constexpr (NEED) {
         // The float bits of non-negative values order as the values.
@@ -309,7 +341,25 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
         update(b);
         update(c);
       }
+      if (__builtin_expect(given_up, 0))
+        return false;
     }
+    return true;
+  };
+  auto scatter_entries = [&](auto with_need) {
+    offsets_.reset(new std::int16_t[total]);
+    detail::populatePages(offsets_.get(), offsets_.get() + total);
+    if (scatter(with_need, offsets_.get()))
+      return;
+    offsets_.reset();
+    wide_entries_.clear();
+    wide_rows_.clear();
+    count_in_full();
+    if constexpr (decltype(with_need)::value)
+      need->assign(n, 0.0);
+    ids_.reset(new VertexId[total]);
+    detail::populatePages(ids_.get(), ids_.get() + total);
+    scatter(with_need, ids_.get());
   };
   if (need != nullptr) {
     if (need->capacity() < n) {
@@ -318,9 +368,12 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
       detail::populatePages(need->data(), need->data() + n);
     }
     need->assign(n, 0.0);
-    scatter(std::true_type{});
+    scatter_entries(std::true_type{});
   } else
-    scatter(std::false_type{});
+    scatter_entries(std::false_type{});
+  std::sort(wide_entries_.begin(), wide_entries_.end());
+  std::sort(wide_rows_.begin(), wide_rows_.end());
+  wide_rows_.erase(std::unique(wide_rows_.begin(), wide_rows_.end()), wide_rows_.end());
   start[n] = total;
   return true;
 }
@@ -341,7 +394,7 @@ double ownMedian(const TriangleMesh& mesh, const VertexRows& rows, std::size_t v
     double squares[16];
     bool nan = false;
     for (std::size_t k = 0; k < size; ++k) {
-      const Point2& q = mesh.xy[rows.ring[begin + k]];
+      const Point2& q = mesh.xy[rows.entry(v, begin + k)];
       const double dx = p.x - q.x, dy = p.y - q.y;
       squares[k] = dx * dx + dy * dy;
       nan = nan || std::isnan(squares[k]);
@@ -355,7 +408,7 @@ double ownMedian(const TriangleMesh& mesh, const VertexRows& rows, std::size_t v
   }
   values.clear();
   for (std::size_t k = begin; k < end; ++k) {
-    const Point2& q = mesh.xy[rows.ring[k]];
+    const Point2& q = mesh.xy[rows.entry(v, k)];
     const double dx = p.x - q.x, dy = p.y - q.y;
     values.push_back(std::sqrt(dx * dx + dy * dy)); // hypot is 5x slower
   }
@@ -436,20 +489,20 @@ inline __m128d laneMedian(__m128d* a)
 /// ownMedian of u and w, both with rows of N entries, one per lane, into
 /// medians[u - first] and medians[w - first]; false, nothing written, when a squared
 /// length is NaN (ownMedian's own path then).
-template <std::size_t N, typename Index>
-inline bool laneMedians(const Point2* xy, const VertexId* ring, const Index* start,
+template <std::size_t N, typename Index, typename Entry>
+inline bool laneMedians(const Point2* xy, const Entry* ring, const Index* start,
                         VertexId u, VertexId w, double* medians, std::size_t first,
                         __m128d& low, __m128d& high)
 {
   const __m128d pu = _mm_loadu_pd(&xy[u].x), pw = _mm_loadu_pd(&xy[w].x);
-  const VertexId* row_u = ring + start[u];
-  const VertexId* row_w = ring + start[w];
+  const Entry* row_u = ring + start[u];
+  const Entry* row_w = ring + start[w];
   __m128d a[LANE_SLOTS<N>];
   __m128d sum = _mm_setzero_pd(); // NaN when a square is (none is -inf)
 #pragma GCC unroll 16
   for (std::size_t k = 0; k < N; ++k) {
-    const __m128d du = _mm_sub_pd(pu, _mm_loadu_pd(&xy[row_u[k]].x));
-    const __m128d dw = _mm_sub_pd(pw, _mm_loadu_pd(&xy[row_w[k]].x));
+    const __m128d du = _mm_sub_pd(pu, _mm_loadu_pd(&xy[rowEntry(row_u, k, u)].x));
+    const __m128d dw = _mm_sub_pd(pw, _mm_loadu_pd(&xy[rowEntry(row_w, k, w)].x));
     const __m128d su = _mm_mul_pd(du, du), sw = _mm_mul_pd(dw, dw);
     // (dx * dx of u, of w) + (dy * dy of u, of w): ownMedian's squares.
     a[k] = _mm_add_pd(_mm_unpacklo_pd(su, sw), _mm_unpackhi_pd(su, sw));
@@ -470,8 +523,8 @@ inline bool laneMedians(const Point2* xy, const VertexId* ring, const Index* sta
 /// laneMedians over the pairs of ids[0, count), vertices with rows of N entries, in
 /// order; a pair with a NaN square and an odd last vertex go to scalar(v). True when
 /// a pair took the lanes.
-template <std::size_t N, typename Index, typename Scalar>
-bool laneMediansOfRows(const Point2* xy, const VertexId* ring, const Index* start,
+template <std::size_t N, typename Index, typename Entry, typename Scalar>
+bool laneMediansOfRows(const Point2* xy, const Entry* ring, const Index* start,
                        const VertexId* ids, std::size_t count, double* medians,
                        std::size_t first, __m128d& low, __m128d& high, Scalar& scalar)
 {
@@ -491,9 +544,9 @@ bool laneMediansOfRows(const Point2* xy, const VertexId* ring, const Index* star
 
 /// laneMediansOfRows for rows of `size` entries, 1 <= size <= MAX_LANE_ROW: the
 /// size picks its instance once for all its vertices.
-template <typename Index, typename Scalar, std::size_t... S>
+template <typename Index, typename Entry, typename Scalar, std::size_t... S>
 bool laneMediansOfRows(std::size_t size, std::index_sequence<S...>, const Point2* xy,
-                       const VertexId* ring, const Index* start, const VertexId* ids,
+                       const Entry* ring, const Index* start, const VertexId* ids,
                        std::size_t count, double* medians, std::size_t first,
                        __m128d& low, __m128d& high, Scalar& scalar)
 {
@@ -538,13 +591,15 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
 #if defined(__SSE2__)
     // The vertices of a chunk listed by row size, then each size's in pairs, one per
     // lane, through that size's network: no branch on the size per vertex. The
-    // chunk's medians go to a buffer, then to own.
-    rows.visitStarts([&](const auto* start) {
+    // chunk's medians go to a buffer, then to own. The wide rows (wideRows) take
+    // the scalar path.
+    rows.visitRows([&](const auto* start, const auto* ring) {
       constexpr std::size_t CHUNK = 256, OTHER = MAX_LANE_ROW + 1;
       VertexId listed[OTHER + 1][CHUNK];
       std::size_t listed_count[OTHER + 1];
       double medians[CHUNK];
-      const VertexId* ring = rows.ring.get();
+      const std::vector<VertexId>& wide_rows = rows.wideRows();
+      auto wide = std::lower_bound(wide_rows.begin(), wide_rows.end(), begin);
       const Point2* xy = mesh.xy.data();
       __m128d lanes_low = _mm_set1_pd(std::numeric_limits<double>::infinity());
       __m128d lanes_high = _mm_setzero_pd();
@@ -560,7 +615,11 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
         std::fill(listed_count, listed_count + OTHER + 1, std::size_t{0});
         for (std::size_t v = first; v < last; ++v) {
           const std::size_t size = start[v + 1] - start[v];
-          const std::size_t slot = size < OTHER ? size : OTHER;
+          std::size_t slot = size < OTHER ? size : OTHER;
+          if (__builtin_expect(wide != wide_rows.end() && *wide == v, 0)) {
+            slot = OTHER;
+            ++wide;
+          }
           listed[slot][listed_count[slot]++] = static_cast<VertexId>(v);
           medians[v - first] = 0.0; // an empty row's
         }
@@ -716,8 +775,10 @@ bool histogramFits(const OwnStats& stats)
   return stats.count > 4096 && stats.high <= PLAIN_BITS;
 }
 
-/// ringLowerBound of v, whose row is ring[begin, end).
-inline double rowLowerBound(const double* own, const VertexId* ring, std::size_t v,
+/// ringLowerBound of v, whose row's entry k is the vertex at(k), for k in [begin,
+/// end).
+template <typename At>
+inline double rowLowerBound(const double* own, const At& at, std::size_t v,
                             std::size_t begin, std::size_t end)
 {
   // The three smallest of the values, kept sorted (s0 <= s1 <= s2) by
@@ -727,7 +788,7 @@ inline double rowLowerBound(const double* own, const VertexId* ring, std::size_t
   double s0 = own[v], s1 = INF, s2 = INF;
   bool nan = std::isnan(s0);
   for (std::size_t k = begin; k < end; ++k) {
-    const double x = own[ring[k]];
+    const double x = own[at(k)];
     nan = nan || std::isnan(x);
     s2 = std::min(s2, std::max(s1, x));
     s1 = std::min(s1, std::max(s0, x));
@@ -773,14 +834,27 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
       part_counts[p].assign(std::size_t{1} << BUCKET_BITS, 0);
       buckets = part_counts[p].data();
     }
-    // On the starts' own type (no test of their width per vertex).
-    rows.visitStarts([&](const auto* start) {
-      const VertexId* ring = rows.ring.get();
+    // On the starts' and entries' own types (no test of their width per vertex);
+    // the wide rows (wideRows) through VertexRows::entry.
+    rows.visitRows([&](const auto* start, const auto* ring) {
       const double* values = own.data();
       double* out = bound.data();
+      const std::vector<VertexId>& wide_rows = rows.wideRows();
+      auto wide = std::lower_bound(wide_rows.begin(), wide_rows.end(), begin);
+      auto bound_of = [&](std::size_t v) { // v increasing
+        if (__builtin_expect(wide != wide_rows.end() && *wide == v, 0)) {
+          ++wide;
+          return rowLowerBound(
+              values, [&](std::size_t k) { return rows.entry(v, k); }, v, start[v],
+              start[v + 1]);
+        }
+        return rowLowerBound(
+            values, [&](std::size_t k) { return rowEntry(ring, k, v); }, v, start[v],
+            start[v + 1]);
+      };
       if (cleared == nullptr) {
         for (std::size_t v = begin; v < end; ++v) {
-          out[v] = rowLowerBound(values, ring, v, start[v], start[v + 1]);
+          out[v] = bound_of(v);
           if (buckets != nullptr && start[v] != start[v + 1])
             ++buckets[(bitsOf(values[v]) - stats.low) >> shift];
         }
@@ -792,7 +866,7 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
       for (std::size_t v = begin; v < end; ++v) {
         const std::uint64_t slot = Clearance::slot(out[v]);
         const double need = Clearance::slotNeed(slot);
-        out[v] = rowLowerBound(values, ring, v, start[v], start[v + 1]);
+        out[v] = bound_of(v);
         const double limit = factor * out[v];
         const bool clear = (limit >= Clearance::LOW) & (limit <= Clearance::HIGH) &
                            (need <= limit * limit * Clearance::MARGIN);
@@ -940,14 +1014,16 @@ double localMedian(const VertexRows& rows, const std::vector<double>& own,
     return 0.0;
   values.assign(1, own[v]);
   for (std::size_t k = begin; k < end; ++k)
-    values.push_back(own[rows.ring[k]]);
+    values.push_back(own[rows.entry(v, k)]);
   return medianInPlace(values);
 }
 
 double ringLowerBound(const VertexRows& rows, const std::vector<double>& own,
                       std::size_t v)
 {
-  return rowLowerBound(own.data(), rows.ring.get(), v, rows.begin(v), rows.end(v));
+  return rowLowerBound(
+      own.data(), [&](std::size_t k) { return rows.entry(v, k); }, v, rows.begin(v),
+      rows.end(v));
 }
 
 } // namespace detail

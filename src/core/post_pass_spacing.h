@@ -122,8 +122,10 @@ struct Clearance {
   }
 };
 
-inline double Clearance::need(const Point2& a, const Point2& b, const Point2& c,
-                              double edge_limit2)
+// Always inlined: the rows' scatter calls it per triangle, and with its four
+// instances (need or not, 16- or 32-bit entries) GCC otherwise leaves it a call.
+[[gnu::always_inline]] inline double
+Clearance::need(const Point2& a, const Point2& b, const Point2& c, double edge_limit2)
 {
   // classifyTriangles' figures, computed as there (same operations, same order).
   auto square = [](const Point2& u, const Point2& w) {
@@ -177,7 +179,27 @@ class VertexRows {
     else
       f(start64_.data());
   }
-  std::unique_ptr<VertexId[]> ring; // NOLINT: uninitialised, written by build
+  /// f(starts, entries): visitStarts' starts and the rows' entries as a pointer to
+  /// their own type. Entry k of v's row (begin(v) <= k < end(v)) is the vertex
+  /// rowEntry(entries, k, v), except in the rows of wideRows(): entry(v, k) there.
+  template <typename F>
+  void visitRows(F&& f) const
+  {
+    visitStarts([&](const auto* start) {
+      if (offsets_ != nullptr)
+        f(start, static_cast<const std::int16_t*>(offsets_.get()));
+      else
+        f(start, static_cast<const VertexId*>(ids_.get()));
+    });
+  }
+  /// The vertices, in increasing order, whose rows hold an entry that rowEntry does
+  /// not decode (a neighbour more than 32767 ids away in the 16-bit entries).
+  const std::vector<VertexId>& wideRows() const { return wide_rows_; }
+  /// Entry k of v's row, in any row.
+  VertexId entry(std::size_t v, std::size_t k) const;
+
+  /// The 16-bit entry of a neighbour more than 32767 ids away (wide_entries_ holds it).
+  static constexpr std::int16_t FAR = std::numeric_limits<std::int16_t>::min();
 
  private:
   template <typename Index>
@@ -186,7 +208,38 @@ class VertexRows {
             double edge_limit2);
   std::vector<std::uint32_t> start32_; ///< while the entries fit 32 bits
   std::vector<std::size_t> start64_;
+  /// The entries, uninitialised until build writes them. Vertex ids follow the
+  /// points' spatial order, so a neighbour is mostly a few thousand ids away: the
+  /// entries are its id less the row's vertex in 16 bits (half the bytes of ids to
+  /// write, fault in and read), FAR for the few farther ones (their ids by position in
+  /// wide_entries_), unless more than one entry in 2048 is: then ids.
+  std::unique_ptr<std::int16_t[]> offsets_; // NOLINT: uninitialised, written by build
+  std::unique_ptr<VertexId[]> ids_;         // NOLINT: uninitialised, written by build
+  std::vector<std::pair<std::size_t, VertexId>> wide_entries_; ///< by position
+  std::vector<VertexId> wide_rows_;
 };
+
+/// The vertex of entry k of v's row (VertexRows::visitRows).
+inline VertexId rowEntry(const VertexId* entries, std::size_t k, std::size_t /*v*/)
+{
+  return entries[k];
+}
+inline VertexId rowEntry(const std::int16_t* entries, std::size_t k, std::size_t v)
+{
+  return static_cast<VertexId>(static_cast<std::int64_t>(v) + entries[k]);
+}
+
+inline VertexId VertexRows::entry(std::size_t v, std::size_t k) const
+{
+  if (offsets_ == nullptr)
+    return ids_[k];
+  if (offsets_[k] != FAR)
+    return rowEntry(offsets_.get(), k, v);
+  const auto it = std::lower_bound(wide_entries_.begin(), wide_entries_.end(), k,
+                                   [](const std::pair<std::size_t, VertexId>& e,
+                                      std::size_t at) { return e.first < at; });
+  return it->second;
+}
 
 /// The IEEE bits' range and the count of own medians over the vertices with a
 /// non-empty row.

@@ -140,5 +140,91 @@ TEST(MeasurePointSpacing, MatchesNeighbourSetsAtAVertexWithMoreThan255Edges)
   expectReferenceSpacing(mesh);
 }
 
+/// mesh with vertex v renamed label[v] (label a permutation of the ids).
+TriangleMesh relabelled(const TriangleMesh& mesh, const std::vector<VertexId>& label)
+{
+  TriangleMesh out = mesh;
+  for (std::size_t v = 0; v < label.size(); ++v) {
+    out.xy[label[v]] = mesh.xy[v];
+    out.z[label[v]] = mesh.z[v];
+  }
+  for (VertexId& corner : out.triangles)
+    corner = label[corner];
+  return out;
+}
+
+TEST(MeasurePointSpacing, MatchesNeighbourSetsWithNeighboursFarApartInIds)
+{
+  // The rows hold a neighbour as its id less the row's vertex in 16 bits, one more
+  // than 32767 ids away apart, and every neighbour as its id once more than one in
+  // 2048 are. Ids renamed so that two vertices have neighbours exactly 32767 and
+  // 32768 ids away (below and above), a few vertices far from their neighbours, and
+  // every id shuffled; the trim of a renamed mesh is the renamed trim.
+  const test::PipelineRun run =
+      test::runPipeline(test::generatePoints(test::Distribution::BIG_VOIDS, 80000, 7));
+  ASSERT_TRUE(run.status.ok()) << run.status.toString();
+  const TriangleMesh& mesh = run.result.mesh;
+  const std::size_t n = mesh.vertexCount();
+  ASSERT_GT(n, 40000u);
+  std::vector<VertexId> identity(n);
+  for (std::size_t v = 0; v < n; ++v)
+    identity[v] = static_cast<VertexId>(v);
+  // Two neighbours of v (ends of halfedges leaving it) other than `not_these`.
+  auto neighbours = [&](VertexId v, const std::vector<VertexId>& not_these) {
+    std::vector<VertexId> found;
+    for (std::size_t e = 0; e < mesh.triangles.size() && found.size() < 2; ++e) {
+      const VertexId w = mesh.triangles[nextHalfedge(static_cast<HalfedgeId>(e))];
+      if (mesh.triangles[e] == v &&
+          std::find(not_these.begin(), not_these.end(), w) == not_these.end() &&
+          std::find(found.begin(), found.end(), w) == found.end())
+        found.push_back(w);
+    }
+    return found;
+  };
+  std::vector<VertexId> bounds = identity;
+  auto name = [&](VertexId w, VertexId id) { // w takes id, the holder of id w's
+    const auto holder = static_cast<std::size_t>(
+        std::find(bounds.begin(), bounds.end(), id) - bounds.begin());
+    std::swap(bounds[w], bounds[holder]);
+  };
+  const VertexId low = 100, high = static_cast<VertexId>(n - 100);
+  const std::vector<VertexId> near_low = neighbours(low, {low, high});
+  ASSERT_EQ(near_low.size(), 2u);
+  const std::vector<VertexId> near_high =
+      neighbours(high, {low, high, near_low[0], near_low[1]});
+  ASSERT_EQ(near_high.size(), 2u);
+  name(near_low[0], low + 32767);
+  name(near_low[1], low + 32768);
+  name(near_high[0], high - 32767);
+  name(near_high[1], high - 32768);
+  ASSERT_EQ(bounds[low], low);
+  ASSERT_EQ(bounds[high], high);
+  std::vector<VertexId> few = identity;
+  for (std::size_t v = 0; v < n / 2; v += n / 6)
+    std::swap(few[v], few[n - 1 - v]);
+  std::vector<VertexId> shuffled = identity;
+  std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937_64(11));
+  TriangleMesh trimmed = mesh;
+  TrimResult expected;
+  ASSERT_TRUE(trimOutwardTriangles(trimmed, TrimOptions{}, expected).ok());
+  ASSERT_GT(expected.triangles_removed, 0u);
+  for (const auto* label : {&identity, &bounds, &few, &shuffled}) {
+    SCOPED_TRACE(label == &identity ? "identity"
+                 : label == &bounds ? "bounds"
+                 : label == &few    ? "few"
+                                    : "shuffled");
+    TriangleMesh renamed = relabelled(mesh, *label);
+    expectReferenceSpacing(renamed);
+    TrimResult result;
+    ASSERT_TRUE(trimOutwardTriangles(renamed, TrimOptions{}, result).ok());
+    EXPECT_EQ(result.triangles_removed, expected.triangles_removed);
+    EXPECT_EQ(result.spacing, expected.spacing);
+    const TriangleMesh expected_mesh = relabelled(trimmed, *label);
+    EXPECT_EQ(renamed.triangles, expected_mesh.triangles);
+    EXPECT_EQ(renamed.halfedges, expected_mesh.halfedges);
+    expectReferenceSpacing(renamed);
+  }
+}
+
 } // namespace
 } // namespace pcl_vts
