@@ -723,6 +723,9 @@ struct CellRow {
   Kind kind = NONE;
   HalfedgeId first = 0; ///< the row's first triangle
   std::vector<HalfedgeId> idx;
+  /// PARTIAL: the row's incomplete cells in lat.incomplete, the row's first cell id.
+  const std::size_t *incomplete_begin = nullptr, *incomplete_end = nullptr;
+  std::size_t cell0 = 0;
 
   void index(const Lattice& lat, std::int64_t r)
   {
@@ -746,6 +749,8 @@ struct CellRow {
     HalfedgeId t = first;
     HalfedgeId* out = idx.data() + 1;
     std::uint32_t i = 0;
+    cell0 = row;
+    incomplete_begin = lat.incomplete.data() + (it - lat.incomplete.begin());
     for (; it != lat.incomplete.end() && *it < row + cx; ++it) {
       const auto gap = static_cast<std::uint32_t>(*it - row);
       for (; i < gap; ++i, t += 2)
@@ -754,6 +759,7 @@ struct CellRow {
     }
     for (; i < cx; ++i, t += 2)
       out[i] = t;
+    incomplete_end = lat.incomplete.data() + (it - lat.incomplete.begin());
   }
 };
 
@@ -771,48 +777,103 @@ void emitRun(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
   const HalfedgeId* b = BELOW == CellRow::PARTIAL ? below.idx.data() + 1 : nullptr;
   const HalfedgeId* a = ABOVE == CellRow::PARTIAL ? above.idx.data() + 1 : nullptr;
   const HalfedgeId below_e = 3 * below.first + 4, above_e = 3 * above.first;
+  // The twins across the rows below and above.
+  const auto down = [&](std::uint32_t i) -> HalfedgeId {
+    if constexpr (BELOW == CellRow::FULL)
+      return below_e + 6 * i;
+    else if constexpr (BELOW == CellRow::PARTIAL)
+      return b[i] != INVALID_ID ? 3 * b[i] + 4 : INVALID_ID;
+    else
+      return INVALID_ID;
+  };
+  const auto up = [&](std::uint32_t i) -> HalfedgeId {
+    if constexpr (ABOVE == CellRow::FULL)
+      return above_e + 6 * i;
+    else if constexpr (ABOVE == CellRow::PARTIAL)
+      return a[i] != INVALID_ID ? 3 * a[i] : INVALID_ID;
+    else
+      return INVALID_ID;
+  };
   HalfedgeId e0 = 3 * first;
   VertexId* v = tri + e0;
   HalfedgeId* h = twin + e0;
   VertexId lo = low0, hi = high0;
-  for (std::uint32_t i = i0; i < i1; ++i, e0 += 6, v += 6, h += 6, ++lo, ++hi) {
+  std::uint32_t i = i0;
+#if defined(__SSE2__)
+  // Two cells at a time: their twelve vertex ids and twelve twins in three vectors
+  // each, every lane counting up (by 2 and 12 a pair), the twins across the rows
+  // below and above written over theirs.
+  if (i1 - i0 >= 2) {
+    const auto lanes = [](std::uint32_t w, std::uint32_t x, std::uint32_t y,
+                          std::uint32_t z) {
+      return _mm_setr_epi32(static_cast<int>(w), static_cast<int>(x),
+                            static_cast<int>(y), static_cast<int>(z));
+    };
+    __m128i t0 = lanes(lo, lo + 1, hi, lo + 1), t1 = lanes(hi + 1, hi, lo + 1, lo + 2),
+            t2 = lanes(hi + 1, lo + 2, hi + 2, hi + 1);
+    __m128i h0 = lanes(0, e0 + 5, e0 - 3, e0 + 8), h1 = lanes(0, e0 + 1, 0, e0 + 11),
+            h2 = lanes(e0 + 3, e0 + 14, 0, e0 + 7);
+    const __m128i two = _mm_set1_epi32(2), twelve = _mm_set1_epi32(12);
+    for (; i + 2 <= i1; i += 2, v += 12, h += 12) {
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(v), t0);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(v + 4), t1);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(v + 8), t2);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(h), h0);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(h + 4), h1);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(h + 8), h2);
+      h[0] = down(i);
+      h[4] = up(i);
+      h[6] = down(i + 1);
+      h[10] = up(i + 1);
+      t0 = _mm_add_epi32(t0, two);
+      t1 = _mm_add_epi32(t1, two);
+      t2 = _mm_add_epi32(t2, two);
+      h0 = _mm_add_epi32(h0, twelve);
+      h1 = _mm_add_epi32(h1, twelve);
+      h2 = _mm_add_epi32(h2, twelve);
+    }
+    e0 += 6 * (i - i0);
+    lo += i - i0;
+    hi += i - i0;
+  }
+#endif
+  for (; i < i1; ++i, e0 += 6, v += 6, h += 6, ++lo, ++hi) {
     v[0] = lo;
     v[1] = lo + 1;
     v[2] = hi;
     v[3] = lo + 1;
     v[4] = hi + 1;
     v[5] = hi;
-    HalfedgeId down = INVALID_ID, up = INVALID_ID;
-    if constexpr (BELOW == CellRow::FULL)
-      down = below_e + 6 * i;
-    else if constexpr (BELOW == CellRow::PARTIAL)
-      down = b[i] != INVALID_ID ? 3 * b[i] + 4 : INVALID_ID;
-    if constexpr (ABOVE == CellRow::FULL)
-      up = above_e + 6 * i;
-    else if constexpr (ABOVE == CellRow::PARTIAL)
-      up = a[i] != INVALID_ID ? 3 * a[i] : INVALID_ID;
-    h[0] = down;
+    h[0] = down(i);
     h[1] = e0 + 5;
     h[2] = e0 - 3;
     h[3] = e0 + 8;
-    h[4] = up;
+    h[4] = up(i);
     h[5] = e0 + 1;
   }
   // The run's ends face incomplete cells or the border; the open halfedges below and
-  // above (their order in `open` does not matter: pairHalfedges sorts them).
+  // above: every cell's beyond the lattice, the incomplete cells' of a PARTIAL row
+  // (their order in `open` does not matter: pairHalfedges sorts them).
   const HalfedgeId start = 3 * first, last = start + 6 * (i1 - i0 - 1);
   twin[start + 2] = INVALID_ID;
   twin[last + 3] = INVALID_ID;
   open.push_back(start + 2);
   open.push_back(last + 3);
+  const auto openFacing = [&](const CellRow& row, HalfedgeId k) {
+    if (row.kind == CellRow::NONE) {
+      for (std::uint32_t c = i0; c < i1; ++c)
+        open.push_back(start + 6 * (c - i0) + k);
+      return;
+    }
+    for (const std::size_t* it =
+             std::lower_bound(row.incomplete_begin, row.incomplete_end, row.cell0 + i0);
+         it != row.incomplete_end && *it < row.cell0 + i1; ++it)
+      open.push_back(start + 6 * static_cast<HalfedgeId>(*it - row.cell0 - i0) + k);
+  };
   if constexpr (BELOW != CellRow::FULL)
-    for (std::uint32_t i = i0; i < i1; ++i)
-      if (BELOW == CellRow::NONE || b[i] == INVALID_ID)
-        open.push_back(start + 6 * (i - i0));
+    openFacing(below, 0);
   if constexpr (ABOVE != CellRow::FULL)
-    for (std::uint32_t i = i0; i < i1; ++i)
-      if (ABOVE == CellRow::NONE || a[i] == INVALID_ID)
-        open.push_back(start + 6 * (i - i0) + 4);
+    openFacing(above, 4);
 }
 
 /// emitRun for the kinds of the rows below and above.
