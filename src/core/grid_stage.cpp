@@ -1,5 +1,6 @@
 #include "grid_internals.h"
 #include "release_memory.h"
+#include "uninit_allocator.h"
 
 #include <pcl_vts/core/grid_stage.h>
 #include <pcl_vts/core/parallel_for.h>
@@ -168,10 +169,15 @@ struct BandResult {
 /// from the band's first slot.
 struct BandScratch {
   std::vector<std::uint32_t> count;
-  std::vector<std::uint32_t> cell;    ///< per record: its cell in the band
-  std::vector<std::uint32_t> sources; ///< per record: its input index
-  std::vector<Point2> points;         ///< the band's points sorted by cell
-  std::vector<std::uint32_t> records; ///< and their records
+  // Resized without a fill: every record's entries are written before they are read.
+  std::vector<std::uint32_t, detail::UninitAllocator<std::uint32_t>>
+      cell; ///< per record: its cell
+  std::vector<std::uint32_t, detail::UninitAllocator<std::uint32_t>>
+      sources; ///< its input index
+  std::vector<Point2, detail::UninitAllocator<Point2>>
+      points; ///< the band's points sorted by cell
+  std::vector<std::uint32_t, detail::UninitAllocator<std::uint32_t>>
+      records; ///< and their records
   std::vector<std::pair<Point2, std::uint32_t>> sort;
   std::vector<std::uint32_t> slots, moved_sources, new_id;
   std::vector<Point2> moved;

@@ -7,6 +7,8 @@
 // global (perturbed) Delaunay triangulation. Internal to the core.
 #pragma once
 
+#include "uninit_allocator.h"
+
 #include <pcl_vts/core/cell_grid.h>
 #include <pcl_vts/core/error_bounds.h>
 #include <pcl_vts/core/point2.h>
@@ -29,32 +31,6 @@
 
 namespace pcl_vts {
 namespace detail {
-
-/// std::allocator whose value-initialisation (resize) leaves the elements
-/// uninitialised: LocalDelaunay's triangle arrays are written before they are read,
-/// and zero-filling them cost a memset of a window's size whenever a larger window
-/// followed a smaller one (windows vary most on clustered points).
-template <typename T>
-struct UninitAllocator : std::allocator<T> {
-  template <typename U>
-  struct rebind { // NOLINT(readability-identifier-naming): the allocator interface
-    using other = UninitAllocator<U>; // NOLINT(readability-identifier-naming)
-  };
-  UninitAllocator() = default;
-  template <typename U>
-  UninitAllocator(const UninitAllocator<U>& /*other*/) noexcept // NOLINT
-  {}
-  template <typename U>
-  void construct(U* ptr) noexcept
-  {
-    ::new (static_cast<void*>(ptr)) U;
-  }
-  template <typename U, typename... Args>
-  void construct(U* ptr, Args&&... args)
-  {
-    ::new (static_cast<void*>(ptr)) U(std::forward<Args>(args)...);
-  }
-};
 
 /// The loaded window: cells [i0, i1) x [j0, j1).
 struct CellWindow {
@@ -109,10 +85,11 @@ class LocalDelaunay {
   }
   std::size_t triangleCount() const { return triangles_; }
 
-  std::vector<Point2> p;
+  // Resized without a fill (each window writes every entry it reads).
+  std::vector<Point2, UninitAllocator<Point2>> p;
   std::vector<std::int32_t, UninitAllocator<std::int32_t>> v;
-  std::vector<std::uint32_t> ids;
-  std::vector<std::uint8_t> in_core;
+  std::vector<std::uint32_t, UninitAllocator<std::uint32_t>> ids;
+  std::vector<std::uint8_t, UninitAllocator<std::uint8_t>> in_core;
 
   /// The finality tests of forEachFinal, pure functions of a triangle's corners and
   /// the window (x_lo..y_hi, already shrunk by the grid slack): true only when the
@@ -179,7 +156,7 @@ class LocalDelaunay {
   }
   std::vector<Record, UninitAllocator<Record>> rec_;
   std::vector<Corners, UninitAllocator<Corners>> corners_;
-  std::vector<std::uint32_t> bad_, stack_;
+  std::vector<std::uint32_t, UninitAllocator<std::uint32_t>> bad_, stack_;
   std::vector<std::pair<std::int32_t, std::int32_t>> boundary_;
   std::int32_t last_ = 0;
   std::size_t triangles_ = 0;

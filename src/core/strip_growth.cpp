@@ -719,12 +719,14 @@ class Growth {
   const bool cache_blocks_;
   /// Per local halfedge of the block: its strip halfedge once added, or CLOSED.
   std::vector<HalfedgeId> kept_twin_;
-  /// Local triangles added, in order (the first ones; sized for a whole block).
-  std::vector<std::uint32_t> kept_;
+  /// Local triangles added, in order (the first ones; sized for a whole block, without
+  /// a fill).
+  std::vector<std::uint32_t, UninitAllocator<std::uint32_t>> kept_;
   /// Halfedges (local triangle, edge) of the block's kept triangles left unpaired.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> open_edges_;
-  std::vector<std::uint8_t> vertex_flags_; ///< per local vertex of the block
-  std::vector<std::uint64_t> owner_key_;   ///< per local vertex of the block
+  // Per local vertex of the block: resized without a fill (written before read).
+  std::vector<std::uint8_t, UninitAllocator<std::uint8_t>> vertex_flags_;
+  std::vector<std::uint64_t, UninitAllocator<std::uint64_t>> owner_key_;
   std::vector<VertexId, UninitAllocator<VertexId>>
       foreign_triangles_; ///< from FOREIGN on
   std::vector<HalfedgeId, UninitAllocator<HalfedgeId>> foreign_halfedges_;
