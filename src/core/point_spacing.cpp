@@ -801,6 +801,73 @@ inline double rowLowerBound(const double* own, const At& at, std::size_t v,
                       : s2;
 }
 
+#if defined(__SSE2__)
+/// The longest row ringLowerBounds takes two vertices at a time (one per SSE2 lane).
+constexpr std::size_t MAX_BOUND_ROW = 8;
+
+/// rowLowerBound of u and w, both with rows of N entries (16-bit or id entries that
+/// rowEntry decodes), one per lane, into bounds[u - first] and bounds[w - first];
+/// false, nothing written, when a value is NaN (rowLowerBound then). The same
+/// compare-exchanges in the same order: min and max in the lanes pick the same
+/// values, none being NaN or -0 (own medians are roots of sums of squares, or 0).
+template <std::size_t N, typename Index, typename Entry>
+inline bool laneBounds(const double* own, const Entry* ring, const Index* start,
+                       VertexId u, VertexId w, double* bounds, std::size_t first)
+{
+  const Entry* row_u = ring + start[u];
+  const Entry* row_w = ring + start[w];
+  const __m128d inf = _mm_set1_pd(std::numeric_limits<double>::infinity());
+  __m128d s0 = _mm_set_pd(own[w], own[u]), s1 = inf, s2 = inf;
+  __m128d sum = s0; // NaN when a value is (none is -inf)
+#pragma GCC unroll 8
+  for (std::size_t k = 0; k < N; ++k) {
+    const __m128d x =
+        _mm_set_pd(own[rowEntry(row_w, k, w)], own[rowEntry(row_u, k, u)]);
+    sum = _mm_add_pd(sum, x);
+    s2 = _mm_min_pd(s2, _mm_max_pd(s1, x));
+    s1 = _mm_min_pd(s1, _mm_max_pd(s0, x));
+    s0 = _mm_min_pd(s0, x);
+  }
+  if (_mm_movemask_pd(_mm_cmpunord_pd(sum, sum)) != 0)
+    return false;
+  constexpr std::size_t INDEX = (N + 1) / 2;
+  const __m128d result = INDEX == 0 ? s0 : INDEX == 1 ? s1 : s2;
+  _mm_storel_pd(bounds + (u - first), result);
+  _mm_storeh_pd(bounds + (w - first), result);
+  return true;
+}
+
+/// laneBounds over the pairs of ids[0, count), vertices with rows of N entries; a
+/// pair with a NaN and an odd last vertex go to scalar(v).
+template <std::size_t N, typename Index, typename Entry, typename Scalar>
+void laneBoundsOfRows(const double* own, const Entry* ring, const Index* start,
+                      const VertexId* ids, std::size_t count, double* bounds,
+                      std::size_t first, Scalar& scalar)
+{
+  std::size_t k = 0;
+  for (; k + 1 < count; k += 2)
+    if (!laneBounds<N>(own, ring, start, ids[k], ids[k + 1], bounds, first)) {
+      scalar(ids[k]);
+      scalar(ids[k + 1]);
+    }
+  if (k < count)
+    scalar(ids[k]);
+}
+
+/// laneBoundsOfRows for rows of `size` entries, 1 <= size <= MAX_BOUND_ROW.
+template <typename Index, typename Entry, typename Scalar, std::size_t... S>
+void laneBoundsOfRows(std::size_t size, std::index_sequence<S...>, const double* own,
+                      const Entry* ring, const Index* start, const VertexId* ids,
+                      std::size_t count, double* bounds, std::size_t first,
+                      Scalar& scalar)
+{
+  (void)((size == S + 1 &&
+          (laneBoundsOfRows<S + 1>(own, ring, start, ids, count, bounds, first, scalar),
+           true)) ||
+         ...);
+}
+#endif
+
 } // namespace
 
 void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
@@ -863,6 +930,59 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
       const double factor = cleared->trim_factor;
       std::uint64_t* bits = cleared->bits.data();
       std::vector<std::pair<VertexId, TriangleId>>& left = uncleared[p];
+#if defined(__SSE2__)
+      // A word's vertices listed by row size, then each size's in pairs, one per
+      // lane (ownMedians' scheme: no branch on the size per vertex); rows longer
+      // than MAX_BOUND_ROW, empty and wide ones take bound_of. Their bounds go to a
+      // buffer, the needs being read from out first.
+      constexpr std::size_t WORD = 64, OTHER = MAX_BOUND_ROW + 1;
+      VertexId listed[OTHER + 1][WORD];
+      std::size_t listed_count[OTHER + 1];
+      double bounds[WORD];
+      std::uint64_t slots[WORD];
+      for (std::size_t from = begin; from < end; from += WORD) {
+        const std::size_t to = std::min(end, from + WORD);
+        std::fill(listed_count, listed_count + OTHER + 1, std::size_t{0});
+        for (std::size_t v = from; v < to; ++v) {
+          slots[v - from] = Clearance::slot(out[v]);
+          const std::size_t size = start[v + 1] - start[v];
+          std::size_t slot = size < OTHER ? size : OTHER;
+          if (__builtin_expect(wide != wide_rows.end() && *wide == v, 0)) {
+            slot = 0;
+            ++wide;
+          }
+          listed[slot][listed_count[slot]++] = static_cast<VertexId>(v);
+        }
+        auto scalar = [&](std::size_t v) {
+          bounds[v - from] = rowLowerBound(
+              values, [&](std::size_t k) { return rows.entry(v, k); }, v, start[v],
+              start[v + 1]);
+        };
+        for (std::size_t k = 0; k < listed_count[0]; ++k)
+          scalar(listed[0][k]);
+        for (std::size_t k = 0; k < listed_count[OTHER]; ++k)
+          scalar(listed[OTHER][k]);
+        for (std::size_t size = 1; size < OTHER; ++size)
+          laneBoundsOfRows(size, std::make_index_sequence<MAX_BOUND_ROW>(), values,
+                           ring, start, listed[size], listed_count[size], bounds, from,
+                           scalar);
+        for (std::size_t v = from; v < to; ++v) {
+          const std::uint64_t slot = slots[v - from];
+          const double need = Clearance::slotNeed(slot);
+          out[v] = bounds[v - from];
+          const double limit = factor * out[v];
+          const bool clear = (limit >= Clearance::LOW) & (limit <= Clearance::HIGH) &
+                             (need <= limit * limit * Clearance::MARGIN);
+          bits[v / 64] |= std::uint64_t{clear} << (v % 64);
+          if (__builtin_expect(!clear && start[v] != start[v + 1], 0))
+            left.emplace_back(static_cast<VertexId>(v),
+                              static_cast<TriangleId>(slot >> 32));
+          if (buckets != nullptr && start[v] != start[v + 1])
+            ++buckets[(bitsOf(values[v]) - stats.low) >> shift];
+        }
+      }
+      return;
+#endif
       for (std::size_t v = begin; v < end; ++v) {
         const std::uint64_t slot = Clearance::slot(out[v]);
         const double need = Clearance::slotNeed(slot);
