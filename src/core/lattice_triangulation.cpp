@@ -96,8 +96,9 @@ class ValueTable {
   double value(std::uint32_t id) const { return values_[id]; }
   const std::vector<double>& values() const { return values_; }
 
-  /// The id of v (-0 and +0 are one value), inserted if new.
-  std::uint32_t idOf(double v)
+  /// The id of v (-0 and +0 are one value), inserted if new. Inline: the detecting
+  /// pass looks up every value of scattered input before it gives up.
+  [[gnu::always_inline]] std::uint32_t idOf(double v)
   {
     v += 0.0; // -0 -> +0: equal values get equal bits
     std::uint64_t bits = 0;
@@ -255,15 +256,14 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
   };
   // A point whose x and y are values of the tables (the next one or the last one) is
   // finite and within the range (checked when they entered); only its height is
-  // tested. Any other goes through `checked`, which tests the three before anything
-  // enters the tables (a point with a non-finite coordinate is dropped whole).
+  // tested. Any other goes through `checked`, which tests x and y (after the height)
+  // before anything enters the tables (a point with a non-finite coordinate is
+  // dropped whole).
   enum Check { OK, DROP, OUT_OF_RANGE };
-  const auto checked = [](double x, double y, double h) {
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h))
-      return DROP;
-    return std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE
-               ? OUT_OF_RANGE
-               : OK;
+  const auto checked = [](double x, double y) { // the height is finite
+    if (std::fabs(x) <= MAX_ABS_COORDINATE && std::fabs(y) <= MAX_ABS_COORDINATE)
+      return OK;
+    return std::isfinite(x) && std::isfinite(y) ? OUT_OF_RANGE : DROP;
   };
   for (std::size_t k = 0; k < n; ++k) {
     const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
@@ -276,7 +276,7 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
       ++id_x;
       last_x = x;
     } else if (!(x == last_x)) {
-      if (const Check c = checked(x, y, h); c != OK) {
+      if (const Check c = checked(x, y); c != OK) {
         if (c == OUT_OF_RANGE)
           return false;
         ++dropped_count;
@@ -290,7 +290,7 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
       if (id_y + 1 < y_count && y_values[id_y + 1] == y) {
         ++id_y;
       } else {
-        if (const Check c = checked(x, y, h); c != OK) {
+        if (const Check c = checked(x, y); c != OK) {
           if (c == OUT_OF_RANGE)
             return false;
           ++dropped_count;
