@@ -263,6 +263,10 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
       std::fill(open_head.get() + at, open_head.get() + upto, detail::UNREACHED);
     }
   });
+  // The points' own box for the blocks' finality on the grid's border (a scan of the
+  // border rows and columns only).
+  const detail::GridBox box =
+      cache_blocks ? detail::GridBox::ofPoints(grid) : detail::GridBox::ofCells(grid);
   std::vector<SearchStats> worker_stats(workers);
   std::atomic<std::uint32_t> next_strip{0}, strips_grown{0};
   const auto work = [&](unsigned w) {
@@ -271,7 +275,7 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
     for (std::uint32_t s = next_strip++; s < layout.count; s = next_strip++) {
       Status result = detail::growStrip(
           grid, pyramid, layout, s, hull_edges, search, open_head.get(), merge.strip(s),
-          cache_blocks, [&merge, s] { return merge.claim(s); }, &blocks);
+          cache_blocks, [&merge, s] { return merge.claim(s); }, &blocks, &box);
       if (++strips_grown == layout.count) {
         // No strip reads the grid or open_head any more: both released before the
         // last strips are merged, when the output is nearly full (the peak).

@@ -5,9 +5,49 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace pcl_vts {
 namespace detail {
+
+GridBox GridBox::ofPoints(const CellGrid& grid)
+{
+  if (grid.points.empty())
+    return ofCells(grid);
+  // Cell lookup is monotone in x and in y (cell_grid.h): a point of a higher row has a
+  // y at least that of every point of a lower row, so the least and greatest y are
+  // among the points of the lowest and highest occupied rows, and the same holds for
+  // x and the columns. A row's points are consecutive slots; a column's, one cell a
+  // row.
+  const double inf = std::numeric_limits<double>::infinity();
+  GridBox box{inf, -inf, inf, -inf};
+  const auto rowRange = [&grid](std::uint32_t j) {
+    return std::pair<std::uint32_t, std::uint32_t>{grid.start(grid.cellId(0, j)),
+                                                   grid.start(grid.cellId(0, j + 1))};
+  };
+  for (std::uint32_t j = 0; j < grid.ny && box.y_lo == inf; ++j)
+    for (auto [k, end] = rowRange(j); k < end; ++k)
+      box.y_lo = std::min(box.y_lo, grid.points[k].y);
+  for (std::uint32_t j = grid.ny; j > 0 && box.y_hi == -inf; --j)
+    for (auto [k, end] = rowRange(j - 1); k < end; ++k)
+      box.y_hi = std::max(box.y_hi, grid.points[k].y);
+  const auto column = [&grid](std::uint32_t i, auto&& visit) {
+    for (std::uint32_t j = 0; j < grid.ny; ++j) {
+      const CellId cell = grid.cellId(i, j);
+      for (std::uint32_t k = grid.start(cell), end = grid.start(cell + 1); k < end; ++k)
+        visit(grid.points[k].x);
+    }
+  };
+  for (std::uint32_t i = 0; i < grid.nx && box.x_lo == inf; ++i)
+    column(i, [&box](double x) { box.x_lo = std::min(box.x_lo, x); });
+  for (std::uint32_t i = grid.nx; i > 0 && box.x_hi == -inf; --i)
+    column(i - 1, [&box](double x) { box.x_hi = std::max(box.x_hi, x); });
+  // Finite points give a finite box (ofCells otherwise: not expected).
+  if (!(std::isfinite(box.x_lo) && std::isfinite(box.x_hi) && std::isfinite(box.y_lo) &&
+        std::isfinite(box.y_hi)))
+    return ofCells(grid);
+  return box;
+}
 
 bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
                                 const CellWindow& core)

@@ -37,6 +37,27 @@ struct CellWindow {
   std::uint32_t i0, i1, j0, j1;
 };
 
+/// A box that holds every point of the grid, inside or on its sides: finality on
+/// the grid's border (LocalDelaunay::finalInGrid) asks that a disk meet none of it
+/// outside the window.
+struct GridBox {
+  double x_lo, x_hi, y_lo, y_hi;
+  /// The grid's cells grown by twice the slack (every point lies within the slack of
+  /// its cell's rectangle).
+  static GridBox ofCells(const CellGrid& grid)
+  {
+    return {grid.origin_x - 2 * grid.slack,
+            grid.origin_x + grid.nx * grid.cell_size + 2 * grid.slack,
+            grid.origin_y - 2 * grid.slack,
+            grid.origin_y + grid.ny * grid.cell_size + 2 * grid.slack};
+  }
+  /// The points' own bounding box (exact: the least and greatest coordinates), at
+  /// most ofCells's; a whole cell less on the sides where the grid's cells run past
+  /// the last point (the grid's upper and right sides mostly), so that more hull
+  /// triangles there are final.
+  PCL_VTS_CORE_EXPORT static GridBox ofPoints(const CellGrid& grid);
+};
+
 /// Bowyer-Watson triangulation of one window, arrays reused from window to window.
 /// Triangle t: vertices v[3t..3t+2] (local indices, CCW), halfedge i of t goes
 /// v[3t+i] -> v[3t+(i+1)%3]; twin(t, i) is its twin as 16u + j (halfedge j of u) or
@@ -58,14 +79,15 @@ class LocalDelaunay {
   void forEachFinal(const CellGrid& grid, const CellWindow& window, Keep&& keep) const
   {
     forEachFinal(
-        grid, window, [](std::size_t) { return true; }, keep);
+        grid, window, GridBox::ofCells(grid), [](std::size_t) { return true; }, keep);
   }
 
   /// The same for the triangles of real points with wanted(t) only: the bound (two
-  /// divisions, three square roots) is computed for those alone.
+  /// divisions, three square roots) is computed for those alone. `box` holds every
+  /// point of the grid (GridBox).
   template <typename Wanted, typename Keep>
-  void forEachFinal(const CellGrid& grid, const CellWindow& window, Wanted&& wanted,
-                    Keep&& keep) const;
+  void forEachFinal(const CellGrid& grid, const CellWindow& window, const GridBox& box,
+                    Wanted&& wanted, Keep&& keep) const;
 
   /// The twin of halfedge i of triangle t: 16u + j for halfedge j of triangle u
   /// (twinTriangle, twinEdge), or -1.
@@ -266,7 +288,7 @@ inline bool LocalDelaunay::finalByVertices(const Point2& a, const Point2& b,
 
 template <typename Wanted, typename Keep>
 void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
-                                 Wanted&& wanted, Keep&& keep) const
+                                 const GridBox& box, Wanted&& wanted, Keep&& keep) const
 {
   const double c = grid.cell_size;
   const double inf = std::numeric_limits<double>::infinity();
@@ -281,13 +303,9 @@ void LocalDelaunay::forEachFinal(const CellGrid& grid, const CellWindow& w,
   // window's own coordinates.
   const double margin = 1e-14 * (std::max(std::fabs(x0), std::fabs(x1)) +
                                  std::max(std::fabs(y0), std::fabs(y1)) + 4 * c);
-  // Every point lies within the slack of the grid's box (the points' bounding box
-  // from its lower corner): windows on its border also get finalInGrid.
+  // Every point lies in `box`: windows on the grid's border also get finalInGrid.
   const bool border = w.i0 == 0 || w.i1 == grid.nx || w.j0 == 0 || w.j1 == grid.ny;
-  const double gx_lo = grid.origin_x - 2 * grid.slack;
-  const double gx_hi = grid.origin_x + grid.nx * c + 2 * grid.slack;
-  const double gy_lo = grid.origin_y - 2 * grid.slack;
-  const double gy_hi = grid.origin_y + grid.ny * c + 2 * grid.slack;
+  const double gx_lo = box.x_lo, gx_hi = box.x_hi, gy_lo = box.y_lo, gy_hi = box.y_hi;
   // The corners' coordinates from the records (no lookup through the vertex ids).
   // `real`: the first two vertices are real points; the last one is for every
   // triangle but the super triangle, whose record says it is not.

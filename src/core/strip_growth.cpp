@@ -101,7 +101,8 @@ class Growth {
   Growth(const CellGrid& grid, const CellPyramid& pyramid, const StripLayout& layout,
          std::uint32_t strip, const HullEdges& hull, MediatrixSearch& search,
          HalfedgeId* open_head, StripMesh& mesh, bool cache_blocks,
-         const std::function<StripSink*()>& claim, LocalDelaunay* blocks)
+         const std::function<StripSink*()>& claim, LocalDelaunay* blocks,
+         const GridBox* box)
       : grid_(grid)
       , pyramid_(pyramid)
       , hull_(hull)
@@ -117,6 +118,7 @@ class Growth {
       , cache_blocks_(cache_blocks)
       , claim_(claim)
       , blocks_dt_(blocks)
+      , box_(box != nullptr ? *box : GridBox::ofCells(grid))
   {}
 
   Status run()
@@ -451,7 +453,7 @@ class Growth {
     std::size_t kept_count = 0;
     HalfedgeId next = first, next_foreign = first_foreign;
     dt.forEachFinal(
-        grid_, window,
+        grid_, window, box_,
         [&](std::size_t t) {
           const std::uint64_t k0 = key[tv[3 * t]], k1 = key[tv[3 * t + 1]],
                               k2 = key[tv[3 * t + 2]];
@@ -732,6 +734,7 @@ class Growth {
   std::vector<HalfedgeId, UninitAllocator<HalfedgeId>> foreign_halfedges_;
   const std::function<StripSink*()>& claim_; ///< see growStrip
   LocalDelaunay* const blocks_dt_;           ///< see growStrip; nullptr: one per strip
+  const GridBox box_;                        ///< holds every grid point (growStrip)
   /// Where the pages of the strip's arrays populated ahead end (populateAhead).
   const void* populated_triangles_ = nullptr;
   const void* populated_halfedges_ = nullptr;
@@ -774,10 +777,10 @@ Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
                  bool cache_blocks, const std::function<StripSink*()>& claim,
-                 LocalDelaunay* blocks)
+                 LocalDelaunay* blocks, const GridBox* box)
 {
   return Growth(grid, pyramid, layout, strip, hull, search, open_head, mesh,
-                cache_blocks, claim, blocks)
+                cache_blocks, claim, blocks, box)
       .run();
 }
 

@@ -113,12 +113,15 @@ struct StripSink {
 /// triangles (`mesh` is then left as grown), else they are compacted in `mesh`.
 /// `blocks`, when set: the caller's block triangulator (one per worker, reused strip
 /// after strip: its arrays' pages stay resident); else one of the strip's own.
+/// `box`, when set: a box holding every grid point (GridBox::ofPoints, computed once
+/// for all strips), for the blocks' finality on the grid's border; else
+/// GridBox::ofCells.
 Status growStrip(const CellGrid& grid, const CellPyramid& pyramid,
                  const StripLayout& layout, std::uint32_t strip, const HullEdges& hull,
                  MediatrixSearch& search, HalfedgeId* open_head, StripMesh& mesh,
                  bool cache_blocks = false,
                  const std::function<StripSink*()>& claim = {},
-                 LocalDelaunay* blocks = nullptr);
+                 LocalDelaunay* blocks = nullptr, const GridBox* box = nullptr);
 
 } // namespace detail
 } // namespace pcl_vts

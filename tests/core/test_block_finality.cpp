@@ -7,16 +7,21 @@
 // flat and near-touching triangles at small and UTM magnitudes, and not vacuous.
 #include "../../src/core/local_delaunay.h"
 
+#include <pcl_vts/core/cell_grid.h>
+#include <pcl_vts/core/grid_stage.h>
+
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace {
 
 using pcl_vts::Point2;
+using pcl_vts::detail::GridBox;
 using pcl_vts::detail::LocalDelaunay;
 using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
 
@@ -245,3 +250,67 @@ TEST(BlockFinality, DisksOverTheGridOutsideTheWindowAreNotFinal)
 }
 
 } // namespace
+
+TEST(BlockFinality, GridBoxOfPointsIsThePointsBoundingBox)
+{
+  // finalInGrid's box from the border rows and columns only (GridBox::ofPoints) must
+  // be the least and greatest coordinates of all the grid's points, on grids from
+  // the grid stage (compact cell starts, crowded cells) and buildCellGrid: uniform
+  // and clustered points at UTM offsets and around zero, lattices with points on the
+  // cells' sides, cell sizes that leave part of a cell past the last point.
+  std::mt19937_64 rng(19);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int grids = 0;
+  for (int shape = 0; shape < 4; ++shape)
+    for (const double x0 : {0.0, -3.7, 512345.25})
+      for (const double cell : {0.0, 0.37, 1.0, 2.5}) {
+        const std::size_t n = 3000 + 997 * static_cast<std::size_t>(shape);
+        std::vector<double> xyz(3 * n);
+        std::vector<Point2> pts(n);
+        for (std::size_t k = 0; k < n; ++k) {
+          double x = unit(rng) * 40.0, y = unit(rng) * 25.0;
+          if (shape == 1) { // clustered: most points in a corner, a few far out
+            x = k % 10 == 0 ? x : x * 0.05;
+            y = k % 10 == 0 ? y : y * 0.05;
+          } else if (shape == 2) { // a lattice, points on the cells' sides
+            x = std::floor(x);
+            y = std::floor(y) * 0.5;
+          } else if (shape == 3) { // a thin band, many points per cell
+            y *= 0.01;
+          }
+          pts[k] = {x0 + x, 0.5 * x0 + y};
+          xyz[3 * k] = pts[k].x;
+          xyz[3 * k + 1] = pts[k].y;
+          xyz[3 * k + 2] = 0.0;
+        }
+        double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
+        for (const Point2& p : pts) {
+          x_lo = std::min(x_lo, p.x);
+          x_hi = std::max(x_hi, p.x);
+          y_lo = std::min(y_lo, p.y);
+          y_hi = std::max(y_hi, p.y);
+        }
+        pcl_vts::GridStage stage;
+        std::vector<pcl_vts::VertexId> map;
+        pcl_vts::Diagnostics diag;
+        ASSERT_TRUE(pcl_vts::buildGridStage(xyz.data(), n, cell,
+                                            pcl_vts::DuplicateRule::LOWEST_Z, 1, stage,
+                                            map, diag)
+                        .ok());
+        pcl_vts::CellGrid plain;
+        std::vector<std::uint32_t> order;
+        ASSERT_TRUE(pcl_vts::buildCellGrid(pts, cell, plain, order).ok());
+        for (const pcl_vts::CellGrid* grid : {&stage.grid, &plain}) {
+          const GridBox box = GridBox::ofPoints(*grid);
+          const GridBox cells = GridBox::ofCells(*grid);
+          EXPECT_EQ(box.x_lo, x_lo) << shape << " " << x0 << " " << cell;
+          EXPECT_EQ(box.x_hi, x_hi) << shape << " " << x0 << " " << cell;
+          EXPECT_EQ(box.y_lo, y_lo) << shape << " " << x0 << " " << cell;
+          EXPECT_EQ(box.y_hi, y_hi) << shape << " " << x0 << " " << cell;
+          EXPECT_TRUE(box.x_lo >= cells.x_lo && box.x_hi <= cells.x_hi &&
+                      box.y_lo >= cells.y_lo && box.y_hi <= cells.y_hi);
+          ++grids;
+        }
+      }
+  EXPECT_EQ(grids, 96);
+}
