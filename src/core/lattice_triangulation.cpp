@@ -271,7 +271,12 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
       ++dropped_count; // h not finite
       continue;
     }
-    bool grew = false;
+    // Scattered: the positions exceed the limit (the pass stops after about
+    // sqrt(8 n) points); tested when a table grows.
+    const auto tooMany = [&] {
+      return static_cast<std::size_t>(x_count) * static_cast<std::size_t>(y_count) >
+             limit;
+    };
     if (id_x + 1 < x_count && x_values[id_x + 1] == x) {
       ++id_x;
       last_x = x;
@@ -283,7 +288,8 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
         continue;
       }
       last_x = x;
-      grew = lookup(xt, x, id_x, x_values, x_count);
+      if (lookup(xt, x, id_x, x_values, x_count) && tooMany())
+        return false;
     }
     if (!(y == last_y)) {
       const std::uint32_t before = id_y;
@@ -296,7 +302,8 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
           ++dropped_count;
           continue;
         }
-        grew = lookup(yt, y, id_y, y_values, y_count) || grew;
+        if (lookup(yt, y, id_y, y_values, y_count) && tooMany())
+          return false;
       }
       last_y = y;
       if (runs_ok && (y_runs.empty() || id_y != before)) {
@@ -309,9 +316,6 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
       }
     }
     ++finite_count;
-    if (grew &&
-        static_cast<std::size_t>(x_count) * static_cast<std::size_t>(y_count) > limit)
-      return false; // scattered: stops after about sqrt(8 n) points
   }
   finite += finite_count;
   dropped += dropped_count;
@@ -366,8 +370,8 @@ bool readRows(const double* xyz, std::size_t n, const YRuns& runs, std::size_t f
     std::uint32_t allowed = 0; // the smallest x rank the run may take next
     // The run's points; SKIP: some are not finite (dropped by pass 1), MAP: input_map.
     const auto readRun = [&](auto skip, auto map) {
-      for (std::size_t k = run.first; k < end; ++k) {
-        const double* p = xyz + 3 * k;
+      const double* p = xyz + 3 * run.first;
+      for (std::size_t k = run.first; k < end; ++k, p += 3) {
         if (decltype(skip)::value &&
             (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])))
           continue;
@@ -380,7 +384,8 @@ bool readRows(const double* xyz, std::size_t n, const YRuns& runs, std::size_t f
         allowed = i + 1;
         row[i] = next;
         src[next] = static_cast<std::uint32_t>(k);
-        xy[next] = {p[0], p[1]};
+        static_assert(sizeof(Point2) == 2 * sizeof(double), "x and y only");
+        std::memcpy(&xy[next], p, sizeof(Point2)); // x then y, as in the input
         z[next] = p[2];
         if (decltype(map)::value)
           code[k] = next;
