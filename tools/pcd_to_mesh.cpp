@@ -1204,8 +1204,8 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
             opt.no_trim ? "" : ", trim", opt.no_fill ? "" : ", fill");
   start = Clock::now();
   pcl_vts::VtsResult result;
-  const pcl_vts::Status tri =
-      pcl_vts::runVtsPipeline(xyz.data(), n_points, opt.vts, result);
+  // The input is handed over: its memory serves the post-passes' scratch.
+  const pcl_vts::Status tri = pcl_vts::runVtsPipeline(std::move(xyz), opt.vts, result);
   if (tri.code == pcl_vts::StatusCode::INVALID_PARAMETER)
     return out.fail(EXIT_USAGE,
                     "options rejected for '" + opt.input + "': " + tri.message);
@@ -1213,7 +1213,6 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
     return out.fail(exitCodeFor(tri.code),
                     "input '" + opt.input +
                         "' cannot be triangulated: " + tri.toString());
-  std::vector<double>().swap(xyz);
   const pcl_vts::Diagnostics& d = result.diagnostics;
   const pcl_vts::ReconstructionDiagnostics& rd = result.reconstruction;
   out.done(msSince(start), std::to_string(d.triangles) + " triangles");

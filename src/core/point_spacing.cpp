@@ -347,8 +347,7 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     return true;
   };
   auto scatter_entries = [&](auto with_need) {
-    offsets_.reset(new std::int16_t[total]);
-    detail::populatePages(offsets_.get(), offsets_.get() + total);
+    offsets_ = detail::scratchArray<std::int16_t>(total, scratch_);
     if (scatter(with_need, offsets_.get()))
       return;
     offsets_.reset();
@@ -357,8 +356,7 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     count_in_full();
     if constexpr (decltype(with_need)::value)
       need->assign(n, 0.0);
-    ids_.reset(new VertexId[total]);
-    detail::populatePages(ids_.get(), ids_.get() + total);
+    ids_ = detail::scratchArray<VertexId>(total, scratch_);
     scatter(with_need, ids_.get());
   };
   if (need != nullptr) {

@@ -5,6 +5,8 @@
 // trimmed mesh (point_spacing.h).
 #pragma once
 
+#include "post_pass_scratch.h"
+
 #include <pcl_vts/core/boundary_loops.h>
 #include <pcl_vts/core/fill_holes.h>
 #include <pcl_vts/core/mesh_arrays.h>
@@ -156,6 +158,11 @@ Clearance::need(const Point2& a, const Point2& b, const Point2& c, double edge_l
 /// halfedges leaving it and the starts of the boundary halfedges entering it.
 class VertexRows {
  public:
+  VertexRows() = default;
+  /// build's entries inside `scratch` when they fit there (scratchArray).
+  explicit VertexRows(ScratchBlock scratch)
+      : scratch_(scratch)
+  {}
   /// With `boundary`, also lists the halfedges without twin, in increasing order.
   /// False, the rows left unbuilt, when a triangle corner is not a vertex id (checked
   /// in the count pass: no pass of its own over the corners). With `need`, also per
@@ -213,10 +220,11 @@ class VertexRows {
   /// entries are its id less the row's vertex in 16 bits (half the bytes of ids to
   /// write, fault in and read), FAR for the few farther ones (their ids by position in
   /// wide_entries_), unless more than one entry in 2048 is: then ids.
-  std::unique_ptr<std::int16_t[]> offsets_; // NOLINT: uninitialised, written by build
-  std::unique_ptr<VertexId[]> ids_;         // NOLINT: uninitialised, written by build
+  ScratchArray<std::int16_t> offsets_; // uninitialised, written by build
+  ScratchArray<VertexId> ids_;         // uninitialised, written by build
   std::vector<std::pair<std::size_t, VertexId>> wide_entries_; ///< by position
   std::vector<VertexId> wide_rows_;
+  ScratchBlock scratch_;
 };
 
 /// The vertex of entry k of v's row (VertexRows::visitRows).
@@ -310,10 +318,11 @@ double medianOverUsed(const std::vector<double>& own,
                       const std::vector<bool>& has_triangle);
 
 /// trimOutwardTriangles; with `after`, also the trimmed mesh's VertexSpacing; on
-/// `threads` threads (0 = all cores; the same mesh for any value).
+/// `threads` threads (0 = all cores; the same mesh for any value); its rows inside
+/// `scratch` when they fit there.
 Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
                             TrimResult& result, VertexSpacing* after,
-                            unsigned threads = 1);
+                            unsigned threads = 1, ScratchBlock scratch = {});
 
 /// traceBoundaryLoops; with `boundary` (every halfedge without twin, in increasing
 /// order), the loops start from its halfedges instead of a scan of all of them.

@@ -1,4 +1,5 @@
 // Trim -> fill, timed and checked. See reconstruct_surface.h.
+#include "post_pass_scratch.h"
 #include "post_pass_spacing.h"
 
 #include <pcl_vts/core/mesh_checks.h>
@@ -25,6 +26,14 @@ Status validateReconstructionOptions(const ReconstructionOptions& options)
 Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& options,
                           ReconstructionDiagnostics& diagnostics)
 {
+  return detail::reconstructSurface(mesh, options, diagnostics, {});
+}
+
+Status detail::reconstructSurface(TriangleMesh& mesh,
+                                  const ReconstructionOptions& options,
+                                  ReconstructionDiagnostics& diagnostics,
+                                  ScratchBlock scratch)
+{
   diagnostics = ReconstructionDiagnostics{};
   Status status = validateReconstructionOptions(options);
   if (!status.ok())
@@ -50,8 +59,9 @@ Status reconstructSurface(TriangleMesh& mesh, const ReconstructionOptions& optio
   const bool handed = options.trim && options.fill;
   if (options.trim) {
     const Stopwatch watch;
-    status = detail::trimOutwardTriangles(mesh, options.trim_options, diagnostics.trim,
-                                          handed ? &spacing : nullptr, threads);
+    status =
+        detail::trimOutwardTriangles(mesh, options.trim_options, diagnostics.trim,
+                                     handed ? &spacing : nullptr, threads, scratch);
     diagnostics.seconds_trim = watch.seconds();
     if (!status.ok()) {
       diagnostics = ReconstructionDiagnostics{}; // as when the corners fail first

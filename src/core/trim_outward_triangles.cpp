@@ -704,7 +704,7 @@ Status trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
 
 Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& options,
                                     TrimResult& result, VertexSpacing* after,
-                                    unsigned threads)
+                                    unsigned threads, ScratchBlock scratch)
 {
   threads = threads > 0 ? threads : allCores();
   result = TrimResult{};
@@ -717,7 +717,7 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // With `after`, the boundary halfedges too: the trimmed mesh's when the trim
   // removes nothing, else the compaction lists them.
   std::vector<HalfedgeId> boundary;
-  detail::VertexRows rows;
+  detail::VertexRows rows(scratch);
   std::vector<double> scale; // the vertices' needs (classifyTriangles)
   const double edge_limit2 =
       options.max_edge > 0.0

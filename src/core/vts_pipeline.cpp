@@ -1,4 +1,5 @@
 #include "lattice_triangulation.h"
+#include "post_pass_scratch.h"
 #include "release_memory.h"
 
 #include <pcl_vts/core/convex_hull.h>
@@ -48,8 +49,10 @@ std::vector<double> vertexHeights(const double* xyz, std::size_t n,
   return z;
 }
 
-/// Output checks and post-passes, after either triangulation path.
-Status finishPipeline(const VtsOptions& options, VtsResult& result)
+/// Output checks and post-passes, after either triangulation path; the trim's rows
+/// inside `scratch` when they fit there.
+Status finishPipeline(const VtsOptions& options, VtsResult& result,
+                      detail::ScratchBlock scratch)
 {
   if (!options.input_map) // before the post-passes allocate
     std::vector<VertexId>().swap(result.input_to_vertex);
@@ -75,7 +78,9 @@ Status finishPipeline(const VtsOptions& options, VtsResult& result)
     ReconstructionOptions post = options.reconstruction;
     post.check_output = post.check_output && options.check_output;
     post.threads = options.threads;
-    if (Status s = reconstructSurface(mesh, post, result.reconstruction); !s.ok()) {
+    if (Status s =
+            detail::reconstructSurface(mesh, post, result.reconstruction, scratch);
+        !s.ok()) {
       result.mesh = TriangleMesh{};
       return s;
     }
@@ -114,8 +119,12 @@ Status validateOptions(const VtsOptions& options)
   return Status::success();
 }
 
-Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
-                      VtsResult& result)
+namespace {
+
+/// runVtsPipeline; with `input` (xyz's own array), its memory is handed to the
+/// post-passes once the heights are read from it.
+Status runPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
+                   VtsResult& result, std::vector<double>* input)
 {
   result = VtsResult{};
   Diagnostics& diag = result.diagnostics;
@@ -129,11 +138,17 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
                              std::to_string(INVALID_ID - 1) + " points)");
   if (n > 0 && xyz == nullptr)
     return Status::error(StatusCode::INVALID_PARAMETER, "null point array");
+  // The input is not read after the heights (vertexHeights, or the lattice path's).
+  const auto scratch = [input] {
+    return input != nullptr
+               ? detail::ScratchBlock{input->data(), input->size() * sizeof(double)}
+               : detail::ScratchBlock{};
+  };
   if (options.lattice) { // DEM rasters: no search in complete cells (section 7)
     bool handled = false;
     const Status s = triangulateLattice(xyz, n, options, result, handled);
     if (handled)
-      return s.ok() ? finishPipeline(options, result) : s;
+      return s.ok() ? finishPipeline(options, result, scratch()) : s;
   }
 
   Stopwatch watch;
@@ -208,7 +223,25 @@ Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& option
   result.source_index = std::move(stage.source);
   diag.triangles = mesh.triangleCount();
 
-  return finishPipeline(options, result);
+  return finishPipeline(options, result, scratch());
+}
+
+} // namespace
+
+Status runVtsPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
+                      VtsResult& result)
+{
+  return runPipeline(xyz, n, options, result, nullptr);
+}
+
+Status runVtsPipeline(std::vector<double>&& xyz, const VtsOptions& options,
+                      VtsResult& result)
+{
+  std::vector<double> input = std::move(xyz);
+  const Status status =
+      runPipeline(input.data(), input.size() / 3, options, result, &input);
+  std::vector<double>().swap(input);
+  return status;
 }
 
 } // namespace pcl_vts

@@ -316,6 +316,59 @@ TEST(VtsPipeline, WithoutTheInputMapTheResultIsTheSame)
     }
 }
 
+// The overload that takes the input over lends its memory to the trim's rows (once
+// the heights are read): the same mesh, spacing and flags as the call on a pointer,
+// through the ordinary and the lattice paths, with merged duplicates, at 1 and 2
+// threads; the input is left empty.
+TEST(VtsPipeline, HandingTheInputOverGivesTheSameResult)
+{
+  std::vector<double> raster; // a lattice with a hole of missing cells
+  for (int j = 0; j < 60; ++j)
+    for (int i = 0; i < 60; ++i)
+      if ((i - 30) * (i - 30) + (j - 25) * (j - 25) > 40)
+        raster.insert(raster.end(), {double(i), double(j), 0.25 * i - 0.5 * j});
+  const std::vector<std::pair<const char*, std::vector<double>>> inputs = {
+      {"big voids", test::generatePoints(Distribution::BIG_VOIDS, 20000, 3)},
+      {"clustered", test::generatePoints(Distribution::CLUSTERED, 20000, 4)},
+      {"duplicates", test::generatePoints(Distribution::DUPLICATES, 5000, 5)},
+      {"raster", raster}};
+  const auto bits = [](const auto& v) {
+    std::vector<unsigned char> b(v.size() * sizeof(v[0]));
+    std::memcpy(b.data(), v.data(), b.size());
+    return b;
+  };
+  for (const auto& [name, xyz] : inputs)
+    for (unsigned threads : {1u, 2u}) {
+      SCOPED_TRACE(std::string(name) + ", threads " + std::to_string(threads));
+      VtsOptions options;
+      options.threads = threads;
+      options.duplicate_rule = DuplicateRule::MEAN_Z;
+      options.reconstruction.trim = true;
+      options.reconstruction.fill = true;
+      VtsResult on_pointer, handed;
+      ASSERT_TRUE(runVtsPipeline(xyz.data(), xyz.size() / 3, options, on_pointer).ok());
+      std::vector<double> input = xyz;
+      ASSERT_TRUE(runVtsPipeline(std::move(input), options, handed).ok());
+      EXPECT_TRUE(input.empty()); // NOLINT(bugprone-use-after-move): the contract
+      EXPECT_GT(on_pointer.reconstruction.trim.triangles_removed, 0U);
+      EXPECT_EQ(on_pointer.mesh.triangles, handed.mesh.triangles);
+      EXPECT_EQ(on_pointer.mesh.halfedges, handed.mesh.halfedges);
+      EXPECT_EQ(bits(on_pointer.mesh.xy), bits(handed.mesh.xy));
+      EXPECT_EQ(bits(on_pointer.mesh.z), bits(handed.mesh.z));
+      EXPECT_EQ(on_pointer.source_index, handed.source_index);
+      EXPECT_EQ(on_pointer.input_to_vertex, handed.input_to_vertex);
+      const ReconstructionDiagnostics &a = on_pointer.reconstruction,
+                                      &b = handed.reconstruction;
+      EXPECT_EQ(a.trim.triangles_removed, b.trim.triangles_removed);
+      EXPECT_EQ(a.trim.vertices_lost, b.trim.vertices_lost);
+      EXPECT_EQ(bits(std::vector<double>{a.trim.spacing}),
+                bits(std::vector<double>{b.trim.spacing}));
+      EXPECT_EQ(a.fill.holes_found, b.fill.holes_found);
+      EXPECT_EQ(a.fill.points_inserted, b.fill.points_inserted);
+      EXPECT_EQ(a.fill.inserted, b.fill.inserted);
+    }
+}
+
 TEST(VtsPipeline, NonFinitePointsAreDroppedAndCounted)
 {
   std::vector<double> xyz = test::generatePoints(Distribution::UNIFORM, 500, 3);

@@ -98,4 +98,11 @@ struct VtsResult {
 PCL_VTS_CORE_EXPORT Status runVtsPipeline(const double* xyz, std::size_t n,
                                           const VtsOptions& options, VtsResult& result);
 
+/// runVtsPipeline on the points of xyz (3 doubles a point), taking the array over:
+/// once the triangulation has read it, its memory serves the post-passes' scratch
+/// (resident pages instead of fresh ones: the trim's rows fit in it), and it is
+/// freed before the call returns (xyz is left empty). The same result.
+PCL_VTS_CORE_EXPORT Status runVtsPipeline(std::vector<double>&& xyz,
+                                          const VtsOptions& options, VtsResult& result);
+
 } // namespace pcl_vts
