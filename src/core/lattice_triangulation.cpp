@@ -1779,42 +1779,59 @@ Status Fringe::triangulate(std::vector<std::array<VertexId, 3>>& found,
 }
 
 /// Pairs the open halfedges of the complete cells and the fringe's halfedges by
-/// vertex pair; unpaired ones are hull edges.
+/// vertex pair; unpaired ones are hull edges (INVALID_ID, as they are on entry). An
+/// open-addressing table of the vertex pairs: the second halfedge of a pair finds
+/// the first; a third one, or two in the same direction, is not manifold.
 Status pairHalfedges(const std::vector<VertexId>& triangles,
                      std::vector<HalfedgeId>& halfedges,
                      const std::vector<HalfedgeId>& open, std::size_t fringe_first)
 {
-  std::vector<std::pair<std::uint64_t, HalfedgeId>> keys;
-  keys.reserve(open.size() + (triangles.size() - 3 * fringe_first));
+  const std::size_t count = open.size() + (triangles.size() - 3 * fringe_first);
+  std::size_t slots = 16;
+  int shift = 60;
+  while (slots < 2 * count) {
+    slots *= 2;
+    --shift;
+  }
+  struct Slot {
+    std::uint64_t key; ///< (min vertex, max vertex) + 1; 0: empty
+    HalfedgeId e;      ///< INVALID_ID once paired
+  };
+  std::vector<Slot> table(slots, Slot{0, INVALID_ID});
+  const auto fail = [&](HalfedgeId e) {
+    return Status::error(StatusCode::INTERNAL_ERROR,
+                         "lattice fast path: edge " + std::to_string(triangles[e]) +
+                             "-" + std::to_string(triangles[nextHalfedge(e)]) +
+                             " is not manifold");
+  };
   const auto add = [&](HalfedgeId e) {
     const VertexId u = triangles[e], v = triangles[nextHalfedge(e)];
-    keys.emplace_back(
-        (static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v), e);
+    // The key of (INVALID_ID, INVALID_ID) would wrap to 0; vertex ids are smaller.
+    const std::uint64_t key =
+        ((static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v)) + 1;
+    for (auto h = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift);;
+         h = (h + 1) & (slots - 1)) {
+      Slot& slot = table[h];
+      if (slot.key == 0) {
+        slot = {key, e};
+        return true;
+      }
+      if (slot.key == key) {
+        if (slot.e == INVALID_ID || triangles[slot.e] == u)
+          return false; // a third halfedge, or two the same way
+        halfedges[slot.e] = e;
+        halfedges[e] = slot.e;
+        slot.e = INVALID_ID;
+        return true;
+      }
+    }
   };
   for (const HalfedgeId e : open)
-    add(e);
+    if (!add(e))
+      return fail(e);
   for (std::size_t e = 3 * fringe_first; e < triangles.size(); ++e)
-    add(static_cast<HalfedgeId>(e));
-  std::sort(keys.begin(), keys.end());
-  for (std::size_t k = 0; k < keys.size();) {
-    std::size_t m = k + 1;
-    while (m < keys.size() && keys[m].first == keys[k].first)
-      ++m;
-    if (m - k == 1) {
-      halfedges[keys[k].second] = INVALID_ID;
-    } else if (m - k == 2 &&
-               triangles[keys[k].second] != triangles[keys[k + 1].second]) {
-      halfedges[keys[k].second] = keys[k + 1].second;
-      halfedges[keys[k + 1].second] = keys[k].second;
-    } else {
-      return Status::error(StatusCode::INTERNAL_ERROR,
-                           "lattice fast path: edge " +
-                               std::to_string(triangles[keys[k].second]) + "-" +
-                               std::to_string(triangles[nextHalfedge(keys[k].second)]) +
-                               " is not manifold");
-    }
-    k = m;
-  }
+    if (!add(static_cast<HalfedgeId>(e)))
+      return fail(static_cast<HalfedgeId>(e));
   return Status::success();
 }
 
