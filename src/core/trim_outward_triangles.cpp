@@ -586,6 +586,11 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
   const TriangleId* removed_at = removed_in_order.data();
   const std::size_t removed_count = removed_in_order.size();
   parallelChunks(parts, count, [&](std::size_t begin, std::size_t end, unsigned p) {
+    // The arrays' starts and new_id as locals of the range: the SSE2 stores below
+    // may alias anything, so the captured ones were loaded again after each store.
+    VertexId* const corners_at = corners;
+    HalfedgeId* const twins_at = twins;
+    const auto new_id_of = new_id;
     std::vector<HalfedgeId>* open = boundary != nullptr ? &open_edges[p] : nullptr;
     // j: the removed triangles before t.
     std::size_t j = static_cast<std::size_t>(
@@ -606,10 +611,10 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
       // The new twin of halfedge h's, h - 3 * shift: a twin outside the run takes
       // new_id, and lists h - 3 * shift among the open edges when it has none.
       auto remap = [&](std::size_t h) {
-        const HalfedgeId twin = twins[h];
+        const HalfedgeId twin = twins_at[h];
         if (std::size_t{twin} - first < size)
           return static_cast<HalfedgeId>(twin - 3 * shift);
-        const TriangleId across = twin == INVALID_ID ? INVALID_ID : new_id(twin / 3);
+        const TriangleId across = twin == INVALID_ID ? INVALID_ID : new_id_of(twin / 3);
         if (across == INVALID_ID && open != nullptr)
           open->push_back(static_cast<HalfedgeId>(h - 3 * shift));
         return across == INVALID_ID ? INVALID_ID : 3 * across + twin % 3;
@@ -618,7 +623,7 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
       for (; t < stop && t - shift < begin; ++t) {
         Moved moved{static_cast<TriangleId>(t - shift), {}, {}};
         for (std::size_t k = 0; k < 3; ++k) {
-          moved.corners[k] = corners[3 * t + k];
+          moved.corners[k] = corners_at[3 * t + k];
           moved.twins[k] = remap(3 * t + k);
         }
         aside[p].push_back(moved);
@@ -644,27 +649,27 @@ void compactTriangles(TriangleMesh& mesh, const std::vector<TriangleId>& dropped
       const std::size_t halfedge_count = 3 * count;
       for (; h + 4 <= h_end; h += 4) {
         const std::size_t ahead = std::min(h + AHEAD, halfedge_count - 1);
-        __builtin_prefetch(twins + ahead);
-        __builtin_prefetch(corners + ahead);
+        __builtin_prefetch(twins_at + ahead);
+        __builtin_prefetch(corners_at + ahead);
         _mm_storeu_si128(
-            reinterpret_cast<__m128i*>(corners + h - delta),
-            _mm_loadu_si128(reinterpret_cast<const __m128i*>(corners + h)));
+            reinterpret_cast<__m128i*>(corners_at + h - delta),
+            _mm_loadu_si128(reinterpret_cast<const __m128i*>(corners_at + h)));
         const __m128i twin4 =
-            _mm_loadu_si128(reinterpret_cast<const __m128i*>(twins + h));
+            _mm_loadu_si128(reinterpret_cast<const __m128i*>(twins_at + h));
         const __m128i inside =
             _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(twin4, first4), bias), size4);
         if (_mm_movemask_epi8(inside) == 0xffff) {
-          _mm_storeu_si128(reinterpret_cast<__m128i*>(twins + h - delta),
+          _mm_storeu_si128(reinterpret_cast<__m128i*>(twins_at + h - delta),
                            _mm_sub_epi32(twin4, delta4));
           continue;
         }
         for (std::size_t k = h; k < h + 4; ++k)
-          twins[k - delta] = remap(k);
+          twins_at[k - delta] = remap(k);
       }
 #endif
       for (; h < h_end; ++h) {
-        corners[h - delta] = corners[h];
-        twins[h - delta] = remap(h);
+        corners_at[h - delta] = corners_at[h];
+        twins_at[h - delta] = remap(h);
       }
       t = stop;
     }
