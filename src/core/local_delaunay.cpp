@@ -113,16 +113,26 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   if (width != order_width_ || height != order_height_) {
     order_width_ = width;
     order_height_ = height;
-    order_.clear();
+    // Listed directly (the window sizes vary with the bands and the grid's border,
+    // so this runs a few times per strip): a row dj of a round of stride s is a
+    // multiple of s; in the rounds of stride 2 and 1 a row that is a multiple of 2s
+    // holds only the odd multiples of s (the even ones were listed by the round
+    // before); rows run left to right when dj is even, right to left when odd (only
+    // in the round of stride 1).
+    order_.resize(static_cast<std::size_t>(width) * height);
+    std::size_t listed = 0;
     for (std::uint32_t stride = 4; stride >= 1; stride /= 2)
-      for (std::uint32_t dj = 0; dj < height; ++dj)
-        for (std::uint32_t m = 0; m < width; ++m) {
-          const std::uint32_t di = (dj & 1u) == 0 ? m : width - 1 - m;
-          if (di % stride != 0 || dj % stride != 0 ||
-              (stride < 4 && di % (2 * stride) == 0 && dj % (2 * stride) == 0))
-            continue;
-          order_.push_back({di, dj});
+      for (std::uint32_t dj = 0; dj < height; dj += stride) {
+        if ((dj & 1u) != 0) {
+          for (std::uint32_t di = width; di-- > 0;)
+            order_[listed++] = {di, dj};
+          continue;
         }
+        const bool odd_only = stride < 4 && dj % (2 * stride) == 0;
+        const std::uint32_t step = odd_only ? 2 * stride : stride;
+        for (std::uint32_t di = odd_only ? stride : 0; di < width; di += step)
+          order_[listed++] = {di, dj};
+      }
   }
   std::size_t k_local = 3;
   for (const std::array<std::uint32_t, 2>& cell_offset : order_) {

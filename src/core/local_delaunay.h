@@ -182,7 +182,10 @@ class LocalDelaunay {
   std::vector<std::pair<std::int32_t, std::int32_t>> boundary_;
   std::int32_t last_ = 0;
   std::size_t triangles_ = 0;
-  std::vector<std::array<std::uint32_t, 2>> order_; ///< cells (di, dj) to insert
+  /// Cells (di, dj) to insert, all written when listed.
+  std::vector<std::array<std::uint32_t, 2>,
+              UninitAllocator<std::array<std::uint32_t, 2>>>
+      order_;
   std::uint32_t order_width_ = 0, order_height_ = 0;
   double orient_bound_ = 0.0, incircle_wide_bound_ = 0.0, incircle_tight_bound_ = 0.0;
 };
