@@ -561,7 +561,8 @@ bool laneMediansOfRows(std::size_t size, std::index_sequence<S...>, const Point2
 } // namespace
 
 std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
-                               unsigned threads, OwnStats* stats)
+                               unsigned threads, OwnStats* stats,
+                               std::vector<double>* storage)
 {
   // Per vertex: median incident edge length. Robust to a few long edges into a
   // void (a rim vertex keeps most of its short ones) and to anisotropic sampling
@@ -570,6 +571,10 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
   // with its slot of the stats, joined in range order.
   const std::size_t n = mesh.vertexCount();
   std::vector<double> own;
+  if (storage != nullptr) { // its memory, resident
+    own.swap(*storage);
+    own.clear();
+  }
   own.reserve(n);
   detail::populatePages(own.data(), own.data() + n);
   const auto parts = static_cast<unsigned>(

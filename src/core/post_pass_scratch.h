@@ -1,8 +1,8 @@
 // Memory handed to the post-passes for their scratch (internal to the core): a
 // resident block its owner no longer reads (runVtsPipeline's input once the
-// triangulation has read it) serves one of the trim's arrays, whose pages are then
-// resident already instead of faulted in and zeroed by the kernel one by one (a
-// fresh page costs ~2 us on a VM: ~12 % of the trim at 1e6 points for its rows).
+// triangulation has read it) serves the trim's own medians and rows' entries, whose
+// pages are then resident already instead of faulted in and zeroed by the kernel one
+// by one (a fresh page costs ~1-2 us on this VM).
 #pragma once
 
 #include "release_memory.h"
@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <memory>
 #include <type_traits>
+#include <vector>
 
 namespace pcl_vts::detail {
 
@@ -21,7 +22,25 @@ namespace pcl_vts::detail {
 struct ScratchBlock {
   void* data = nullptr;
   std::size_t bytes = 0;
+  /// The vector whose storage the block is, when it is one (splitForOwn).
+  std::vector<double>* owner = nullptr;
 };
+
+/// The trim's share of `block` when it is a vector's storage: the vector, whose
+/// first n doubles ownMedians takes over for the own medians (own grows no further
+/// in the trim), and the block past them for the rows (left in block). Null, and
+/// block unchanged, when it is not a vector's or cannot hold n doubles.
+inline std::vector<double>* splitForOwn(ScratchBlock& block, std::size_t n)
+{
+  std::vector<double>* const owner = block.owner;
+  if (owner == nullptr || block.data != owner->data() ||
+      block.bytes / sizeof(double) < n)
+    return nullptr;
+  block.data = owner->data() + n;
+  block.bytes -= n * sizeof(double);
+  block.owner = nullptr;
+  return owner;
+}
 
 /// delete[] for an array of its own, nothing for one inside a ScratchBlock (its
 /// owner frees the block).

@@ -257,9 +257,11 @@ struct OwnStats {
 };
 
 /// Per vertex the median length of the edges of its row (0 for an empty row), on
-/// `threads` threads (the same figures for any value); with stats, their OwnStats.
+/// `threads` threads (the same figures for any value); with stats, their OwnStats;
+/// with storage, in its memory (taken over: storage is left empty).
 std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
-                               unsigned threads, OwnStats* stats = nullptr);
+                               unsigned threads, OwnStats* stats = nullptr,
+                               std::vector<double>* storage = nullptr);
 
 /// The upper median of own over the vertices with a non-empty row; with keep, its
 /// histogram selection when it takes one.

@@ -722,6 +722,7 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // With `after`, the boundary halfedges too: the trimmed mesh's when the trim
   // removes nothing, else the compaction lists them.
   std::vector<HalfedgeId> boundary;
+  std::vector<double>* own_storage = detail::splitForOwn(scratch, mesh.vertexCount());
   detail::VertexRows rows(scratch);
   std::vector<double> scale; // the vertices' needs (classifyTriangles)
   const double edge_limit2 =
@@ -731,7 +732,8 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   if (!rows.build(mesh, after != nullptr ? &boundary : nullptr, &scale, edge_limit2))
     return detail::checkCorners(mesh); // a corner is not a vertex id: its error
   detail::OwnStats stats;
-  std::vector<double> own = detail::ownMedians(mesh, rows, threads, &stats);
+  std::vector<double> own =
+      detail::ownMedians(mesh, rows, threads, &stats, own_storage);
   // The global median's histogram is counted with the ring bounds (no pass of its
   // own over the medians).
   detail::MedianSelection selection;

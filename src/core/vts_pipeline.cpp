@@ -141,7 +141,8 @@ Status runPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
   // The input is not read after the heights (vertexHeights, or the lattice path's).
   const auto scratch = [input] {
     return input != nullptr
-               ? detail::ScratchBlock{input->data(), input->size() * sizeof(double)}
+               ? detail::ScratchBlock{input->data(), input->size() * sizeof(double),
+                                      input}
                : detail::ScratchBlock{};
   };
   if (options.lattice) { // DEM rasters: no search in complete cells (section 7)
