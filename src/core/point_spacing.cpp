@@ -270,6 +270,12 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     const Point2* xy = mesh.xy.data();
     const std::uint64_t* open_bits = open_triangles.data();
     Index* first = start.data();
+    // The captured arrays, count and limit as locals: the needs' stores (memcpy)
+    // may alias anything, and the captured ones would be loaded again after each.
+    const VertexId* const corner_at = corner;
+    const HalfedgeId* const twin_at = twin;
+    const std::size_t corner_count = corners;
+    const double limit2 = edge_limit2;
     // Neighbour u into v's row (its next slot from the end). The 16-bit entries
     // give up past far_limit farther neighbours (ids in no spatial order).
     bool given_up = false;
@@ -288,16 +294,14 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
           row[k] = static_cast<Entry>(offset);
         else {
           row[k] = FAR;
-          wide_entries_.emplace_back(k, u);
-          wide_rows_.push_back(v);
-          given_up = wide_entries_.size() > far_limit;
+          given_up = given_up || !noteFar(k, v, u, far_limit);
         }
       }
     };
-    for (std::size_t e = 0, t = 0; e + 2 < corners; e += 3, ++t) {
-      if (e + AHEAD + 2 < corners) {
-        const VertexId pa = corner[e + AHEAD], pb = corner[e + AHEAD + 1],
-                       pc = corner[e + AHEAD + 2];
+    for (std::size_t e = 0, t = 0; e + 2 < corner_count; e += 3, ++t) {
+      if (e + AHEAD + 2 < corner_count) {
+        const VertexId pa = corner_at[e + AHEAD], pb = corner_at[e + AHEAD + 1],
+                       pc = corner_at[e + AHEAD + 2];
         __builtin_prefetch(row + first[pa], 1);
         __builtin_prefetch(row + first[pb], 1);
         __builtin_prefetch(row + first[pc], 1);
@@ -310,26 +314,26 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
           __builtin_prefetch(xy + pc);
         }
       }
-      const VertexId a = corner[e], b = corner[e + 1], c = corner[e + 2];
+      const VertexId a = corner_at[e], b = corner_at[e + 1], c = corner_at[e + 2];
       if (((open_bits[t / 64] >> (t % 64)) & 1u) == 0) {
         put(a, b);
         put(b, c);
         put(c, a);
       } else {
         put(a, b);
-        if (twin[e] == INVALID_ID)
+        if (twin_at[e] == INVALID_ID)
           put(b, a);
         put(b, c);
-        if (twin[e + 1] == INVALID_ID)
+        if (twin_at[e + 1] == INVALID_ID)
           put(c, b);
         put(c, a);
-        if (twin[e + 2] == INVALID_ID)
+        if (twin_at[e + 2] == INVALID_ID)
           put(a, c);
       }
       if constexpr (NEED) {
         // The float bits of non-negative values order as the values.
         const std::uint32_t t_need =
-            Clearance::roundedUp(Clearance::need(xy[a], xy[b], xy[c], edge_limit2));
+            Clearance::roundedUp(Clearance::need(xy[a], xy[b], xy[c], limit2));
         const std::uint64_t id = std::uint64_t{t} << 32;
         auto update = [&](VertexId v) {
           std::uint64_t slot = 0;
@@ -374,6 +378,13 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
   wide_rows_.erase(std::unique(wide_rows_.begin(), wide_rows_.end()), wide_rows_.end());
   start[n] = total;
   return true;
+}
+
+bool VertexRows::noteFar(std::size_t k, VertexId v, VertexId u, std::size_t limit)
+{
+  wide_entries_.emplace_back(k, u);
+  wide_rows_.push_back(v);
+  return wide_entries_.size() <= limit;
 }
 
 namespace {

@@ -213,6 +213,11 @@ class VertexRows {
   bool fill(const TriangleMesh& mesh, std::vector<Index>& start,
             std::vector<HalfedgeId>* boundary, std::vector<double>* need,
             double edge_limit2);
+  /// Entry k of v's row is u, more than 32767 ids away: listed; false past `limit`
+  /// such entries. Out of line and cold, so that the scatter's loop keeps its values
+  /// in registers (the lists' calls took them by reference: stored per entry).
+  [[gnu::cold, gnu::noinline]] bool noteFar(std::size_t k, VertexId v, VertexId u,
+                                            std::size_t limit);
   std::vector<std::uint32_t> start32_; ///< while the entries fit 32 bits
   std::vector<std::size_t> start64_;
   /// The entries, uninitialised until build writes them. Vertex ids follow the
