@@ -279,7 +279,8 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     // Neighbour u into v's row (its next slot from the end). The 16-bit entries
     // give up past far_limit farther neighbours (ids in no spatial order).
     bool given_up = false;
-    auto put = [&](VertexId v, VertexId u) {
+    auto put = [&](VertexId v, VertexId u) __attribute__((always_inline))
+    {
       using Entry = std::remove_pointer_t<decltype(row)>;
       const Index k = --first[v];
       if constexpr (std::is_same_v<Entry, VertexId>)
@@ -298,7 +299,12 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
         }
       }
     };
-    for (std::size_t e = 0, t = 0; e + 2 < corner_count; e += 3, ++t) {
+    // Triangle t (its corners from e): its entries, and its need (t_need) into its
+    // corners' slots. It and put always inlined (GCC left put a call otherwise).
+    auto triangle = [&](std::size_t e, std::size_t t,
+                        [[maybe_unused]] std::uint32_t t_need)
+        __attribute__((always_inline))
+    {
       if (e + AHEAD + 2 < corner_count) {
         const VertexId pa = corner_at[e + AHEAD], pb = corner_at[e + AHEAD + 1],
                        pc = corner_at[e + AHEAD + 2];
@@ -332,8 +338,6 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
       }
       if constexpr (NEED) {
         // The float bits of non-negative values order as the values.
-        const std::uint32_t t_need =
-            Clearance::roundedUp(Clearance::need(xy[a], xy[b], xy[c], limit2));
         const std::uint64_t id = std::uint64_t{t} << 32;
         auto update = [&](VertexId v) {
           std::uint64_t slot = 0;
@@ -345,6 +349,27 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
         update(b);
         update(c);
       }
+    };
+    std::size_t e = 0, t = 0;
+    if constexpr (NEED) {
+      // Two triangles' needs at once (Clearance::roundedUpNeeds: the same figures),
+      // the triangles still entered one after the other.
+      for (; e + 5 < corner_count; e += 6, t += 2) {
+        const std::uint64_t two = Clearance::roundedUpNeeds(
+            xy[corner_at[e]], xy[corner_at[e + 1]], xy[corner_at[e + 2]],
+            xy[corner_at[e + 3]], xy[corner_at[e + 4]], xy[corner_at[e + 5]], limit2);
+        triangle(e, t, static_cast<std::uint32_t>(two));
+        triangle(e + 3, t + 1, static_cast<std::uint32_t>(two >> 32));
+        if (__builtin_expect(given_up, 0))
+          return false;
+      }
+    }
+    for (; e + 2 < corner_count; e += 3, ++t) {
+      std::uint32_t t_need = 0;
+      if constexpr (NEED)
+        t_need = Clearance::roundedUp(Clearance::need(
+            xy[corner_at[e]], xy[corner_at[e + 1]], xy[corner_at[e + 2]], limit2));
+      triangle(e, t, t_need);
       if (__builtin_expect(given_up, 0))
         return false;
     }

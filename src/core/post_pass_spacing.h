@@ -22,6 +22,10 @@
 #include <utility>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace pcl_vts::detail {
 
 /// A count of a vertex's triangles this large is not trusted (VertexSpacing).
@@ -115,6 +119,13 @@ struct Clearance {
     std::memcpy(&bits, &stored, sizeof bits);
     return bits;
   }
+  /// roundedUp(need(a0, b0, c0)) in the low 32 bits, roundedUp(need(a1, b1, c1))
+  /// in the high ones: the same figures bit for bit (with SSE2, the two triangles
+  /// in the two lanes of the same operations; see its definition).
+  static std::uint64_t roundedUpNeeds(const Point2& a0, const Point2& b0,
+                                      const Point2& c0, const Point2& a1,
+                                      const Point2& b1, const Point2& c1,
+                                      double edge_limit2);
   static float slotNeed(std::uint64_t slot)
   {
     const auto low = static_cast<std::uint32_t>(slot);
@@ -152,6 +163,82 @@ Clearance::need(const Point2& a, const Point2& b, const Point2& c, double edge_l
                  (need <= std::numeric_limits<double>::max())
              ? need
              : INF;
+}
+
+// Two triangles' needs in the two lanes of SSE2 registers: every operation of
+// need and roundedUp, in the same order on the same operands, so each lane's
+// figures are the scalar ones bit for bit (IEEE operations are correctly rounded
+// either way; -ffp-contract=off keeps the scalar ones unfused). std::min(x, y) is
+// (y < x) ? y : x and std::max(x, y) is (x < y) ? y : x, which are _mm_min_pd(y, x)
+// and _mm_max_pd(y, x) (minpd/maxpd return their second operand unless the first
+// compares less/greater), NaN and equal operands included. The quotient is taken
+// only where a lane needs it; the other lane's quotient is not used.
+// test_trim_outward_triangles' ClearanceNeedsInLanesEqualTheScalarOnes compares
+// the lanes with the scalar figures on ordinary, obtuse, degenerate, tiny, huge and
+// non-finite triangles.
+[[gnu::always_inline]] inline std::uint64_t
+Clearance::roundedUpNeeds(const Point2& a0, const Point2& b0, const Point2& c0,
+                          const Point2& a1, const Point2& b1, const Point2& c1,
+                          double edge_limit2)
+{
+#if defined(__SSE2__)
+  // Lane k: triangle k's x or y.
+  auto xs = [](const Point2& p0, const Point2& p1) { return _mm_set_pd(p1.x, p0.x); };
+  auto ys = [](const Point2& p0, const Point2& p1) { return _mm_set_pd(p1.y, p0.y); };
+  const __m128d ax = xs(a0, a1), ay = ys(a0, a1), bx = xs(b0, b1), by = ys(b0, b1),
+                cx = xs(c0, c1), cy = ys(c0, c1);
+  auto square = [](__m128d ux, __m128d uy, __m128d wx, __m128d wy) {
+    const __m128d dx = _mm_sub_pd(ux, wx), dy = _mm_sub_pd(uy, wy);
+    return _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+  };
+  const __m128d ab = square(ax, ay, bx, by), bc = square(bx, by, cx, cy),
+                ca = square(cx, cy, ax, ay);
+  const __m128d cross = _mm_sub_pd(_mm_mul_pd(_mm_sub_pd(bx, ax), _mm_sub_pd(cy, ay)),
+                                   _mm_mul_pd(_mm_sub_pd(cx, ax), _mm_sub_pd(by, ay)));
+  const __m128d twice_area = _mm_andnot_pd(_mm_set1_pd(-0.0), cross); // fabs
+  const __m128d ab_bc = _mm_max_pd(bc, ab);                           // max(ab, bc)
+  const __m128d longest = _mm_max_pd(ca, ab_bc);
+  const __m128d low =
+      _mm_min_pd(_mm_min_pd(twice_area, ca), _mm_min_pd(bc, ab)); // min(min, min)
+  const __m128d high = _mm_max_pd(_mm_max_pd(twice_area, ca), ab_bc);
+  const __m128d product = _mm_mul_pd(_mm_mul_pd(ab, bc), ca);
+  const __m128d areas =
+      _mm_mul_pd(_mm_mul_pd(_mm_set1_pd(4.0), twice_area), twice_area);
+  const __m128d takes_longest = _mm_cmple_pd(product, _mm_mul_pd(areas, longest));
+  __m128d need = longest;
+  if (_mm_movemask_pd(takes_longest) != 3) {
+    const __m128d radius = _mm_max_pd(_mm_div_pd(product, areas), longest);
+    need = _mm_or_pd(_mm_and_pd(takes_longest, longest),
+                     _mm_andnot_pd(takes_longest, radius));
+  }
+  const __m128d in_range = _mm_and_pd(
+      _mm_and_pd(_mm_cmpge_pd(low, _mm_set1_pd(LOW)),
+                 _mm_cmple_pd(high, _mm_set1_pd(HIGH))),
+      _mm_and_pd(_mm_cmple_pd(longest, _mm_set1_pd(edge_limit2)),
+                 _mm_cmple_pd(need, _mm_set1_pd(std::numeric_limits<double>::max()))));
+  const __m128d inf = _mm_set1_pd(std::numeric_limits<double>::infinity());
+  need = _mm_or_pd(_mm_and_pd(in_range, need), _mm_andnot_pd(in_range, inf));
+  // roundedUp per lane: the float's bits, plus one where the float is below need;
+  // +inf's bits past the float range. The 64-bit masks' low halves moved to the
+  // 32-bit lanes 0 and 1.
+  const __m128 single = _mm_cvtpd_ps(need);
+  const __m128d below = _mm_cmplt_pd(_mm_cvtps_pd(single), need);
+  const __m128d fits = _mm_cmple_pd(
+      need, _mm_set1_pd(static_cast<double>(std::numeric_limits<float>::max())));
+  auto to32 = [](__m128d mask) {
+    return _mm_shuffle_epi32(_mm_castpd_si128(mask), _MM_SHUFFLE(2, 0, 2, 0));
+  };
+  const __m128i bits = _mm_sub_epi32(_mm_castps_si128(single), to32(below));
+  const __m128i fit = to32(fits);
+  const __m128i rounded = _mm_or_si128(
+      _mm_and_si128(fit, bits), _mm_andnot_si128(fit, _mm_set1_epi32(0x7f800000)));
+  std::uint64_t both = 0;
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(&both), rounded);
+  return both;
+#else
+  return std::uint64_t{roundedUp(need(a0, b0, c0, edge_limit2))} |
+         std::uint64_t{roundedUp(need(a1, b1, c1, edge_limit2))} << 32;
+#endif
 }
 
 /// Each vertex's row of neighbours, measurePointSpacing's rule: the ends of the

@@ -2,6 +2,7 @@
 // concave notch and opens data voids into holes, measured against a synthetic
 // terrain with a known footprint (coverage >= 99 %, spill <= 0.5 %); never pinches a
 // vertex, counts lost vertices, is deterministic; works untuned on real DEMs.
+#include "../../src/core/post_pass_spacing.h"
 #include "support/asc_reader.h"
 #include "support/generators.h"
 #include "support/mesh_shuffle.h"
@@ -17,8 +18,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -300,6 +304,86 @@ TEST(TrimOutwardTriangles, VertexClearanceNeverSparesAnOversizedTriangle)
   ASSERT_GT(limit, 1.0);
   EXPECT_EQ(check(lattice, limit, 0.0).triangles_removed, 0u);
   EXPECT_GT(check(lattice, std::nextafter(limit, 0.0), 0.0).triangles_removed, 0u);
+}
+
+// The rows' scatter takes two triangles' needs at once (Clearance::roundedUpNeeds,
+// SSE2 lanes): each lane must give the scalar roundedUp(need) bit for bit, in either
+// lane, on ordinary, obtuse (the circumradius past the longest edge), degenerate,
+// tiny, huge and non-finite triangles, against several edge limits.
+TEST(TrimOutwardTriangles, ClearanceNeedsInLanesEqualTheScalarOnes)
+{
+  using detail::Clearance;
+  std::mt19937_64 random(15);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  constexpr double INF = std::numeric_limits<double>::infinity();
+  const double specials[] = {0.0,   -0.0,  1e-31,
+                             1e-29, 1e30,  1e31,
+                             1e155, 1e160, std::numeric_limits<double>::quiet_NaN(),
+                             INF,   -INF};
+  auto triangle = [&](int kind, Point2(&p)[3]) {
+    const double scale =
+        std::pow(10.0, std::uniform_int_distribution<int>(-40, 40)(random));
+    const Point2 origin{1e6 * unit(random), 1e6 * unit(random)};
+    for (Point2& q : p)
+      q = {origin.x + scale * unit(random), origin.y + scale * unit(random)};
+    switch (kind) {
+    case 1: // obtuse: c near the middle of ab
+      p[2] = {0.5 * (p[0].x + p[1].x) + 1e-3 * scale * unit(random),
+              0.5 * (p[0].y + p[1].y) + 1e-3 * scale * unit(random)};
+      break;
+    case 2: // degenerate: a repeated corner or three collinear ones
+      p[2] = random() % 2 ? p[0] : Point2{2 * p[1].x - p[0].x, 2 * p[1].y - p[0].y};
+      break;
+    case 3: // a special coordinate
+      (random() % 2 ? p[random() % 3].x : p[random() % 3].y) =
+          specials[random() % std::size(specials)];
+      break;
+    case 4: // tiny or huge without an origin
+      for (Point2& q : p)
+        q = {scale * 1e-25 * unit(random), scale * 1e-25 * unit(random)};
+      break;
+    case 5:
+      for (Point2& q : p)
+        q = {scale * 1e118 * unit(random), scale * 1e118 * unit(random)};
+      break;
+    default:
+      break;
+    }
+  };
+  auto bits = [](const Point2(&p)[3], double limit2) {
+    return Clearance::roundedUp(Clearance::need(p[0], p[1], p[2], limit2));
+  };
+  std::size_t radius_taken = 0, infinite = 0, finite = 0;
+  for (int round = 0; round < 200000; ++round) {
+    Point2 t0[3], t1[3];
+    triangle(round % 6, t0);
+    triangle(static_cast<int>(random() % 6), t1);
+    const double limits[] = {INF, 1e-40, 1.0, 1e20,
+                             Clearance::need(t0[0], t0[1], t0[2], INF)};
+    const double limit2 = limits[random() % std::size(limits)];
+    const std::uint32_t want0 = bits(t0, limit2), want1 = bits(t1, limit2);
+    const std::uint64_t both =
+        Clearance::roundedUpNeeds(t0[0], t0[1], t0[2], t1[0], t1[1], t1[2], limit2);
+    ASSERT_EQ(static_cast<std::uint32_t>(both), want0) << round;
+    ASSERT_EQ(static_cast<std::uint32_t>(both >> 32), want1) << round;
+    const std::uint64_t swapped =
+        Clearance::roundedUpNeeds(t1[0], t1[1], t1[2], t0[0], t0[1], t0[2], limit2);
+    ASSERT_EQ(swapped, std::uint64_t{want1} | std::uint64_t{want0} << 32) << round;
+    const double need = Clearance::need(t0[0], t0[1], t0[2], INF);
+    if (need == INF)
+      ++infinite;
+    else {
+      ++finite;
+      const double ab = std::pow(t0[0].x - t0[1].x, 2) + std::pow(t0[0].y - t0[1].y, 2);
+      const double bc = std::pow(t0[1].x - t0[2].x, 2) + std::pow(t0[1].y - t0[2].y, 2);
+      const double ca = std::pow(t0[2].x - t0[0].x, 2) + std::pow(t0[2].y - t0[0].y, 2);
+      radius_taken += need > 1.000001 * std::max({ab, bc, ca}) ? 1 : 0;
+    }
+  }
+  // Each case seen: figures past the range, the longest edge, the circumradius.
+  EXPECT_GT(infinite, 1000u);
+  EXPECT_GT(finite, 1000u);
+  EXPECT_GT(radius_taken, 1000u);
 }
 
 // The trim's shortcuts (the ring-minimum bound, the root-free clearance, the medians
