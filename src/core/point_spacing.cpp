@@ -969,6 +969,21 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
       const double factor = cleared->trim_factor;
       std::uint64_t* bits = cleared->bits.data();
       std::vector<std::pair<VertexId, TriangleId>>& left = uncleared[p];
+      // Vertex v's bound written over its clearance slot (the need and the triangle
+      // that set it), v cleared when the need is within the trim's limit.
+      auto settle = [&](std::size_t v, std::uint64_t slot, double v_bound) {
+        const double need = Clearance::slotNeed(slot);
+        out[v] = v_bound;
+        const double limit = factor * v_bound;
+        const bool clear = (limit >= Clearance::LOW) & (limit <= Clearance::HIGH) &
+                           (need <= limit * limit * Clearance::MARGIN);
+        bits[v / 64] |= std::uint64_t{clear} << (v % 64);
+        if (__builtin_expect(!clear && start[v] != start[v + 1], 0))
+          left.emplace_back(static_cast<VertexId>(v),
+                            static_cast<TriangleId>(slot >> 32));
+        if (buckets != nullptr && start[v] != start[v + 1])
+          ++buckets[(bitsOf(values[v]) - stats.low) >> shift];
+      };
 #if defined(__SSE2__)
       // A word's vertices listed by row size, then each size's in pairs, one per
       // lane (ownMedians' scheme: no branch on the size per vertex); rows longer
@@ -1005,36 +1020,14 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
           laneBoundsOfRows(size, std::make_index_sequence<MAX_BOUND_ROW>(), values,
                            ring, start, listed[size], listed_count[size], bounds, from,
                            scalar);
-        for (std::size_t v = from; v < to; ++v) {
-          const std::uint64_t slot = slots[v - from];
-          const double need = Clearance::slotNeed(slot);
-          out[v] = bounds[v - from];
-          const double limit = factor * out[v];
-          const bool clear = (limit >= Clearance::LOW) & (limit <= Clearance::HIGH) &
-                             (need <= limit * limit * Clearance::MARGIN);
-          bits[v / 64] |= std::uint64_t{clear} << (v % 64);
-          if (__builtin_expect(!clear && start[v] != start[v + 1], 0))
-            left.emplace_back(static_cast<VertexId>(v),
-                              static_cast<TriangleId>(slot >> 32));
-          if (buckets != nullptr && start[v] != start[v + 1])
-            ++buckets[(bitsOf(values[v]) - stats.low) >> shift];
-        }
+        for (std::size_t v = from; v < to; ++v)
+          settle(v, slots[v - from], bounds[v - from]);
       }
       return;
 #endif
       for (std::size_t v = begin; v < end; ++v) {
         const std::uint64_t slot = Clearance::slot(out[v]);
-        const double need = Clearance::slotNeed(slot);
-        out[v] = bound_of(v);
-        const double limit = factor * out[v];
-        const bool clear = (limit >= Clearance::LOW) & (limit <= Clearance::HIGH) &
-                           (need <= limit * limit * Clearance::MARGIN);
-        bits[v / 64] |= std::uint64_t{clear} << (v % 64);
-        if (__builtin_expect(!clear && start[v] != start[v + 1], 0))
-          left.emplace_back(static_cast<VertexId>(v),
-                            static_cast<TriangleId>(slot >> 32));
-        if (buckets != nullptr && start[v] != start[v + 1])
-          ++buckets[(bitsOf(values[v]) - stats.low) >> shift];
+        settle(v, slot, bound_of(v));
       }
     });
   });
