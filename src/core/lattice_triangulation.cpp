@@ -858,7 +858,7 @@ void emitRun(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
   }
   // The run's ends face incomplete cells or the border; the open halfedges below and
   // above: every cell's beyond the lattice, the incomplete cells' of a PARTIAL row
-  // (their order in `open` does not matter: pairHalfedges sorts them).
+  // (their order in `open` does not matter: pairHalfedges pairs them by vertex pair).
   const HalfedgeId start = 3 * first, last = start + 6 * (i1 - i0 - 1);
   twin[start + 2] = INVALID_ID;
   twin[last + 3] = INVALID_ID;
