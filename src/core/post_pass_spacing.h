@@ -85,6 +85,23 @@ struct VertexSpacing {
 /// success when there is none.
 Status checkCorners(const TriangleMesh& mesh);
 
+/// Triangle abc's squared edges and twice its area, as every test of the trim
+/// computes them (classifyTriangle, the per-triangle clearance, Clearance::need and
+/// its SSE2 lanes): the clearance's proof needs the same roundings in all of them.
+struct TriangleSquares {
+  double ab, bc, ca, twice_area;
+};
+[[gnu::always_inline]] inline TriangleSquares
+triangleSquares(const Point2& a, const Point2& b, const Point2& c)
+{
+  auto square = [](const Point2& u, const Point2& w) {
+    const double dx = u.x - w.x, dy = u.y - w.y;
+    return dx * dx + dy * dy;
+  };
+  return {square(a, b), square(b, c), square(c, a),
+          std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y))};
+}
+
 /// The trim's vertex-level clearance (classifyTriangles in
 /// trim_outward_triangles.cpp, where the proof is): the range of the figures it
 /// trusts and its relative margin, far above their rounding errors.
@@ -140,14 +157,7 @@ struct Clearance {
 [[gnu::always_inline]] inline double
 Clearance::need(const Point2& a, const Point2& b, const Point2& c, double edge_limit2)
 {
-  // classifyTriangles' figures, computed as there (same operations, same order).
-  auto square = [](const Point2& u, const Point2& w) {
-    const double dx = u.x - w.x, dy = u.y - w.y;
-    return dx * dx + dy * dy;
-  };
-  const double ab = square(a, b), bc = square(b, c), ca = square(c, a);
-  const double twice_area =
-      std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+  const auto [ab, bc, ca, twice_area] = triangleSquares(a, b, c);
   const double longest = std::max(std::max(ab, bc), ca);
   // min and max may pass over a NaN, but then the product or the area is NaN and
   // so is the figure returned, which the last test turns into +inf.

@@ -156,14 +156,11 @@ std::vector<TriangleId> fanGapsToRestore(const TriangleMesh& mesh, VertexId v,
 TriangleSize classifyTriangle(const Point2& a, const Point2& b, const Point2& c,
                               double scale, const TrimOptions& options)
 {
-  auto length = [](const Point2& p, const Point2& q) {
-    const double dx = p.x - q.x, dy = p.y - q.y;
-    return std::sqrt(dx * dx + dy * dy);
-  };
-  const double ab = length(a, b), bc = length(b, c), ca = length(c, a);
+  const detail::TriangleSquares squares = detail::triangleSquares(a, b, c);
+  const double ab = std::sqrt(squares.ab), bc = std::sqrt(squares.bc),
+               ca = std::sqrt(squares.ca);
   const double longest = std::max({ab, bc, ca});
-  const double twice_area =
-      std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+  const double twice_area = squares.twice_area;
   const double radius = ab * bc * ca / (2.0 * twice_area);
   TriangleSize size;
   size.oversized = longest > options.trim_factor * scale ||
@@ -309,7 +306,7 @@ std::size_t repairPinches(const TriangleMesh& mesh, const std::vector<TriangleId
 /// oversized by classifyTriangle(a, b, c, scale(t)), scale(t) the largest local
 /// median of its corners. Let u = 2^-53. need(t) <= S(a) <= lim^2 (1 - 1e-12)
 /// (1 + u)^2 < lim^2 (1 - 9e-13). (1) classifyTriangle's lengths are the correctly
-/// rounded roots of the same computed squares (same operations, -ffp-contract=off),
+/// rounded roots of the same computed squares (triangleSquares, -ffp-contract=off),
 /// so its longest edge is fl(sqrt(L2)) <= lim, as sqrt(L2) < lim and lim is a
 /// double; and lim = fl(f B(a)) <= fl(f local(a)) <= fl(f scale(t)) (B(a) <=
 /// local(a) <= scale(t), rounding is monotone): not over the factor's limit. (2)
@@ -375,19 +372,13 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
   // Triangle t without a cleared corner: onto `mine` when the bound does not clear
   // it and classifyTriangle finds it oversized against the bound.
   auto examine = [&](std::size_t t, std::vector<TriangleId>& mine) {
-    auto square = [](const Point2& u, const Point2& w) {
-      const double dx = u.x - w.x, dy = u.y - w.y;
-      return dx * dx + dy * dy;
-    };
     const VertexId ia = ids[3 * t], ib = ids[3 * t + 1], ic = ids[3 * t + 2];
     double corner_scale = 0.0; // largest's order
     corner_scale = std::max(corner_scale, bound[ia]);
     corner_scale = std::max(corner_scale, bound[ib]);
     corner_scale = std::max(corner_scale, bound[ic]);
     const Point2 &a = xy[ia], &b = xy[ib], &c = xy[ic];
-    const double ab = square(a, b), bc = square(b, c), ca = square(c, a);
-    const double twice_area =
-        std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+    const auto [ab, bc, ca, twice_area] = detail::triangleSquares(a, b, c);
     const double limit = factor * corner_scale;
     const double limit2 = limit * limit * MARGIN;
     const double longest = std::max({ab, bc, ca});
