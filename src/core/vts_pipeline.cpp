@@ -139,17 +139,15 @@ Status runPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
   if (n > 0 && xyz == nullptr)
     return Status::error(StatusCode::INVALID_PARAMETER, "null point array");
   // The input is not read after the heights (vertexHeights, or the lattice path's).
-  const auto scratch = [input] {
-    return input != nullptr
-               ? detail::ScratchBlock{input->data(), input->size() * sizeof(double),
-                                      input}
-               : detail::ScratchBlock{};
-  };
+  const detail::ScratchBlock scratch =
+      input != nullptr
+          ? detail::ScratchBlock{input->data(), input->size() * sizeof(double), input}
+          : detail::ScratchBlock{};
   if (options.lattice) { // DEM rasters: no search in complete cells (section 7)
     bool handled = false;
     const Status s = triangulateLattice(xyz, n, options, result, handled);
     if (handled)
-      return s.ok() ? finishPipeline(options, result, scratch()) : s;
+      return s.ok() ? finishPipeline(options, result, scratch) : s;
   }
 
   Stopwatch watch;
@@ -224,7 +222,7 @@ Status runPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
   result.source_index = std::move(stage.source);
   diag.triangles = mesh.triangleCount();
 
-  return finishPipeline(options, result, scratch());
+  return finishPipeline(options, result, scratch);
 }
 
 } // namespace
@@ -239,6 +237,12 @@ Status runVtsPipeline(std::vector<double>&& xyz, const VtsOptions& options,
                       VtsResult& result)
 {
   std::vector<double> input = std::move(xyz);
+  if (input.size() % 3 != 0) {
+    result = VtsResult{};
+    return Status::error(StatusCode::INVALID_PARAMETER,
+                         "point array of " + std::to_string(input.size()) +
+                             " values is not x, y, z triples");
+  }
   const Status status =
       runPipeline(input.data(), input.size() / 3, options, result, &input);
   std::vector<double>().swap(input);

@@ -408,6 +408,17 @@ TEST(VtsPipelineErrors, EmptyInput)
   EXPECT_EQ(std::string(statusCodeName(s.code)), "EMPTY_INPUT");
 }
 
+TEST(VtsPipelineErrors, HandedInputNotInTriplesIsRejected)
+{
+  // Ten values: three points and one stray value, which n = size / 3 would drop.
+  std::vector<double> xyz = {0, 0, 0, 1, 0, 0, 0, 1, 0, 5};
+  VtsResult result;
+  const Status s = runVtsPipeline(std::move(xyz), VtsOptions{}, result);
+  EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER) << s.toString();
+  EXPECT_NE(s.message.find("10 values"), std::string::npos) << s.message;
+  EXPECT_TRUE(result.mesh.triangles.empty());
+}
+
 TEST(VtsPipelineErrors, AllNonFiniteIsEmptyInput)
 {
   const std::vector<double> xyz = {QUIET_NAN, 0, 0,   1,    QUIET_NAN, 0,

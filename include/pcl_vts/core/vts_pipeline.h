@@ -101,7 +101,8 @@ PCL_VTS_CORE_EXPORT Status runVtsPipeline(const double* xyz, std::size_t n,
 /// runVtsPipeline on the points of xyz (3 doubles a point), taking the array over:
 /// once the triangulation has read it, its memory serves the post-passes' scratch
 /// (resident pages instead of fresh ones: the trim's rows fit in it), and it is
-/// freed before the call returns (xyz is left empty). The same result.
+/// freed before the call returns (xyz is left empty). The same result; a size
+/// that is not a multiple of 3 is INVALID_PARAMETER.
 PCL_VTS_CORE_EXPORT Status runVtsPipeline(std::vector<double>&& xyz,
                                           const VtsOptions& options, VtsResult& result);
 
