@@ -126,7 +126,8 @@ bool pcl::VTSGridTriangulation<PointInT>::triangulate(
     xyz[3 * i + 2] = p.z;
   }
 
-  status = pcl_vts::runVtsPipeline(xyz.data(), indices.size(), options, result);
+  // Handed over: the core frees it before it returns, not after the polygons below.
+  status = pcl_vts::runVtsPipeline(std::move(xyz), options, result);
   diagnostics_ = result.diagnostics;
   if (!status.ok()) {
     fail(std::move(status));
