@@ -174,13 +174,294 @@ bool VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* bounda
   ids_.reset();
   wide_entries_.clear();
   wide_rows_.clear();
+  Built slotted = Built::NOT_SLOTTED;
+  if (slots_allowed_)
+    slotted = need != nullptr ? fillSlots<true>(mesh, boundary, need, edge_limit2)
+                              : fillSlots<false>(mesh, boundary, need, edge_limit2);
   const bool built =
-      2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max()
-          ? fill(mesh, start32_, boundary, need, edge_limit2)
-          : fill(mesh, start64_, boundary, need, edge_limit2);
+      slotted == Built::ROWS ||
+      (slotted == Built::NOT_SLOTTED &&
+       (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max()
+            ? fill(mesh, start32_, boundary, need, edge_limit2)
+            : fill(mesh, start64_, boundary, need, edge_limit2)));
   if (!built && boundary != nullptr)
     boundary->clear();
   return built;
+}
+
+namespace {
+
+/// A count byte of the slotted rows: not a character type, so that its stores do not
+/// alias every other object (GCC would load the scatter's values again after each).
+enum class RowCount : std::uint8_t {};
+
+/// An entry of a row past its VertexRows::SLOTS first: the vertex, its index in the
+/// row's fill order, the 16-bit entry.
+struct LongRowEntry {
+  VertexId v;
+  std::uint32_t j;
+  std::int16_t entry;
+};
+
+/// Entry j of v's row, past the slot, into the side list; false for a row of 255
+/// entries (its count byte would wrap). Out of line and cold, taking its values by
+/// copy (see VertexRows::noteFar).
+[[gnu::cold, gnu::noinline]] bool
+noteLongRow(std::vector<LongRowEntry>& list, VertexId v, unsigned j, std::int16_t entry)
+{
+  list.push_back({v, j, entry});
+  return j < 255;
+}
+
+} // namespace
+
+template <bool NEED>
+VertexRows::Built
+VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary,
+                      [[maybe_unused]] std::vector<double>* need, double edge_limit2)
+{
+  const std::size_t n = mesh.vertexCount();
+  const std::size_t corners = mesh.triangles.size();
+  // The slots' entry indices and the starts in 32 bits.
+  if (n == 0 || SLOTS * n + SLOTS >= std::numeric_limits<std::uint32_t>::max() ||
+      2 * corners >= std::numeric_limits<std::uint32_t>::max())
+    return Built::NOT_SLOTTED;
+  const VertexId* corner = mesh.triangles.data();
+  for (std::size_t e = corners - corners % 3; e < corners; ++e)
+    if (corner[e] >= n)
+      return Built::BAD_CORNER; // a corner past the last triangle
+  const ScratchBlock lent = scratch_;
+  // Vertex v's slot: entries SLOTS v to SLOTS v + SLOTS - 1, filled from the last;
+  // count[v] entries so far (all of them, those past the slot in `long_rows`).
+  ScratchArray<std::int16_t> slots = scratchArray<std::int16_t>(SLOTS * n, scratch_);
+  std::unique_ptr<RowCount[]> bytes(new RowCount[n]);
+  RowCount* const count = bytes.get();
+  populatePages(count, count + n);
+  std::fill(count, count + n, RowCount{0});
+  if constexpr (NEED) {
+    if (need->capacity() < n) {
+      std::vector<double>().swap(*need);
+      need->reserve(n);
+      populatePages(need->data(), need->data() + n);
+    }
+    need->assign(n, 0.0);
+  }
+  std::vector<LongRowEntry> long_rows;
+  // As fill's: ids once more than one neighbour in 2048 is farther than 32767 ids.
+  const std::size_t far_limit = corners / 2048;
+  // The slots (and the needs, the points) a corner writes fetched AHEAD triangles
+  // before (fill's distance).
+  constexpr std::size_t AHEAD = 3 * 64;
+  std::size_t open = 0;
+  auto scatter = [&]() -> Built {
+    double* const needs = NEED ? need->data() : nullptr;
+    const Point2* const xy = mesh.xy.data();
+    std::int16_t* const slot = slots.get();
+    RowCount* const counts = count;
+    const VertexId* const corner_at = corner;
+    const HalfedgeId* const twin_at = mesh.halfedges.data();
+    const std::size_t corner_count = corners, vertex_count = n;
+    const double limit2 = edge_limit2;
+    // Neighbour u into v's row: the 16-bit entry (FAR, listed, for a neighbour more
+    // than 32767 ids away, by its slot position, v and j, until packed) into the
+    // slot's next entry from its end, or the side list past SLOTS entries.
+    bool stop = false;
+    auto put = [&](VertexId v, VertexId u) __attribute__((always_inline))
+    {
+      const auto j = static_cast<unsigned>(counts[v]);
+      counts[v] = static_cast<RowCount>(j + 1);
+      constexpr std::int64_t NEAR = std::numeric_limits<std::int16_t>::max();
+      const std::int64_t offset =
+          static_cast<std::int64_t>(u) - static_cast<std::int64_t>(v);
+      std::int16_t entry = static_cast<std::int16_t>(offset);
+      if (__builtin_expect(static_cast<std::uint64_t>(offset + NEAR) >
+                               static_cast<std::uint64_t>(2 * NEAR),
+                           0)) {
+        entry = FAR;
+        stop = stop || !noteFar((std::size_t{v} << 8) | j, v, u, far_limit);
+      }
+      if (__builtin_expect(j < SLOTS, 1))
+        slot[SLOTS * std::size_t{v} + (SLOTS - 1 - j)] = entry;
+      else
+        stop = stop || !noteLongRow(long_rows, v, j, entry);
+    };
+    // Triangle t (its corners from e, checked): its entries, and its need (t_need)
+    // into its corners' slots.
+    auto triangle = [&](std::size_t e, std::size_t t,
+                        [[maybe_unused]] std::uint32_t t_need)
+        __attribute__((always_inline))
+    {
+      if (e + AHEAD + 2 < corner_count) {
+        const VertexId pa = corner_at[e + AHEAD], pb = corner_at[e + AHEAD + 1],
+                       pc = corner_at[e + AHEAD + 2];
+        __builtin_prefetch(slot + SLOTS * std::size_t{pa}, 1);
+        __builtin_prefetch(slot + SLOTS * std::size_t{pb}, 1);
+        __builtin_prefetch(slot + SLOTS * std::size_t{pc}, 1);
+        __builtin_prefetch(counts + pa, 1);
+        __builtin_prefetch(counts + pb, 1);
+        __builtin_prefetch(counts + pc, 1);
+        if constexpr (NEED) {
+          __builtin_prefetch(needs + pa, 1);
+          __builtin_prefetch(needs + pb, 1);
+          __builtin_prefetch(needs + pc, 1);
+          __builtin_prefetch(xy + pa);
+          __builtin_prefetch(xy + pb);
+          __builtin_prefetch(xy + pc);
+        }
+      }
+      const VertexId a = corner_at[e], b = corner_at[e + 1], c = corner_at[e + 2];
+      const HalfedgeId ta = twin_at[e], tb = twin_at[e + 1], tc = twin_at[e + 2];
+      if (__builtin_expect((ta != INVALID_ID) & (tb != INVALID_ID) & (tc != INVALID_ID),
+                           1)) {
+        put(a, b);
+        put(b, c);
+        put(c, a);
+      } else {
+        // Boundary edges, seen from one side only: an entry for each end, and into
+        // the boundary list in increasing order.
+        put(a, b);
+        if (ta == INVALID_ID)
+          put(b, a);
+        put(b, c);
+        if (tb == INVALID_ID)
+          put(c, b);
+        put(c, a);
+        if (tc == INVALID_ID)
+          put(a, c);
+        for (std::size_t k = e; k < e + 3; ++k)
+          if (twin_at[k] == INVALID_ID) {
+            ++open;
+            if (boundary != nullptr)
+              boundary->push_back(static_cast<HalfedgeId>(k));
+          }
+      }
+      if constexpr (NEED) {
+        // The float bits of non-negative values order as the values.
+        const std::uint64_t id = std::uint64_t{t} << 32;
+        auto update = [&](VertexId v) {
+          std::uint64_t bits = 0;
+          std::memcpy(&bits, needs + v, sizeof bits);
+          bits = id | std::max(static_cast<std::uint32_t>(bits), t_need);
+          std::memcpy(needs + v, &bits, sizeof bits);
+        };
+        update(a);
+        update(b);
+        update(c);
+      }
+    };
+    auto bad = [&](std::size_t e, std::size_t corners_here) {
+      VertexId most = 0;
+      for (std::size_t k = e; k < e + corners_here; ++k)
+        most = std::max(most, corner_at[k]);
+      return most >= vertex_count;
+    };
+    std::size_t e = 0, t = 0;
+    if constexpr (NEED) {
+      // Two triangles' needs at once (Clearance::roundedUpNeeds: the same figures),
+      // the triangles still entered one after the other.
+      for (; e + 5 < corner_count; e += 6, t += 2) {
+        if (bad(e, 6))
+          return Built::BAD_CORNER;
+        const std::uint64_t two = Clearance::roundedUpNeeds(
+            xy[corner_at[e]], xy[corner_at[e + 1]], xy[corner_at[e + 2]],
+            xy[corner_at[e + 3]], xy[corner_at[e + 4]], xy[corner_at[e + 5]], limit2);
+        triangle(e, t, static_cast<std::uint32_t>(two));
+        triangle(e + 3, t + 1, static_cast<std::uint32_t>(two >> 32));
+        if (__builtin_expect(stop, 0))
+          return Built::NOT_SLOTTED;
+      }
+    }
+    for (; e + 2 < corner_count; e += 3, ++t) {
+      if (bad(e, 3))
+        return Built::BAD_CORNER;
+      std::uint32_t t_need = 0;
+      if constexpr (NEED)
+        t_need = Clearance::roundedUp(Clearance::need(
+            xy[corner_at[e]], xy[corner_at[e + 1]], xy[corner_at[e + 2]], limit2));
+      triangle(e, t, t_need);
+      if (__builtin_expect(stop, 0))
+        return Built::NOT_SLOTTED;
+    }
+    return Built::ROWS;
+  };
+  const Built scattered = scatter();
+  if (scattered != Built::ROWS) {
+    // Nothing kept: fill starts again from the lent scratch (or stops at the bad
+    // corner).
+    slots.reset();
+    scratch_ = lent;
+    wide_entries_.clear();
+    wide_rows_.clear();
+    if (boundary != nullptr)
+      boundary->clear();
+    return scattered;
+  }
+  // The packing: row v is the last count[v] entries of its slot (at most SLOTS),
+  // after its entries from the side list, at the sum of the rows before it. Its
+  // slot's SLOTS entries are moved as one block, read from where the row's slot
+  // entries start (so past them lie the next slot's first entries, overwritten by
+  // the next row), written where they go: in place while that block ends before
+  // the next slot starts (a row's packed start is mostly below its slot's: rows
+  // average about 6 entries), else into an array of its own from there on.
+  const std::size_t total = corners + open;
+  std::vector<std::size_t>().swap(start64_); // 32-bit starts
+  std::vector<std::uint32_t>& start = start32_;
+  if (start.capacity() < n + 1) {
+    std::vector<std::uint32_t>().swap(start);
+    start.reserve(n + 1);
+    populatePages(start.data(), start.data() + n + 1);
+  }
+  start.resize(n + 1);
+  std::uint32_t* const first = start.data();
+  std::int16_t* const slot = slots.get();
+  std::int16_t* row = slot; // where the rows go
+  ScratchArray<std::int16_t> own_rows;
+  std::size_t at = 0; // the sum of the rows so far
+  auto block = [&](std::size_t v, std::size_t to) {
+    std::int16_t entries[SLOTS];
+    const std::size_t in_slot =
+        std::min<std::size_t>(static_cast<std::size_t>(count[v]), SLOTS);
+    std::memcpy(entries, slot + SLOTS * v + (SLOTS - in_slot), sizeof entries);
+    std::memcpy(row + to, entries, sizeof entries);
+  };
+  std::size_t v = 0;
+  for (; v + 1 < n; ++v) {
+    const auto size = static_cast<std::size_t>(count[v]);
+    const std::size_t in_slot = std::min<std::size_t>(size, SLOTS);
+    first[v] = static_cast<std::uint32_t>(at);
+    const std::size_t to = at + size - in_slot; // the slot's entries' place
+    if (__builtin_expect(row == slot && to > SLOTS * v, 0)) {
+      // The block would overwrite the next slot: the rows in an array of their own
+      // (SLOTS entries past the last row for the last block).
+      own_rows = scratchArray<std::int16_t>(total + SLOTS, scratch_);
+      std::memcpy(own_rows.get(), slot, at * sizeof(std::int16_t));
+      row = own_rows.get();
+    }
+    block(v, to);
+    at += size;
+  }
+  { // the last row: its slot's entries alone (no slot follows it)
+    const auto size = static_cast<std::size_t>(count[v]);
+    const std::size_t in_slot = std::min<std::size_t>(size, SLOTS);
+    first[v] = static_cast<std::uint32_t>(at);
+    std::memmove(row + at + size - in_slot, slot + SLOTS * v + (SLOTS - in_slot),
+                 in_slot * sizeof(std::int16_t));
+    at += size;
+  }
+  first[n] = static_cast<std::uint32_t>(at);
+  // The entries past the slots, and the far neighbours' positions: entry j of v's
+  // fill order is at its row's end less j + 1.
+  for (const LongRowEntry& extra : long_rows)
+    row[first[extra.v + 1] - 1 - extra.j] = extra.entry;
+  for (auto& [k, u] : wide_entries_) {
+    const std::size_t w = k >> 8, j = k & 255;
+    k = first[w + 1] - 1 - j;
+  }
+  std::sort(wide_entries_.begin(), wide_entries_.end());
+  std::sort(wide_rows_.begin(), wide_rows_.end());
+  wide_rows_.erase(std::unique(wide_rows_.begin(), wide_rows_.end()), wide_rows_.end());
+  offsets_ = row == slot ? std::move(slots) : std::move(own_rows);
+  return Built::ROWS;
 }
 
 template <typename Index>

@@ -266,8 +266,11 @@ class VertexRows {
   /// vertex the largest Clearance::need(edge_limit2) of its triangles (0 for none),
   /// rounded up to a float, and one of its triangles, in its slot (Clearance::slot),
   /// in the scatter that visits every triangle anyway.
-  bool build(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary = nullptr,
-             std::vector<double>* need = nullptr, double edge_limit2 = 0.0);
+  /// Exported for test_vertex_rows.
+  PCL_VTS_CORE_EXPORT bool build(const TriangleMesh& mesh,
+                                 std::vector<HalfedgeId>* boundary = nullptr,
+                                 std::vector<double>* need = nullptr,
+                                 double edge_limit2 = 0.0);
   std::size_t begin(std::size_t v) const
   {
     return start64_.empty() ? start32_[v] : start64_[v];
@@ -304,8 +307,25 @@ class VertexRows {
 
   /// The 16-bit entry of a neighbour more than 32767 ids away (wide_entries_ holds it).
   static constexpr std::int16_t FAR = std::numeric_limits<std::int16_t>::min();
+  /// SLOTS entries of a vertex's row the slotted build keeps in the vertex's own
+  /// slot (fillSlots); the rest of a longer row waits in a side list.
+  static constexpr unsigned SLOTS = 8;
+  /// Whether build may take the slotted design (fillSlots, the default) or only the
+  /// counting sort (fill): the same rows, starts, entries, needs and boundary either
+  /// way (a test compares them).
+  void allowSlots(bool allow) { slots_allowed_ = allow; }
 
  private:
+  enum class Built { ROWS, BAD_CORNER, NOT_SLOTTED };
+  /// build in one scatter instead of a count and a scatter: each vertex's entries go
+  /// to a slot of SLOTS 16-bit entries (from its end: the counting sort's order) and
+  /// a count byte, the few beyond SLOTS to a side list, and one sequential pass packs
+  /// the slots into the rows, in place. NOT_SLOTTED, nothing kept, where the design
+  /// does not apply (a row of more than 255 entries, too many far neighbours for the
+  /// 16-bit entries, 32-bit starts too narrow): fill builds the rows then.
+  template <bool NEED>
+  Built fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary,
+                  std::vector<double>* need, double edge_limit2);
   template <typename Index>
   bool fill(const TriangleMesh& mesh, std::vector<Index>& start,
             std::vector<HalfedgeId>* boundary, std::vector<double>* need,
@@ -327,6 +347,7 @@ class VertexRows {
   std::vector<std::pair<std::size_t, VertexId>> wide_entries_; ///< by position
   std::vector<VertexId> wide_rows_;
   ScratchBlock scratch_;
+  bool slots_allowed_ = true;
 };
 
 /// The vertex of entry k of v's row (VertexRows::visitRows).
