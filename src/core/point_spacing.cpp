@@ -731,6 +731,28 @@ double ownMedian(const TriangleMesh& mesh, const VertexRows& rows, std::size_t v
 }
 
 #if defined(__SSE2__)
+/// Per-vertex values (points, own medians) seen from v's row (VertexRows::visitRows'
+/// entries): rowBase(values, v, entries)[rowOffset(entries, k)] is values[rowEntry(
+/// entries, k, v)], a 16-bit entry indexing from v's own value (no id computed).
+template <typename T>
+inline const T* rowBase(const T* values, std::size_t v, const std::int16_t* /*entries*/)
+{
+  return values + v;
+}
+template <typename T>
+inline const T* rowBase(const T* values, std::size_t /*v*/, const VertexId* /*entries*/)
+{
+  return values;
+}
+inline std::ptrdiff_t rowOffset(const std::int16_t* entries, std::size_t k)
+{
+  return entries[k];
+}
+inline std::size_t rowOffset(const VertexId* entries, std::size_t k)
+{
+  return entries[k];
+}
+
 /// The longest row ownMedians takes two vertices at a time (one per SSE2 lane).
 constexpr std::size_t MAX_LANE_ROW = 12;
 
@@ -812,12 +834,14 @@ inline bool laneMedians(const Point2* xy, const Entry* ring, const Index* start,
   const __m128d pu = _mm_loadu_pd(&xy[u].x), pw = _mm_loadu_pd(&xy[w].x);
   const Entry* row_u = ring + start[u];
   const Entry* row_w = ring + start[w];
+  const Point2* xy_u = rowBase(xy, u, ring);
+  const Point2* xy_w = rowBase(xy, w, ring);
   __m128d a[LANE_SLOTS<N>];
   __m128d sum = _mm_setzero_pd(); // NaN when a square is (none is -inf)
 #pragma GCC unroll 16
   for (std::size_t k = 0; k < N; ++k) {
-    const __m128d du = _mm_sub_pd(pu, _mm_loadu_pd(&xy[rowEntry(row_u, k, u)].x));
-    const __m128d dw = _mm_sub_pd(pw, _mm_loadu_pd(&xy[rowEntry(row_w, k, w)].x));
+    const __m128d du = _mm_sub_pd(pu, _mm_loadu_pd(&xy_u[rowOffset(row_u, k)].x));
+    const __m128d dw = _mm_sub_pd(pw, _mm_loadu_pd(&xy_w[rowOffset(row_w, k)].x));
     const __m128d su = _mm_mul_pd(du, du), sw = _mm_mul_pd(dw, dw);
     // (dx * dx of u, of w) + (dy * dy of u, of w): ownMedian's squares.
     a[k] = _mm_add_pd(_mm_unpacklo_pd(su, sw), _mm_unpackhi_pd(su, sw));
@@ -920,6 +944,7 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
       double medians[CHUNK];
       const std::vector<VertexId>& wide_rows = rows.wideRows();
       auto wide = std::lower_bound(wide_rows.begin(), wide_rows.end(), begin);
+      std::size_t next_wide = wide != wide_rows.end() ? *wide : n; // n: none
       const Point2* xy = mesh.xy.data();
       __m128d lanes_low = _mm_set1_pd(std::numeric_limits<double>::infinity());
       __m128d lanes_high = _mm_setzero_pd();
@@ -936,13 +961,15 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
         for (std::size_t v = first; v < last; ++v) {
           const std::size_t size = start[v + 1] - start[v];
           std::size_t slot = size < OTHER ? size : OTHER;
-          if (__builtin_expect(wide != wide_rows.end() && *wide == v, 0)) {
+          if (__builtin_expect(v == next_wide, 0)) {
             slot = OTHER;
             ++wide;
+            next_wide = wide != wide_rows.end() ? *wide : n;
           }
           listed[slot][listed_count[slot]++] = static_cast<VertexId>(v);
-          medians[v - first] = 0.0; // an empty row's
         }
+        for (std::size_t k = 0; k < listed_count[0]; ++k)
+          medians[listed[0][k] - first] = 0.0; // an empty row's
         local.count += last - first - listed_count[0];
         for (std::size_t size = 1; size <= OTHER; ++size) {
           const VertexId* ids = listed[size];
@@ -1126,39 +1153,36 @@ inline double rowLowerBound(const double* own, const At& at, std::size_t v,
 constexpr std::size_t MAX_BOUND_ROW = 8;
 
 /// rowLowerBound of u and w, both with rows of N entries (16-bit or id entries that
-/// rowEntry decodes), one per lane, into bounds[u - first] and bounds[w - first];
-/// false, nothing written, when a value is NaN (rowLowerBound then). The same
+/// rowEntry decodes), one per lane, into bounds[u - first] and bounds[w - first],
+/// no value being NaN (the caller knows it from the stats). The same
 /// compare-exchanges in the same order: min and max in the lanes pick the same
-/// values, none being NaN or -0 (own medians are roots of sums of squares, or 0).
+/// values, none being NaN or -0.
 template <std::size_t N, typename Index, typename Entry>
-inline bool laneBounds(const double* own, const Entry* ring, const Index* start,
+inline void laneBounds(const double* own, const Entry* ring, const Index* start,
                        VertexId u, VertexId w, double* bounds, std::size_t first)
 {
   const Entry* row_u = ring + start[u];
   const Entry* row_w = ring + start[w];
+  const double* own_u = rowBase(own, u, ring);
+  const double* own_w = rowBase(own, w, ring);
   const __m128d inf = _mm_set1_pd(std::numeric_limits<double>::infinity());
   __m128d s0 = _mm_set_pd(own[w], own[u]), s1 = inf, s2 = inf;
-  __m128d sum = s0; // NaN when a value is (none is -inf)
 #pragma GCC unroll 8
   for (std::size_t k = 0; k < N; ++k) {
     const __m128d x =
-        _mm_set_pd(own[rowEntry(row_w, k, w)], own[rowEntry(row_u, k, u)]);
-    sum = _mm_add_pd(sum, x);
+        _mm_set_pd(own_w[rowOffset(row_w, k)], own_u[rowOffset(row_u, k)]);
     s2 = _mm_min_pd(s2, _mm_max_pd(s1, x));
     s1 = _mm_min_pd(s1, _mm_max_pd(s0, x));
     s0 = _mm_min_pd(s0, x);
   }
-  if (_mm_movemask_pd(_mm_cmpunord_pd(sum, sum)) != 0)
-    return false;
   constexpr std::size_t INDEX = (N + 1) / 2;
   const __m128d result = INDEX == 0 ? s0 : INDEX == 1 ? s1 : s2;
   _mm_storel_pd(bounds + (u - first), result);
   _mm_storeh_pd(bounds + (w - first), result);
-  return true;
 }
 
-/// laneBounds over the pairs of ids[0, count), vertices with rows of N entries; a
-/// pair with a NaN and an odd last vertex go to scalar(v).
+/// laneBounds over the pairs of ids[0, count), vertices with rows of N entries; an
+/// odd last vertex goes to scalar(v).
 template <std::size_t N, typename Index, typename Entry, typename Scalar>
 void laneBoundsOfRows(const double* own, const Entry* ring, const Index* start,
                       const VertexId* ids, std::size_t count, double* bounds,
@@ -1166,10 +1190,7 @@ void laneBoundsOfRows(const double* own, const Entry* ring, const Index* start,
 {
   std::size_t k = 0;
   for (; k + 1 < count; k += 2)
-    if (!laneBounds<N>(own, ring, start, ids[k], ids[k + 1], bounds, first)) {
-      scalar(ids[k]);
-      scalar(ids[k + 1]);
-    }
+    laneBounds<N>(own, ring, start, ids[k], ids[k + 1], bounds, first);
   if (k < count)
     scalar(ids[k]);
 }
@@ -1250,65 +1271,123 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
       const double factor = cleared->trim_factor;
       std::uint64_t* bits = cleared->bits.data();
       std::vector<std::pair<VertexId, TriangleId>>& left = uncleared[p];
-      // Vertex v's bound written over its clearance slot (the need and the triangle
-      // that set it), v cleared when the need is within the trim's limit.
+      // Vertex v, whose clearance slot (the need and the triangle that set it) is
+      // `slot`, cleared when the need is within the trim's limit; else its bound is
+      // written over the slot (only an uncleared vertex's bound is read after) and,
+      // with a row, it is listed.
       auto settle = [&](std::size_t v, std::uint64_t slot, double v_bound) {
         const double need = Clearance::slotNeed(slot);
-        out[v] = v_bound;
         const double limit = factor * v_bound;
         const bool clear = (limit >= Clearance::LOW) & (limit <= Clearance::HIGH) &
                            (need <= limit * limit * Clearance::MARGIN);
         bits[v / 64] |= std::uint64_t{clear} << (v % 64);
-        if (__builtin_expect(!clear && start[v] != start[v + 1], 0))
-          left.emplace_back(static_cast<VertexId>(v),
-                            static_cast<TriangleId>(slot >> 32));
-        if (buckets != nullptr && start[v] != start[v + 1])
-          ++buckets[(bitsOf(values[v]) - stats.low) >> shift];
+        if (__builtin_expect(!clear, 0)) {
+          out[v] = v_bound;
+          if (start[v] != start[v + 1])
+            left.emplace_back(static_cast<VertexId>(v),
+                              static_cast<TriangleId>(slot >> 32));
+        }
+      };
+      // The histogram of a word's vertices with a row (every vertex when none is
+      // empty).
+      auto count_word = [&](std::size_t from, std::size_t to, bool all_rows) {
+        if (buckets == nullptr)
+          return;
+        const std::uint64_t low = stats.low;
+        if (all_rows)
+          for (std::size_t v = from; v < to; ++v)
+            ++buckets[(bitsOf(values[v]) - low) >> shift];
+        else
+          for (std::size_t v = from; v < to; ++v)
+            if (start[v] != start[v + 1])
+              ++buckets[(bitsOf(values[v]) - low) >> shift];
       };
 #if defined(__SSE2__)
-      // A word's vertices listed by row size, then each size's in pairs, one per
-      // lane (ownMedians' scheme: no branch on the size per vertex); rows longer
-      // than MAX_BOUND_ROW, empty and wide ones take bound_of. Their bounds go to a
-      // buffer, the needs being read from out first.
-      constexpr std::size_t WORD = 64, OTHER = MAX_BOUND_ROW + 1;
-      VertexId listed[OTHER + 1][WORD];
-      std::size_t listed_count[OTHER + 1];
-      double bounds[WORD];
-      std::uint64_t slots[WORD];
-      for (std::size_t from = begin; from < end; from += WORD) {
-        const std::size_t to = std::min(end, from + WORD);
-        std::fill(listed_count, listed_count + OTHER + 1, std::size_t{0});
-        for (std::size_t v = from; v < to; ++v) {
-          slots[v - from] = Clearance::slot(out[v]);
-          const std::size_t size = start[v + 1] - start[v];
-          std::size_t slot = size < OTHER ? size : OTHER;
-          if (__builtin_expect(wide != wide_rows.end() && *wide == v, 0)) {
-            slot = 0;
-            ++wide;
+      // Own medians are 0 without a row and within the stats' bits with one: no NaN
+      // (nor a negative value) among them when those bits are a plain double's. Then
+      // a word's vertices are listed by row size, and each size's taken in pairs, one
+      // per lane (ownMedians' scheme: no branch on the size per vertex); rows longer
+      // than MAX_BOUND_ROW, empty and wide ones take rowLowerBound. Their bounds go
+      // to a buffer, then two vertices at a time are settled in the lanes (settle's
+      // operations on the same operands: the same bits). With a NaN, the scalar path.
+      if (stats.high <= PLAIN_BITS) {
+        constexpr std::size_t WORD = 64, OTHER = MAX_BOUND_ROW + 1;
+        VertexId listed[OTHER + 1][WORD];
+        std::size_t listed_count[OTHER + 1];
+        double bounds[WORD];
+        std::size_t next_wide = wide != wide_rows.end() ? *wide : n;
+        const __m128d factor2 = _mm_set1_pd(factor);
+        const __m128d low2 = _mm_set1_pd(Clearance::LOW);
+        const __m128d high2 = _mm_set1_pd(Clearance::HIGH);
+        const __m128d margin2 = _mm_set1_pd(Clearance::MARGIN);
+        for (std::size_t from = begin; from < end; from += WORD) {
+          const std::size_t to = std::min(end, from + WORD);
+          std::fill(listed_count, listed_count + OTHER + 1, std::size_t{0});
+          for (std::size_t v = from; v < to; ++v) {
+            const std::size_t size = start[v + 1] - start[v];
+            std::size_t slot = size < OTHER ? size : OTHER;
+            if (__builtin_expect(v == next_wide, 0)) {
+              slot = 0;
+              ++wide;
+              next_wide = wide != wide_rows.end() ? *wide : n;
+            }
+            listed[slot][listed_count[slot]++] = static_cast<VertexId>(v);
           }
-          listed[slot][listed_count[slot]++] = static_cast<VertexId>(v);
+          auto scalar = [&](std::size_t v) {
+            bounds[v - from] = rowLowerBound(
+                values, [&](std::size_t k) { return rows.entry(v, k); }, v, start[v],
+                start[v + 1]);
+          };
+          for (std::size_t k = 0; k < listed_count[0]; ++k)
+            scalar(listed[0][k]);
+          for (std::size_t k = 0; k < listed_count[OTHER]; ++k)
+            scalar(listed[OTHER][k]);
+          for (std::size_t size = 1; size < OTHER; ++size)
+            laneBoundsOfRows(size, std::make_index_sequence<MAX_BOUND_ROW>(), values,
+                             ring, start, listed[size], listed_count[size], bounds,
+                             from, scalar);
+          // settle in the lanes: the needs (a slot's low 32 bits, a float) widened,
+          // the limits and the tests per lane; the word's bits kept in a register.
+          std::uint64_t word = 0;
+          std::size_t v = from;
+          for (; v + 1 < to; v += 2) {
+            const __m128d v_bound = _mm_loadu_pd(bounds + (v - from));
+            const __m128i two_slots =
+                _mm_loadu_si128(reinterpret_cast<const __m128i*>(out + v));
+            const __m128d need = _mm_cvtps_pd(_mm_castsi128_ps(
+                _mm_shuffle_epi32(two_slots, _MM_SHUFFLE(2, 0, 2, 0))));
+            const __m128d limit = _mm_mul_pd(factor2, v_bound);
+            const __m128d clear = _mm_and_pd(
+                _mm_and_pd(_mm_cmpge_pd(limit, low2), _mm_cmple_pd(limit, high2)),
+                _mm_cmple_pd(need, _mm_mul_pd(_mm_mul_pd(limit, limit), margin2)));
+            const int mask = _mm_movemask_pd(clear);
+            word |= static_cast<std::uint64_t>(mask) << (v - from);
+            if (__builtin_expect(mask != 3, 0))
+              for (std::size_t k = 0; k < 2; ++k)
+                if (((mask >> k) & 1) == 0) {
+                  out[v + k] = bounds[v + k - from];
+                  if (start[v + k] != start[v + k + 1]) {
+                    std::uint64_t slot = 0;
+                    _mm_storel_epi64(reinterpret_cast<__m128i*>(&slot),
+                                     k == 0 ? two_slots
+                                            : _mm_unpackhi_epi64(two_slots, two_slots));
+                    left.emplace_back(static_cast<VertexId>(v + k),
+                                      static_cast<TriangleId>(slot >> 32));
+                  }
+                }
+          }
+          bits[from / 64] |= word;
+          if (v < to)
+            settle(v, Clearance::slot(out[v]), bounds[v - from]);
+          count_word(from, to, listed_count[0] == 0);
         }
-        auto scalar = [&](std::size_t v) {
-          bounds[v - from] = rowLowerBound(
-              values, [&](std::size_t k) { return rows.entry(v, k); }, v, start[v],
-              start[v + 1]);
-        };
-        for (std::size_t k = 0; k < listed_count[0]; ++k)
-          scalar(listed[0][k]);
-        for (std::size_t k = 0; k < listed_count[OTHER]; ++k)
-          scalar(listed[OTHER][k]);
-        for (std::size_t size = 1; size < OTHER; ++size)
-          laneBoundsOfRows(size, std::make_index_sequence<MAX_BOUND_ROW>(), values,
-                           ring, start, listed[size], listed_count[size], bounds, from,
-                           scalar);
-        for (std::size_t v = from; v < to; ++v)
-          settle(v, slots[v - from], bounds[v - from]);
+        return;
       }
-      return;
 #endif
       for (std::size_t v = begin; v < end; ++v) {
         const std::uint64_t slot = Clearance::slot(out[v]);
         settle(v, slot, bound_of(v));
+        count_word(v, v + 1, false);
       }
     });
   });

@@ -8,6 +8,7 @@
 #include "post_pass_scratch.h"
 
 #include <pcl_vts/core/boundary_loops.h>
+#include <pcl_vts/core/export.h>
 #include <pcl_vts/core/fill_holes.h>
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/point_spacing.h>
@@ -382,14 +383,15 @@ struct OwnStats {
 /// Per vertex the median length of the edges of its row (0 for an empty row), on
 /// `threads` threads (the same figures for any value); with stats, their OwnStats;
 /// with storage, in its memory (taken over: storage is left empty).
-std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
-                               unsigned threads, OwnStats* stats = nullptr,
-                               std::vector<double>* storage = nullptr);
+PCL_VTS_CORE_EXPORT std::vector<double>
+ownMedians(const TriangleMesh& mesh, const VertexRows& rows, unsigned threads,
+           OwnStats* stats = nullptr, std::vector<double>* storage = nullptr);
 
 /// The upper median of own over the vertices with a non-empty row; with keep, its
 /// histogram selection when it takes one.
-double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
-                      MedianSelection* keep = nullptr);
+PCL_VTS_CORE_EXPORT double medianOverRows(const std::vector<double>& own,
+                                          const VertexRows& rows,
+                                          MedianSelection* keep = nullptr);
 
 /// The vertices ringLowerBounds clears: a bit per vertex (bit v % 64 of word v / 64).
 struct ClearedVertices {
@@ -406,15 +408,16 @@ struct ClearedVertices {
 /// With cleared, bound holds on entry each vertex's slot (VertexRows::build), and
 /// v's bit is set when its need <= (trim_factor * bound)^2 * Clearance::MARGIN with
 /// trim_factor * bound in Clearance's range (classifyTriangles).
-void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
-                     const OwnStats& stats, unsigned threads,
-                     std::vector<double>& bound, MedianSelection* histogram,
-                     ClearedVertices* cleared = nullptr);
+PCL_VTS_CORE_EXPORT void
+ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
+                const OwnStats& stats, unsigned threads, std::vector<double>& bound,
+                MedianSelection* histogram, ClearedVertices* cleared = nullptr);
 
 /// medianOverRows from the histogram ringLowerBounds built (keeping its selection
 /// in it), or by medianOverRows when it built none.
-double medianOverRows(const std::vector<double>& own, const VertexRows& rows,
-                      const OwnStats& stats, MedianSelection& histogram);
+PCL_VTS_CORE_EXPORT double medianOverRows(const std::vector<double>& own,
+                                          const VertexRows& rows, const OwnStats& stats,
+                                          MedianSelection& histogram);
 
 /// The median of own over v and its row (measurePointSpacing's local figure; 0 for
 /// an empty row). values: a buffer.
@@ -424,8 +427,8 @@ double localMedian(const VertexRows& rows, const std::vector<double>& own,
 /// The value of index min(size / 2, 2) of own over v and its row sorted (size values),
 /// a lower bound of localMedian, whose index is size / 2 (NaN when one of them is
 /// NaN).
-double ringLowerBound(const VertexRows& rows, const std::vector<double>& own,
-                      std::size_t v);
+PCL_VTS_CORE_EXPORT double
+ringLowerBound(const VertexRows& rows, const std::vector<double>& own, std::size_t v);
 
 /// measurePointSpacing, also giving each vertex's own median (own may be null), on
 /// `threads` threads (0 = all cores; the same figures for any value).

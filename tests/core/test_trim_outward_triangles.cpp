@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <random>
@@ -391,6 +392,104 @@ TEST(TrimOutwardTriangles, ClearanceNeedsInLanesEqualTheScalarOnes)
 // largest local spacing of its corners (measurePointSpacing), then the peel; the
 // survivors in their order. Also far from the origin, tiny and huge scales, a
 // max_edge, other factors.
+// ringLowerBounds with the clearance, as the trim calls it (SSE2 lanes for rows of up
+// to 8 entries when no own median is NaN, the vertices settled two at a time): every
+// vertex's bit is the scalar test of its ringLowerBound, an uncleared vertex keeps
+// ringLowerBound's figure bit for bit and is listed when it has a row, and the
+// histogram gives the global median; at fixed factors and at the exact factors where
+// some vertices become cleared (a settle with other roundings flips them). With NaN
+// own medians (the lanes' min and max would drop them) the bounds around them stay
+// NaN and those vertices uncleared.
+TEST(TrimOutwardTriangles, RingBoundsAndClearanceEqualTheScalarOnes)
+{
+  using detail::Clearance;
+  auto bits_of = [](double x) {
+    std::uint64_t b = 0;
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  };
+  for (const test::Distribution distribution :
+       {test::Distribution::JITTERED_GRID, test::Distribution::BIG_VOIDS})
+    for (const bool with_nan : {false, true}) {
+      const TriangleMesh mesh =
+          triangulate(test::generatePoints(distribution, 6000, 5));
+      detail::VertexRows rows;
+      std::vector<double> need;
+      ASSERT_TRUE(
+          rows.build(mesh, nullptr, &need, std::numeric_limits<double>::infinity()));
+      std::vector<double> own = detail::ownMedians(mesh, rows, 1);
+      const std::size_t n = own.size();
+      if (with_nan)
+        for (std::size_t v = 17; v < n; v += 101)
+          own[v] = std::numeric_limits<double>::quiet_NaN();
+      // ownMedians' stats over the vertices with a row, NaN included.
+      detail::OwnStats stats;
+      for (std::size_t v = 0; v < n; ++v)
+        if (rows.begin(v) != rows.end(v)) {
+          stats.low = std::min(stats.low, bits_of(own[v]));
+          stats.high = std::max(stats.high, bits_of(own[v]));
+          ++stats.count;
+        }
+      auto clears = [&](std::size_t v, double factor) {
+        const double limit = factor * detail::ringLowerBound(rows, own, v);
+        const double v_need = Clearance::slotNeed(Clearance::slot(need[v]));
+        return (limit >= Clearance::LOW) & (limit <= Clearance::HIGH) &
+               (v_need <= limit * limit * Clearance::MARGIN);
+      };
+      std::vector<double> factors = {1.0, 2.0, 3.0, 8.0};
+      // The least factor clearing v (the test is monotone in it below 1e60).
+      for (const std::size_t v : {101, 2002, 3003, 4004, 5005}) {
+        if (!clears(v, 100.0))
+          continue;
+        double factor = 100.0;
+        for (double step = 50.0; step > 0.0 && factor - step > 0.0; step /= 2)
+          if (clears(v, factor - step))
+            factor -= step;
+        while (clears(v, std::nextafter(factor, 0.0)))
+          factor = std::nextafter(factor, 0.0);
+        ASSERT_TRUE(clears(v, factor));
+        factors.push_back(factor);
+      }
+      if (!with_nan) {
+        EXPECT_EQ(factors.size(), 9u);
+      }
+      for (const double factor : factors) {
+        SCOPED_TRACE(test::distributionName(distribution) + " factor " +
+                     std::to_string(factor) + (with_nan ? " with NaN" : ""));
+        detail::ClearedVertices cleared;
+        cleared.trim_factor = factor;
+        std::vector<double> bound = need;
+        detail::MedianSelection histogram;
+        detail::ringLowerBounds(rows, own, stats, 1, bound, &histogram, &cleared);
+        std::size_t uncleared = 0, listed = 0;
+        for (std::size_t v = 0; v < n; ++v) {
+          const bool clear = clears(v, factor);
+          const bool bit = ((cleared.bits[v / 64] >> (v % 64)) & 1u) != 0;
+          ASSERT_EQ(bit, clear) << "vertex " << v;
+          if (clear)
+            continue;
+          ++uncleared;
+          EXPECT_EQ(bits_of(bound[v]), bits_of(detail::ringLowerBound(rows, own, v)))
+              << "vertex " << v;
+          if (rows.begin(v) == rows.end(v))
+            continue;
+          ASSERT_LT(listed, cleared.uncleared.size());
+          EXPECT_EQ(cleared.uncleared[listed].first, v);
+          ++listed;
+        }
+        EXPECT_EQ(listed, cleared.uncleared.size());
+        EXPECT_GT(uncleared, 0u); // the hull's vertices at least
+        if (factor >= 2.0) {
+          EXPECT_LT(uncleared, n / 2); // most vertices are cleared
+        }
+        if (!with_nan) {
+          EXPECT_EQ(detail::medianOverRows(own, rows, stats, histogram),
+                    detail::medianOverRows(own, rows));
+        }
+      }
+    }
+}
+
 TEST(TrimOutwardTriangles, EqualsThePeelOfTheDefinitionsClassification)
 {
   struct Case {
