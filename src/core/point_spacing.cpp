@@ -287,11 +287,12 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
     };
     // Triangle t (its corners from e, checked): its entries, and its need (t_need)
     // into its corners' slots.
-    auto triangle = [&](std::size_t e, std::size_t t,
+    // Far enough from the end (AHEAD), the fetch needs no test.
+    auto triangle = [&](auto far_from_end, std::size_t e, std::size_t t,
                         [[maybe_unused]] std::uint32_t t_need)
         __attribute__((always_inline))
     {
-      if (e + AHEAD + 2 < corner_count) {
+      if (decltype(far_from_end)::value || e + AHEAD + 2 < corner_count) {
         const VertexId pa = corner_at[e + AHEAD], pb = corner_at[e + AHEAD + 1],
                        pc = corner_at[e + AHEAD + 2];
         __builtin_prefetch(slot + SLOTS * std::size_t{pa}, 1);
@@ -310,8 +311,10 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
         }
       }
       const VertexId a = corner_at[e], b = corner_at[e + 1], c = corner_at[e + 2];
-      const HalfedgeId ta = twin_at[e], tb = twin_at[e + 1], tc = twin_at[e + 2];
-      if (__builtin_expect((ta != INVALID_ID) & (tb != INVALID_ID) & (tc != INVALID_ID),
+      // INVALID_ID is the largest id: a triangle has a boundary edge when the
+      // largest of its twins is INVALID_ID (the twins themselves read again then).
+      if (__builtin_expect(std::max(std::max(twin_at[e], twin_at[e + 1]),
+                                    twin_at[e + 2]) != INVALID_ID,
                            1)) {
         put(a, b);
         put(b, c);
@@ -319,6 +322,7 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
       } else {
         // Boundary edges, seen from one side only: an entry for each end, and into
         // the boundary list in increasing order.
+        const HalfedgeId ta = twin_at[e], tb = twin_at[e + 1], tc = twin_at[e + 2];
         put(a, b);
         if (ta == INVALID_ID)
           put(b, a);
@@ -359,17 +363,27 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
     if constexpr (NEED) {
       // Two triangles' needs at once (Clearance::roundedUpNeeds: the same figures),
       // the triangles still entered one after the other.
-      for (; e + 5 < corner_count; e += 6, t += 2) {
-        if (bad(e, 6))
-          return Built::BAD_CORNER;
-        const std::uint64_t two = Clearance::roundedUpNeeds(
-            xy[corner_at[e]], xy[corner_at[e + 1]], xy[corner_at[e + 2]],
-            xy[corner_at[e + 3]], xy[corner_at[e + 4]], xy[corner_at[e + 5]], limit2);
-        triangle(e, t, static_cast<std::uint32_t>(two));
-        triangle(e + 3, t + 1, static_cast<std::uint32_t>(two >> 32));
-        if (__builtin_expect(stop, 0))
-          return Built::NOT_SLOTTED;
-      }
+      // The pairs whose fetches lie before the end, then the others.
+      auto pairs = [&](auto far_from_end, std::size_t end)
+          __attribute__((always_inline))
+      {
+        for (; e + 5 < end; e += 6, t += 2) {
+          if (bad(e, 6))
+            return false;
+          const std::uint64_t two = Clearance::roundedUpNeeds(
+              xy[corner_at[e]], xy[corner_at[e + 1]], xy[corner_at[e + 2]],
+              xy[corner_at[e + 3]], xy[corner_at[e + 4]], xy[corner_at[e + 5]], limit2);
+          triangle(far_from_end, e, t, static_cast<std::uint32_t>(two));
+          triangle(far_from_end, e + 3, t + 1, static_cast<std::uint32_t>(two >> 32));
+          if (__builtin_expect(stop, 0))
+            return false;
+        }
+        return true;
+      };
+      if (!pairs(std::true_type{},
+                 corner_count > AHEAD + 3 ? corner_count - AHEAD - 3 : 0) ||
+          !pairs(std::false_type{}, corner_count))
+        return stop ? Built::NOT_SLOTTED : Built::BAD_CORNER;
     }
     for (; e + 2 < corner_count; e += 3, ++t) {
       if (bad(e, 3))
@@ -378,7 +392,7 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
       if constexpr (NEED)
         t_need = Clearance::roundedUp(Clearance::need(
             xy[corner_at[e]], xy[corner_at[e + 1]], xy[corner_at[e + 2]], limit2));
-      triangle(e, t, t_need);
+      triangle(std::false_type{}, e, t, t_need);
       if (__builtin_expect(stop, 0))
         return Built::NOT_SLOTTED;
     }
