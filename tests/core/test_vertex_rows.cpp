@@ -17,6 +17,7 @@
 #include <cstring>
 #include <limits>
 #include <numeric>
+#include <random>
 #include <utility>
 #include <vector>
 
@@ -204,6 +205,68 @@ TEST(VertexRows, SlottedEqualsCountedWithFarNeighbours)
   EXPECT_FALSE(rows.wide_rows.empty());
   // Every id shuffled: more than one far neighbour in 2048, 32-bit ids.
   EXPECT_FALSE(expectSameRows(test::shuffledIds(mesh, 5)));
+}
+
+TEST(VertexRows, SlottedNeedsEqualTheCountedOnesOnSpecialTriangles)
+{
+  // Triangles of their own (no twins) with ordinary, obtuse, degenerate, tiny, huge
+  // and non-finite corners: the slotted scatter's needs equal the counting sort's
+  // against several edge limits. Each vertex in one triangle: its slot is that
+  // triangle's need.
+  std::mt19937_64 random(21);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  constexpr double INF = std::numeric_limits<double>::infinity();
+  const double specials[] = {0.0,   -0.0,  1e-31,
+                             1e-29, 1e30,  1e31,
+                             1e155, 1e160, std::numeric_limits<double>::quiet_NaN(),
+                             INF,   -INF};
+  TriangleMesh mesh;
+  for (std::size_t t = 0; t < 40003; ++t) {
+    const double scale =
+        std::pow(10.0, std::uniform_int_distribution<int>(-40, 40)(random));
+    const Point2 origin{1e6 * unit(random), 1e6 * unit(random)};
+    Point2 p[3];
+    for (Point2& q : p)
+      q = {origin.x + scale * unit(random), origin.y + scale * unit(random)};
+    switch (t % 5) {
+    case 1: // obtuse: c near the middle of ab
+      p[2] = {0.5 * (p[0].x + p[1].x) + 1e-3 * scale * unit(random),
+              0.5 * (p[0].y + p[1].y) + 1e-3 * scale * unit(random)};
+      break;
+    case 2: // degenerate: a repeated corner or three collinear ones
+      p[2] = random() % 2 ? p[0] : Point2{2 * p[1].x - p[0].x, 2 * p[1].y - p[0].y};
+      break;
+    case 3: // a special coordinate
+      (random() % 2 ? p[random() % 3].x : p[random() % 3].y) =
+          specials[random() % std::size(specials)];
+      break;
+    case 4: // tiny or huge without an origin
+      for (Point2& q : p)
+        q = {scale * 1e-25 * unit(random), scale * 1e-25 * unit(random)};
+      break;
+    default:
+      break;
+    }
+    for (const Point2& q : p) {
+      mesh.triangles.push_back(static_cast<VertexId>(mesh.xy.size()));
+      mesh.xy.push_back(q);
+      mesh.z.push_back(0.0);
+      mesh.halfedges.push_back(INVALID_ID);
+    }
+  }
+  for (const double limit : {INF, 1e-20, 1.0, 1e6, 1e40}) {
+    SCOPED_TRACE(limit);
+    std::vector<std::uint64_t> bits[2];
+    for (const bool slots : {false, true}) {
+      detail::VertexRows rows;
+      rows.allowSlots(slots);
+      std::vector<double> need;
+      ASSERT_TRUE(rows.build(mesh, nullptr, &need, limit));
+      for (const double value : need)
+        bits[slots].push_back(detail::Clearance::slot(value));
+    }
+    EXPECT_EQ(bits[1], bits[0]);
+  }
 }
 
 TEST(VertexRows, SlottedRejectsACornerThatIsNoVertex)
