@@ -219,11 +219,12 @@ std::vector<TriangleId> floodStarts(const TriangleMesh& mesh,
 /// Flood over oversized triangles from the starts, each removal exposing its
 /// neighbours. Order does not matter for the set removed (the oversized triangles
 /// connected to a start), only for speed. Appends the removed ones to `list`.
-void floodOversized(const TriangleMesh& mesh, const std::vector<std::uint8_t>& flags,
+/// oversized(t): whether triangle t is oversized.
+template <typename Oversized>
+void floodOversized(const TriangleMesh& mesh, const Oversized& oversized,
                     std::vector<TriangleId> stack, std::vector<bool>& removed,
                     std::vector<TriangleId>& list)
 {
-  auto oversized = [&](TriangleId t) { return (flags[t] & OVERSIZED) != 0; };
   while (!stack.empty()) {
     const TriangleId t = stack.back();
     stack.pop_back();
@@ -289,8 +290,9 @@ std::size_t repairPinches(const TriangleMesh& mesh, const std::vector<TriangleId
   return restored_count;
 }
 
-/// OVERSIZED / VOID_SEED per triangle, against the largest local spacing of its
-/// corners, and the flood's starts (floodStarts' order). A triangle with a cleared
+/// Whether each triangle is OVERSIZED (a bit per triangle), against the largest
+/// local spacing of its corners, and the flood's starts (floodStarts' order, from
+/// the OVERSIZED and VOID_SEED flags). A triangle with a cleared
 /// corner (below), or no larger than trim_factor times the largest ringLowerBound
 /// of its corners (a lower bound of their local spacing), is not oversized, with
 /// classifyTriangle's own figures; only the others need the local medians, and
@@ -330,7 +332,7 @@ std::size_t repairPinches(const TriangleMesh& mesh, const std::vector<TriangleId
 /// reads every triangle here; the flags and the hard list are the same as a test of
 /// every triangle would give (a cleared triangle is never oversized), in triangle
 /// order.
-std::vector<std::uint8_t>
+std::vector<bool>
 classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
                   const std::vector<double>& own, const detail::OwnStats& stats,
                   const TrimOptions& options, unsigned threads,
@@ -505,24 +507,29 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
     for (std::size_t k = begin; k < end; ++k)
       scale[corners[k]] = detail::localMedian(rows, own, corners[k], values);
   });
-  std::vector<std::uint8_t> flags(count, 0);
+  // The hard triangles' flags, each its own slot on any threads; then a bit per
+  // triangle (a byte per triangle was 2 MB of fresh pages at 1e6 points).
+  std::vector<std::uint8_t> flags(hard.size(), 0);
   parallelFor(threads, hard.size(), [&](std::size_t k) {
     const TriangleId t = hard[k];
     const TriangleSize size =
         classifyTriangle(corner(t, 0), corner(t, 1), corner(t, 2), largest(t), options);
-    flags[t] = static_cast<std::uint8_t>((size.oversized ? OVERSIZED : 0) |
+    flags[k] = static_cast<std::uint8_t>((size.oversized ? OVERSIZED : 0) |
                                          (size.void_seed ? VOID_SEED : 0));
   });
-  for (const TriangleId t : hard) {
-    if ((flags[t] & OVERSIZED) == 0)
+  std::vector<bool> oversized(count, false);
+  for (std::size_t k = 0; k < hard.size(); ++k) {
+    if ((flags[k] & OVERSIZED) == 0)
       continue;
+    const TriangleId t = hard[k];
+    oversized[t] = true;
     const bool on_boundary = mesh.halfedges[3 * t] == INVALID_ID ||
                              mesh.halfedges[3 * t + 1] == INVALID_ID ||
                              mesh.halfedges[3 * t + 2] == INVALID_ID;
-    if (on_boundary || (options.open_voids && (flags[t] & VOID_SEED) != 0))
+    if (on_boundary || (options.open_voids && (flags[k] & VOID_SEED) != 0))
       starts.push_back(t);
   }
-  return flags;
+  return oversized;
 }
 
 #if defined(PCL_VTS_COMPACTION_AVX2)
@@ -791,7 +798,9 @@ std::size_t peelOutwardTriangles(const TriangleMesh& mesh,
 {
   removed.assign(mesh.triangleCount(), false);
   std::vector<TriangleId> list;
-  floodOversized(mesh, flags, floodStarts(mesh, flags, open_voids), removed, list);
+  floodOversized(
+      mesh, [&](TriangleId t) { return (flags[t] & OVERSIZED) != 0; },
+      floodStarts(mesh, flags, open_voids), removed, list);
   return repairPinches(mesh, list, removed);
 }
 
@@ -832,8 +841,8 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // own over the medians).
   detail::MedianSelection selection;
   std::vector<TriangleId> starts;
-  std::vector<std::uint8_t> flags = classifyTriangles(
-      mesh, rows, own, stats, options, threads, starts, selection, scale);
+  std::vector<bool> oversized = classifyTriangles(mesh, rows, own, stats, options,
+                                                  threads, starts, selection, scale);
   std::vector<double>().swap(scale);
   const double global_median = detail::medianOverRows(own, rows, stats, selection);
   result.spacing = global_median;
@@ -841,8 +850,10 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // The peel and the repair (peelOutwardTriangles), from the starts found.
   std::vector<bool> removed(mesh.triangleCount(), false);
   std::vector<TriangleId> list;
-  floodOversized(mesh, flags, std::move(starts), removed, list);
-  std::vector<std::uint8_t>().swap(flags);
+  floodOversized(
+      mesh, [&](TriangleId t) { return oversized[t]; }, std::move(starts), removed,
+      list);
+  std::vector<bool>().swap(oversized);
   result.kept_to_stay_manifold = repairPinches(mesh, list, removed);
   // Only a corner of a removed triangle can be left without triangles, and only its
   // row of edges changes: it is lost when no triangle of its fan stays.
