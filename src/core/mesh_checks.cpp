@@ -82,7 +82,10 @@ bool triangleTwinsGood(const TriangleMesh& mesh, std::size_t t)
            (twin < count && twin != e && twins[twin] == e &&
             mesh.triangles[twin] == to && mesh.triangles[nextHalfedge(twin)] == from);
   };
-  return good(3 * t, a, b) & good(3 * t + 1, b, c) & good(3 * t + 2, c, a);
+  // All three evaluated (no branch per edge): the bools summed.
+  return int{good(3 * t, a, b)} + int{good(3 * t + 1, b, c)} +
+             int{good(3 * t + 2, c, a)} ==
+         3;
 }
 
 /// Triangles come in threes and every id names an existing vertex.

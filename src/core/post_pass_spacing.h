@@ -170,10 +170,10 @@ Clearance::need(const Point2& a, const Point2& b, const Point2& c, double edge_l
   const double need =
       product <= areas * longest ? longest : std::max(longest, product / areas);
   constexpr double INF = std::numeric_limits<double>::infinity();
-  return (low >= LOW) & (high <= HIGH) & (longest <= edge_limit2) &
-                 (need <= std::numeric_limits<double>::max())
-             ? need
-             : INF;
+  // One branch on the four tests (bitwise and: no short-circuit branches).
+  const bool in_range = (low >= LOW) & (high <= HIGH) & (longest <= edge_limit2) &
+                        (need <= std::numeric_limits<double>::max());
+  return in_range ? need : INF;
 }
 
 // Two triangles' needs in the two lanes of SSE2 registers: every operation of
