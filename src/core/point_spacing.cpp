@@ -15,7 +15,7 @@
 #include <utility>
 
 #if defined(__SSE2__)
-#include <emmintrin.h>
+#include <immintrin.h>
 #endif
 
 namespace pcl_vts {
@@ -911,6 +911,174 @@ bool laneMediansOfRows(std::size_t size, std::index_sequence<S...>, const Point2
          ...);
   return any_lane;
 }
+
+// Four vertices at a time in AVX2 registers, where the CPU has it (chosen at run
+// time: never -march): every lane the same operations as laneMedians' on the same
+// operands (the squares as dx * dx + dy * dy, the same networks, the root), so the
+// same bits; a quad with a NaN square goes to the pairs' path.
+#define PCL_VTS_AVX2 __attribute__((target("avx2")))
+
+PCL_VTS_AVX2 inline void exchangeQuads(__m256d* a, std::size_t lo, std::size_t hi)
+{
+  const __m256d low = _mm256_min_pd(a[lo], a[hi]);
+  a[hi] = _mm256_max_pd(a[lo], a[hi]);
+  a[lo] = low;
+}
+
+template <std::size_t M, std::size_t... I>
+PCL_VTS_AVX2 inline void exchangeQuads(__m256d* a, const std::uint8_t (&pairs)[M][2],
+                                       std::index_sequence<I...>)
+{
+  (exchangeQuads(a, pairs[I][0], pairs[I][1]), ...);
+}
+
+template <std::size_t N, std::size_t... I>
+PCL_VTS_AVX2 inline void exchangeQuads(__m256d* a,
+                                       const typename SortNetwork<N>::Table& table,
+                                       std::index_sequence<I...>)
+{
+  (exchangeQuads(a, table.pairs[I].lo, table.pairs[I].hi), ...);
+}
+
+/// laneMedian in four lanes.
+template <std::size_t N>
+PCL_VTS_AVX2 inline __m256d quadMedian(__m256d* a)
+{
+  if constexpr (N == 1)
+    return a[0];
+  else if constexpr (N == 2)
+    exchangeQuads(a, SORT_TWO, std::make_index_sequence<1>());
+  else if constexpr (N == 3)
+    exchangeQuads(a, SORT_THREE, std::make_index_sequence<3>());
+  else if constexpr (N == 4)
+    exchangeQuads(a, SORT_FOUR, std::make_index_sequence<5>());
+  else if constexpr (N == 5)
+    exchangeQuads(a, MEDIAN_OF_FIVE, std::make_index_sequence<9>());
+  else if constexpr (N == 6) {
+    exchangeQuads(a, MEDIAN_OF_SIX, std::make_index_sequence<9>());
+    return _mm256_min_pd(a[3], a[4]);
+  } else if constexpr (N == 7)
+    exchangeQuads(a, MEDIAN_OF_SEVEN, std::make_index_sequence<14>());
+  else if constexpr (N == 8)
+    exchangeQuads<8>(a, SORT_EIGHT, std::make_index_sequence<SortNetwork<8>::size()>());
+  else {
+    static_assert(N <= 16);
+    exchangeQuads<16>(a, SORT_SIXTEEN,
+                      std::make_index_sequence<SortNetwork<16>::size()>());
+  }
+  return a[N / 2];
+}
+
+/// laneMedians of ids[0..4), rows of N entries, one per lane; false, nothing
+/// written, when a squared length is NaN.
+template <std::size_t N, typename Index, typename Entry>
+PCL_VTS_AVX2 inline bool quadMedians(const Point2* xy, const Entry* ring,
+                                     const Index* start, const VertexId* ids,
+                                     double* medians, std::size_t first, __m256d& low,
+                                     __m256d& high)
+{
+  // Lanes 0-3: ids[0-3]. (p0, p2) and (p1, p3) as 256-bit halves, unpacked into
+  // (x0, x1, x2, x3) and (y0, y1, y2, y3).
+  auto xs_ys = [](const double* p0, const double* p1, const double* p2,
+                  const double* p3, __m256d& x, __m256d& y) PCL_VTS_AVX2 {
+    const __m256d a = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p0)),
+                                           _mm_loadu_pd(p2), 1);
+    const __m256d b = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p1)),
+                                           _mm_loadu_pd(p3), 1);
+    x = _mm256_unpacklo_pd(a, b);
+    y = _mm256_unpackhi_pd(a, b);
+  };
+  const VertexId u0 = ids[0], u1 = ids[1], u2 = ids[2], u3 = ids[3];
+  __m256d px, py;
+  xs_ys(&xy[u0].x, &xy[u1].x, &xy[u2].x, &xy[u3].x, px, py);
+  const Entry* row0 = ring + start[u0];
+  const Entry* row1 = ring + start[u1];
+  const Entry* row2 = ring + start[u2];
+  const Entry* row3 = ring + start[u3];
+  const Point2* xy0 = rowBase(xy, u0, ring);
+  const Point2* xy1 = rowBase(xy, u1, ring);
+  const Point2* xy2 = rowBase(xy, u2, ring);
+  const Point2* xy3 = rowBase(xy, u3, ring);
+  __m256d a[LANE_SLOTS<N>];
+  __m256d sum = _mm256_setzero_pd(); // NaN when a square is (none is -inf)
+#pragma GCC unroll 16
+  for (std::size_t k = 0; k < N; ++k) {
+    __m256d qx, qy;
+    xs_ys(&xy0[rowOffset(row0, k)].x, &xy1[rowOffset(row1, k)].x,
+          &xy2[rowOffset(row2, k)].x, &xy3[rowOffset(row3, k)].x, qx, qy);
+    const __m256d dx = _mm256_sub_pd(px, qx), dy = _mm256_sub_pd(py, qy);
+    a[k] = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+    sum = _mm256_add_pd(sum, a[k]);
+  }
+  if (_mm256_movemask_pd(_mm256_cmp_pd(sum, sum, _CMP_UNORD_Q)) != 0)
+    return false;
+  for (std::size_t k = N; k < LANE_SLOTS<N>; ++k)
+    a[k] = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+  const __m256d median = _mm256_sqrt_pd(quadMedian<N>(a));
+  double out[4];
+  _mm256_storeu_pd(out, median);
+  medians[u0 - first] = out[0];
+  medians[u1 - first] = out[1];
+  medians[u2 - first] = out[2];
+  medians[u3 - first] = out[3];
+  low = _mm256_min_pd(low, median);
+  high = _mm256_max_pd(high, median);
+  return true;
+}
+
+/// laneMediansOfRows with the quads first: the pairs' path for a quad with a NaN
+/// square and for the last count % 4 vertices.
+template <std::size_t N, typename Index, typename Entry, typename Scalar>
+PCL_VTS_AVX2 bool
+quadMediansOfRows(const Point2* xy, const Entry* ring, const Index* start,
+                  const VertexId* ids, std::size_t count, double* medians,
+                  std::size_t first, __m128d& low, __m128d& high, Scalar& scalar)
+{
+  bool any_lane = false;
+  __m256d low4 = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+  __m256d high4 = _mm256_setzero_pd();
+  std::size_t k = 0;
+  for (; k + 4 <= count; k += 4)
+    if (quadMedians<N>(xy, ring, start, ids + k, medians, first, low4, high4))
+      any_lane = true;
+    else if (laneMediansOfRows<N>(xy, ring, start, ids + k, 4, medians, first, low,
+                                  high, scalar))
+      any_lane = true;
+  if (k < count && laneMediansOfRows<N>(xy, ring, start, ids + k, count - k, medians,
+                                        first, low, high, scalar))
+    any_lane = true;
+  // The quads' extremes into the pairs' (the lanes' medians are never NaN).
+  low = _mm_min_pd(
+      low, _mm_min_pd(_mm256_castpd256_pd128(low4), _mm256_extractf128_pd(low4, 1)));
+  high = _mm_max_pd(
+      high, _mm_max_pd(_mm256_castpd256_pd128(high4), _mm256_extractf128_pd(high4, 1)));
+  return any_lane;
+}
+
+/// quadMediansOfRows for rows of `size` entries, 1 <= size <= MAX_LANE_ROW.
+template <typename Index, typename Entry, typename Scalar, std::size_t... S>
+bool quadMediansOfRows(std::size_t size, std::index_sequence<S...>, const Point2* xy,
+                       const Entry* ring, const Index* start, const VertexId* ids,
+                       std::size_t count, double* medians, std::size_t first,
+                       __m128d& low, __m128d& high, Scalar& scalar)
+{
+  bool any_lane = false;
+  (void)((size == S + 1 &&
+          (any_lane = quadMediansOfRows<S + 1>(xy, ring, start, ids, count, medians,
+                                               first, low, high, scalar),
+           true)) ||
+         ...);
+  return any_lane;
+}
+
+#undef PCL_VTS_AVX2
+
+/// Whether this CPU runs AVX2 (checked once).
+bool hasAvx2()
+{
+  static const bool avx2 = __builtin_cpu_supports("avx2") != 0;
+  return avx2;
+}
 #endif
 
 } // namespace
@@ -963,6 +1131,7 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
       __m128d lanes_low = _mm_set1_pd(std::numeric_limits<double>::infinity());
       __m128d lanes_high = _mm_setzero_pd();
       bool any_lane = false;
+      const bool avx2 = hasAvx2();
       for (std::size_t first = begin; first < end; first += CHUNK) {
         const std::size_t last = std::min(end, first + CHUNK);
         auto scalar = [&](std::size_t v) {
@@ -989,9 +1158,12 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
           const VertexId* ids = listed[size];
           const std::size_t count = listed_count[size];
           if (size < OTHER) {
-            if (laneMediansOfRows(size, std::make_index_sequence<MAX_LANE_ROW>(), xy,
-                                  ring, start, ids, count, medians, first, lanes_low,
-                                  lanes_high, scalar))
+            if (avx2 ? quadMediansOfRows(size, std::make_index_sequence<MAX_LANE_ROW>(),
+                                         xy, ring, start, ids, count, medians, first,
+                                         lanes_low, lanes_high, scalar)
+                     : laneMediansOfRows(size, std::make_index_sequence<MAX_LANE_ROW>(),
+                                         xy, ring, start, ids, count, medians, first,
+                                         lanes_low, lanes_high, scalar))
               any_lane = true;
           } else
             for (std::size_t k = 0; k < count; ++k)

@@ -490,6 +490,57 @@ TEST(TrimOutwardTriangles, RingBoundsAndClearanceEqualTheScalarOnes)
     }
 }
 
+// ownMedians (four vertices at a time in AVX2 lanes where the CPU has it, two in SSE2
+// lanes for the rest, rows of 1-12 entries by size; longer and wide rows, and lanes
+// with a NaN square, apart): every vertex's figure is its row's median length bit for
+// bit (the lengths to its entries in row order, the one of index size / 2 by
+// nth_element; 0 for an empty row), on jittered, uniform, clustered and big-voids
+// meshes, and with points moved to NaN after the triangulation.
+TEST(TrimOutwardTriangles, OwnMediansAreTheRowsMedianLengths)
+{
+  auto bits_of = [](double x) {
+    std::uint64_t b = 0;
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  };
+  for (const test::Distribution distribution :
+       {test::Distribution::JITTERED_GRID, test::Distribution::UNIFORM,
+        test::Distribution::CLUSTERED, test::Distribution::BIG_VOIDS})
+    for (const bool with_nan : {false, true}) {
+      SCOPED_TRACE(test::distributionName(distribution) +
+                   (with_nan ? " with NaN" : ""));
+      TriangleMesh mesh = triangulate(test::generatePoints(distribution, 6000, 3));
+      const std::size_t n = mesh.vertexCount();
+      if (with_nan)
+        for (std::size_t v = 11; v < n; v += 97)
+          mesh.xy[v].x = std::numeric_limits<double>::quiet_NaN();
+      detail::VertexRows rows;
+      ASSERT_TRUE(rows.build(mesh));
+      std::vector<double> expected(n, 0.0), lengths;
+      std::size_t sizes_seen = 0;
+      for (std::size_t v = 0; v < n; ++v) {
+        lengths.clear();
+        for (std::size_t k = rows.begin(v); k < rows.end(v); ++k) {
+          const Point2& q = mesh.xy[rows.entry(v, k)];
+          const double dx = mesh.xy[v].x - q.x, dy = mesh.xy[v].y - q.y;
+          lengths.push_back(std::sqrt(dx * dx + dy * dy));
+        }
+        sizes_seen |= std::size_t{1} << std::min<std::size_t>(lengths.size(), 20);
+        if (lengths.empty())
+          continue;
+        const auto mid =
+            lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+        std::nth_element(lengths.begin(), mid, lengths.end());
+        expected[v] = *mid;
+      }
+      EXPECT_EQ(sizes_seen & 0x7f8u, 0x7f8u); // rows of 3 to 10 entries at least
+      const std::vector<double> own = detail::ownMedians(mesh, rows, 1);
+      ASSERT_EQ(own.size(), n);
+      for (std::size_t v = 0; v < n; ++v)
+        ASSERT_EQ(bits_of(own[v]), bits_of(expected[v])) << "vertex " << v;
+    }
+}
+
 TEST(TrimOutwardTriangles, EqualsThePeelOfTheDefinitionsClassification)
 {
   struct Case {
