@@ -184,6 +184,8 @@ bool VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* bounda
        (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max()
             ? fill(mesh, start32_, boundary, need, edge_limit2)
             : fill(mesh, start64_, boundary, need, edge_limit2)));
+  if (slotted != Built::ROWS)
+    first32_ = start32_.data();
   if (!built && boundary != nullptr)
     boundary->clear();
   return built;
@@ -234,9 +236,9 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
   // Vertex v's slot: entries SLOTS v to SLOTS v + SLOTS - 1, filled from the last;
   // count[v] entries so far (all of them, those past the slot in `long_rows`).
   ScratchArray<std::int16_t> slots = scratchArray<std::int16_t>(SLOTS * n, scratch_);
-  std::unique_ptr<RowCount[]> bytes(new RowCount[n]);
+  // The count bytes die with build: in the temporary memory when it holds them.
+  ScratchArray<RowCount> bytes = scratchArray<RowCount>(n, temporary_);
   RowCount* const count = bytes.get();
-  populatePages(count, count + n);
   std::fill(count, count + n, RowCount{0});
   if constexpr (NEED) {
     if (need->capacity() < n) {
@@ -419,14 +421,6 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
   // average about 6 entries), else into an array of its own from there on.
   const std::size_t total = corners + open;
   std::vector<std::size_t>().swap(start64_); // 32-bit starts
-  std::vector<std::uint32_t>& start = start32_;
-  if (start.capacity() < n + 1) {
-    std::vector<std::uint32_t>().swap(start);
-    start.reserve(n + 1);
-    populatePages(start.data(), start.data() + n + 1);
-  }
-  start.resize(n + 1);
-  std::uint32_t* const first = start.data();
   std::int16_t* const slot = slots.get();
   std::int16_t* row = slot; // where the rows go
   ScratchArray<std::int16_t> own_rows;
@@ -442,7 +436,6 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
   for (; v + 1 < n; ++v) {
     const auto size = static_cast<std::size_t>(count[v]);
     const std::size_t in_slot = std::min<std::size_t>(size, SLOTS);
-    first[v] = static_cast<std::uint32_t>(at);
     const std::size_t to = at + size - in_slot; // the slot's entries' place
     if (__builtin_expect(row == slot && to > SLOTS * v, 0)) {
       // The block would overwrite the next slot: the rows in an array of their own
@@ -457,12 +450,42 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
   { // the last row: its slot's entries alone (no slot follows it)
     const auto size = static_cast<std::size_t>(count[v]);
     const std::size_t in_slot = std::min<std::size_t>(size, SLOTS);
-    first[v] = static_cast<std::uint32_t>(at);
     std::memmove(row + at + size - in_slot, slot + SLOTS * v + (SLOTS - in_slot),
                  in_slot * sizeof(std::int16_t));
     at += size;
   }
-  first[n] = static_cast<std::uint32_t>(at);
+  // The starts, summed from the count bytes: past the packed rows in the slots'
+  // array when they fit there (resident pages: the slots were written; the pack
+  // wrote no further than SLOTS entries past the rows), else an array of their own.
+  std::uint32_t* first = nullptr;
+  if (row == slot) {
+    const auto past_rows = reinterpret_cast<std::uintptr_t>(slot + total + SLOTS);
+    const std::uintptr_t aligned = (past_rows + alignof(std::uint32_t) - 1) &
+                                   ~std::uintptr_t{alignof(std::uint32_t) - 1};
+    const auto slots_end = reinterpret_cast<std::uintptr_t>(slot + SLOTS * n);
+    if (aligned <= slots_end && (slots_end - aligned) / sizeof(std::uint32_t) >= n + 1)
+      first = std::uninitialized_default_construct_n(
+                  reinterpret_cast<std::uint32_t*>(aligned), n + 1) -
+              (n + 1);
+  }
+  if (first == nullptr) {
+    std::vector<std::uint32_t>& start = start32_;
+    if (start.capacity() < n + 1) {
+      std::vector<std::uint32_t>().swap(start);
+      start.reserve(n + 1);
+      populatePages(start.data(), start.data() + n + 1);
+    }
+    start.resize(n + 1);
+    first = start.data();
+  } else
+    std::vector<std::uint32_t>().swap(start32_);
+  std::size_t sum = 0;
+  for (std::size_t u = 0; u < n; ++u) {
+    first[u] = static_cast<std::uint32_t>(sum);
+    sum += static_cast<std::size_t>(count[u]);
+  }
+  first[n] = static_cast<std::uint32_t>(sum);
+  first32_ = first;
   // The entries past the slots, and the far neighbours' positions: entry j of v's
   // fill order is at its row's end less j + 1.
   for (const LongRowEntry& extra : long_rows)

@@ -257,9 +257,12 @@ Clearance::roundedUpNeeds(const Point2& a0, const Point2& b0, const Point2& c0,
 class VertexRows {
  public:
   VertexRows() = default;
-  /// build's entries inside `scratch` when they fit there (scratchArray).
-  explicit VertexRows(ScratchBlock scratch)
+  /// build's entries inside `scratch` when they fit there (scratchArray); the
+  /// slotted build's count bytes inside `temporary` (memory free until build
+  /// returns: the trim's own medians' place).
+  explicit VertexRows(ScratchBlock scratch, ScratchBlock temporary = {})
       : scratch_(scratch)
+      , temporary_(temporary)
   {}
   /// With `boundary`, also lists the halfedges without twin, in increasing order.
   /// False, the rows left unbuilt, when a triangle corner is not a vertex id (checked
@@ -274,7 +277,7 @@ class VertexRows {
                                  double edge_limit2 = 0.0);
   std::size_t begin(std::size_t v) const
   {
-    return start64_.empty() ? start32_[v] : start64_[v];
+    return start64_.empty() ? first32_[v] : start64_[v];
   }
   std::size_t end(std::size_t v) const { return begin(v + 1); }
   /// f(starts), starts[v] being begin(v), as a pointer to their own type (a loop
@@ -283,7 +286,7 @@ class VertexRows {
   void visitStarts(F&& f) const
   {
     if (start64_.empty())
-      f(start32_.data());
+      f(first32_);
     else
       f(start64_.data());
   }
@@ -338,6 +341,9 @@ class VertexRows {
                                             std::size_t limit);
   std::vector<std::uint32_t> start32_; ///< while the entries fit 32 bits
   std::vector<std::size_t> start64_;
+  /// The 32-bit starts: start32_'s, or the slotted build's inside the entries'
+  /// array, past the packed rows (fillSlots: no fresh pages for them).
+  const std::uint32_t* first32_ = nullptr;
   /// The entries, uninitialised until build writes them. Vertex ids follow the
   /// points' spatial order, so a neighbour is mostly a few thousand ids away: the
   /// entries are its id less the row's vertex in 16 bits (half the bytes of ids to
@@ -348,6 +354,7 @@ class VertexRows {
   std::vector<std::pair<std::size_t, VertexId>> wide_entries_; ///< by position
   std::vector<VertexId> wide_rows_;
   ScratchBlock scratch_;
+  ScratchBlock temporary_;
   bool slots_allowed_ = true;
 };
 

@@ -826,7 +826,12 @@ Status detail::trimOutwardTriangles(TriangleMesh& mesh, const TrimOptions& optio
   // removes nothing, else the compaction lists them.
   std::vector<HalfedgeId> boundary;
   std::vector<double>* own_storage = detail::splitForOwn(scratch, mesh.vertexCount());
-  detail::VertexRows rows(scratch);
+  // The own medians' place is free until ownMedians: the rows' build borrows it.
+  detail::VertexRows rows(
+      scratch, own_storage != nullptr
+                   ? detail::ScratchBlock{own_storage->data(),
+                                          mesh.vertexCount() * sizeof(double)}
+                   : detail::ScratchBlock{});
   std::vector<double> scale; // the vertices' needs (classifyTriangles)
   const double edge_limit2 =
       options.max_edge > 0.0
