@@ -346,6 +346,72 @@ bool isEdgeManifold(const TriangleMesh& mesh, std::string* why)
   return true;
 }
 
+namespace {
+
+/// No directed edge in two triangles, no edge in three (edge-manifold), given
+/// consistent twins: an interior pair holds both directions of its edge, a boundary
+/// halfedge its own; a directed edge is used twice (also when the edge is used three
+/// times) exactly when two entries of one edge share a direction bit. Each edge is
+/// listed once at its lower vertex by a counting sort, as its upper vertex less the
+/// lower one (Entry: 32 bits while the ids fit 30; half the bytes of whole ids) with
+/// two direction bits (1: upward, 2: downward), then each vertex's list is searched
+/// for a shared direction. Per triangle, its three halfedges at once.
+template <typename Entry>
+bool edgesUnsharedIn(const TriangleMesh& mesh, unsigned threads)
+{
+  const std::size_t corners = mesh.triangles.size();
+  const std::size_t n = mesh.xy.size();
+  const VertexId* corner = mesh.triangles.data();
+  const HalfedgeId* twins = mesh.halfedges.data();
+  // start[v]: the end of v's list after the sums; the scatter moves it to its start.
+  std::vector<std::uint32_t> start(n + 1, 0);
+  for (std::size_t e = 0; e < corners; e += 3) {
+    const VertexId v[3] = {corner[e], corner[e + 1], corner[e + 2]};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const HalfedgeId twin = twins[e + k];
+      if (twin == INVALID_ID || e + k < twin)
+        ++start[std::min(v[k], v[k == 2 ? 0 : k + 1])];
+    }
+  }
+  for (std::size_t v = 1; v <= n; ++v)
+    start[v] += start[v - 1];
+  std::vector<Entry> bucket(start[n]);
+  for (std::size_t e = 0; e < corners; e += 3) {
+    const VertexId v[3] = {corner[e], corner[e + 1], corner[e + 2]};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const HalfedgeId twin = twins[e + k];
+      if (twin != INVALID_ID && twin < e + k)
+        continue;
+      const VertexId from = v[k], to = v[k == 2 ? 0 : k + 1];
+      const Entry directions = twin != INVALID_ID ? 3 : from < to ? 1 : 2;
+      const VertexId lower = std::min(from, to);
+      bucket[--start[lower]] =
+          static_cast<Entry>(Entry{std::max(from, to)} - lower) << 2 | directions;
+    }
+  }
+  return everyIndex(threads, n, [&](std::size_t v) {
+    const auto first = bucket.begin() + start[v];
+    const auto last = bucket.begin() + start[v + 1];
+    if (last - first > 16)
+      std::sort(first, last); // each list by one thread
+    bool shared = false;
+    for (auto i = first; i != last; ++i)
+      for (auto j = i + 1; j != last && (last - first <= 16 || (*j >> 2) == (*i >> 2));
+           ++j)
+        shared |= (*i >> 2) == (*j >> 2) && (*i & *j & 3) != 0;
+    return !shared;
+  });
+}
+
+bool edgesUnshared(const TriangleMesh& mesh, unsigned threads)
+{
+  return mesh.xy.size() < (std::size_t{1} << 30)
+             ? edgesUnsharedIn<std::uint32_t>(mesh, threads)
+             : edgesUnsharedIn<std::uint64_t>(mesh, threads);
+}
+
+} // namespace
+
 bool isValidSurfaceMesh(const TriangleMesh& mesh, std::string* why, unsigned threads)
 {
   auto fast = [&] {
@@ -362,53 +428,7 @@ bool isValidSurfaceMesh(const TriangleMesh& mesh, std::string* why, unsigned thr
                  Sign::POSITIVE; // also no self-loop: a degenerate triangle is not
         }))
       return false;
-    // Twins consistent: an interior pair holds both directions of its edge, a
-    // boundary halfedge its own; a directed edge is used twice (also when the edge is
-    // used three times) exactly when two entries of one edge share a direction bit.
-    // Per triangle, its three halfedges at once.
-    const std::size_t corners = mesh.triangles.size();
-    const std::size_t n = mesh.xy.size();
-    const VertexId* corner = mesh.triangles.data();
-    const HalfedgeId* twins = mesh.halfedges.data();
-    std::vector<std::uint32_t> start(n + 1, 0);
-    for (std::size_t e = 0; e < corners; e += 3) {
-      const VertexId v[3] = {corner[e], corner[e + 1], corner[e + 2]};
-      for (std::size_t k = 0; k < 3; ++k) {
-        const HalfedgeId twin = twins[e + k];
-        if (twin == INVALID_ID || e + k < twin)
-          ++start[std::min(v[k], v[k == 2 ? 0 : k + 1]) + std::size_t{1}];
-      }
-    }
-    for (std::size_t v = 0; v < n; ++v)
-      start[v + 1] += start[v];
-    // (upper vertex << 2) | directions (1: upward, 2: downward).
-    std::vector<std::uint64_t> bucket(start[n]);
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t e = 0; e < corners; e += 3) {
-      const VertexId v[3] = {corner[e], corner[e + 1], corner[e + 2]};
-      for (std::size_t k = 0; k < 3; ++k) {
-        const HalfedgeId twin = twins[e + k];
-        if (twin != INVALID_ID && twin < e + k)
-          continue;
-        const VertexId from = v[k], to = v[k == 2 ? 0 : k + 1];
-        const std::uint64_t directions = twin != INVALID_ID ? 3 : from < to ? 1 : 2;
-        bucket[fill[std::min(from, to)]++] =
-            (std::uint64_t{std::max(from, to)} << 2) | directions;
-      }
-    }
-    const bool unshared = everyIndex(threads, n, [&](std::size_t v) {
-      const auto first = bucket.begin() + start[v];
-      const auto last = bucket.begin() + start[v + 1];
-      if (last - first > 16)
-        std::sort(first, last); // each bucket by one thread
-      bool shared = false;
-      for (auto i = first; i != last; ++i)
-        for (auto j = i + 1;
-             j != last && (last - first <= 16 || (*j >> 2) == (*i >> 2)); ++j)
-          shared |= (*i >> 2) == (*j >> 2) && (*i & *j & 3) != 0;
-      return !shared;
-    });
-    return unshared;
+    return edgesUnshared(mesh, threads);
   };
   if (fast())
     return true;
