@@ -7,6 +7,7 @@
 #include "support/generators.h"
 #include "support/mesh_shuffle.h"
 #include "support/pipeline_checks.h"
+#include "support/special_triangles.h"
 #include "support/surface_checks.h"
 
 #include <pcl_vts/core/boundary_loops.h>
@@ -315,50 +316,16 @@ TEST(TrimOutwardTriangles, ClearanceNeedsInLanesEqualTheScalarOnes)
 {
   using detail::Clearance;
   std::mt19937_64 random(15);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
   constexpr double INF = std::numeric_limits<double>::infinity();
-  const double specials[] = {0.0,   -0.0,  1e-31,
-                             1e-29, 1e30,  1e31,
-                             1e155, 1e160, std::numeric_limits<double>::quiet_NaN(),
-                             INF,   -INF};
-  auto triangle = [&](int kind, Point2(&p)[3]) {
-    const double scale =
-        std::pow(10.0, std::uniform_int_distribution<int>(-40, 40)(random));
-    const Point2 origin{1e6 * unit(random), 1e6 * unit(random)};
-    for (Point2& q : p)
-      q = {origin.x + scale * unit(random), origin.y + scale * unit(random)};
-    switch (kind) {
-    case 1: // obtuse: c near the middle of ab
-      p[2] = {0.5 * (p[0].x + p[1].x) + 1e-3 * scale * unit(random),
-              0.5 * (p[0].y + p[1].y) + 1e-3 * scale * unit(random)};
-      break;
-    case 2: // degenerate: a repeated corner or three collinear ones
-      p[2] = random() % 2 ? p[0] : Point2{2 * p[1].x - p[0].x, 2 * p[1].y - p[0].y};
-      break;
-    case 3: // a special coordinate
-      (random() % 2 ? p[random() % 3].x : p[random() % 3].y) =
-          specials[random() % std::size(specials)];
-      break;
-    case 4: // tiny or huge without an origin
-      for (Point2& q : p)
-        q = {scale * 1e-25 * unit(random), scale * 1e-25 * unit(random)};
-      break;
-    case 5:
-      for (Point2& q : p)
-        q = {scale * 1e118 * unit(random), scale * 1e118 * unit(random)};
-      break;
-    default:
-      break;
-    }
-  };
   auto bits = [](const Point2(&p)[3], double limit2) {
     return Clearance::roundedUp(Clearance::need(p[0], p[1], p[2], limit2));
   };
   std::size_t radius_taken = 0, infinite = 0, finite = 0;
   for (int round = 0; round < 200000; ++round) {
     Point2 t0[3], t1[3];
-    triangle(round % 6, t0);
-    triangle(static_cast<int>(random() % 6), t1);
+    test::specialTriangle(random, round % test::SPECIAL_TRIANGLE_KINDS, t0);
+    test::specialTriangle(
+        random, static_cast<int>(random() % test::SPECIAL_TRIANGLE_KINDS), t1);
     const double limits[] = {INF, 1e-40, 1.0, 1e20,
                              Clearance::need(t0[0], t0[1], t0[2], INF)};
     const double limit2 = limits[random() % std::size(limits)];
