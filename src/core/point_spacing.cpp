@@ -1,4 +1,5 @@
 // Point spacing: median incident edge per vertex, then a one-ring median.
+#include "cpu_features.h"
 #include "post_pass_spacing.h"
 #include "release_memory.h"
 
@@ -1096,12 +1097,6 @@ bool quadMediansOfRows(std::size_t size, std::index_sequence<S...>, const Point2
 
 #undef PCL_VTS_AVX2
 
-/// Whether this CPU runs AVX2 (checked once).
-bool hasAvx2()
-{
-  static const bool avx2 = __builtin_cpu_supports("avx2") != 0;
-  return avx2;
-}
 #endif
 
 } // namespace
@@ -1154,7 +1149,7 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
       __m128d lanes_low = _mm_set1_pd(std::numeric_limits<double>::infinity());
       __m128d lanes_high = _mm_setzero_pd();
       bool any_lane = false;
-      const bool avx2 = hasAvx2();
+      const bool avx2 = cpuHasAvx2();
       for (std::size_t first = begin; first < end; first += CHUNK) {
         const std::size_t last = std::min(end, first + CHUNK);
         auto scalar = [&](std::size_t v) {

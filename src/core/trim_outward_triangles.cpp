@@ -1,6 +1,7 @@
 // Outward-triangle removal: static oversize test, flood over oversized triangles
 // from the outline and void seeds, then pinch repair by restoring fan gaps.
 // See trim_outward_triangles.h.
+#include "cpu_features.h"
 #include "post_pass_spacing.h"
 #include "trim_compaction.h"
 
@@ -593,8 +594,7 @@ moveRunAvx2(VertexId* corners, HalfedgeId* twins, std::size_t h, std::size_t h_e
 bool detail::compactionHasAvx2()
 {
 #if defined(PCL_VTS_COMPACTION_AVX2)
-  static const bool avx2 = __builtin_cpu_supports("avx2") != 0;
-  return avx2;
+  return cpuHasAvx2();
 #else
   return false;
 #endif
