@@ -9,6 +9,22 @@
 
 namespace pcl_vts {
 namespace detail {
+namespace {
+
+/// Resizes an array whose entries need not survive: past its capacity it is freed and
+/// allocated anew (an eighth larger, for the next windows) instead of copied into the
+/// new block, whose pages would all be touched (page faults on a small input).
+template <typename Vector>
+void resizeDiscarding(Vector& vector, std::size_t size)
+{
+  if (vector.capacity() < size) {
+    Vector().swap(vector);
+    vector.reserve(size + size / 8);
+  }
+  vector.resize(size);
+}
+
+} // namespace
 
 GridBox GridBox::ofPoints(const CellGrid& grid)
 {
@@ -91,9 +107,9 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
   reserveTriangles(1 + 2 * n);
   // Entries 3 .. 3 + n are all written below (the insertion order lists every cell of
   // the window once): resize, not assign, fills only what grows past the last window.
-  p.resize(3 + n);
-  ids.resize(3 + n);
-  in_core.resize(3 + n);
+  resizeDiscarding(p, 3 + n);
+  resizeDiscarding(ids, 3 + n);
+  resizeDiscarding(in_core, 3 + n);
   for (std::size_t s = 0; s < 3; ++s) {
     p[s] = super[s];
     ids[s] = INVALID_ID;
@@ -158,15 +174,17 @@ bool LocalDelaunay::triangulate(const CellGrid& grid, const CellWindow& w,
 
 void LocalDelaunay::reserveTriangles(std::size_t count)
 {
+  // Nothing in these arrays is kept across the call (a new window, or the scratch
+  // between two insertions): they grow without copying their old entries.
   if (rec_.size() < count) {
-    rec_.resize(count);
-    corners_.resize(count);
+    resizeDiscarding(rec_, count);
+    resizeDiscarding(corners_, count);
   }
-  v.resize(3 * count);
-  if (bad_.size() < count + 3) { // a cavity holds at most every triangle
-    bad_.resize(count + 3);      // then the star's slots and the first again
-    boundary_.resize(count + 3); // then the first edge again
-    stack_.resize(2 * count + 3);
+  resizeDiscarding(v, 3 * count);
+  if (bad_.size() < count + 3) {            // a cavity holds at most every triangle
+    resizeDiscarding(bad_, count + 3);      // then the star's slots and the first again
+    resizeDiscarding(boundary_, count + 3); // then the first edge again
+    resizeDiscarding(stack_, 2 * count + 3);
   }
 }
 
@@ -190,7 +208,7 @@ void LocalDelaunay::insertPoints(std::size_t count)
   Record* R = rec_.data();
   Corners* C = corners_.data();
   std::uint32_t* bad = bad_.data();
-  std::pair<std::int32_t, std::int32_t>* boundary = boundary_.data();
+  Edge* boundary = boundary_.data();
   std::uint32_t* stack = stack_.data();
   const double orient_bound = orient_bound_;
   const double bounds[2] = {incircle_wide_bound_, incircle_tight_bound_}; // by real
@@ -358,7 +376,7 @@ void LocalDelaunay::insertPoints(std::size_t count)
     ChainVertex vb = chainVertex(boundary[0].first);
     for (std::size_t j = 0; j < boundary_count; ++j) {
       const std::uint32_t s = bad[j];
-      const std::pair<std::int32_t, std::int32_t>& edge = boundary[j];
+      const Edge& edge = boundary[j];
       const std::int32_t b = boundary[j + 1].first;
       V[3 * s] = edge.first;
       V[3 * s + 1] = b;

@@ -179,7 +179,11 @@ class LocalDelaunay {
   std::vector<Record, UninitAllocator<Record>> rec_;
   std::vector<Corners, UninitAllocator<Corners>> corners_;
   std::vector<std::uint32_t, UninitAllocator<std::uint32_t>> bad_, stack_;
-  std::vector<std::pair<std::int32_t, std::int32_t>> boundary_;
+  /// A cavity boundary edge: its first vertex and the halfedge across it (or -1).
+  struct Edge {
+    std::int32_t first, second;
+  };
+  std::vector<Edge, UninitAllocator<Edge>> boundary_;
   std::int32_t last_ = 0;
   std::size_t triangles_ = 0;
   /// Cells (di, dj) to insert, all written when listed.
