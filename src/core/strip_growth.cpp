@@ -350,9 +350,10 @@ class Growth {
     LocalDelaunay strip_dt;
     LocalDelaunay& dt = blocks_dt_ != nullptr ? *blocks_dt_ : strip_dt;
     for (std::uint32_t cj0 = 0, cj1 = 0; cj0 < grid_.ny; cj0 = cj1) {
-      cj1 = bandEnd(cj0, BLOCK);
-      for (std::uint32_t ci0 = first_column_; ci0 < end_column_; ci0 += BLOCK) {
-        const CellWindow core{ci0, std::min(end_column_, ci0 + BLOCK), cj0, cj1};
+      cj1 = blockBandEnd(grid_, first_column_, end_column_, cj0, BLOCK);
+      for (std::uint32_t ci0 = first_column_, ci1 = 0; ci0 < end_column_; ci0 = ci1) {
+        ci1 = blockColumnEnd(ci0, end_column_, BLOCK);
+        const CellWindow core{ci0, ci1, cj0, cj1};
         if (pointsIn(core) == 0)
           continue;
         const CellWindow window{
@@ -369,37 +370,7 @@ class Growth {
   }
 
   /// The points of the cells of `w`.
-  std::size_t pointsIn(const CellWindow& w) const
-  {
-    std::size_t count = 0;
-    for (std::uint32_t j = w.j0; j < w.j1; ++j)
-      count += grid_.start(grid_.cellId(w.i1 - 1, j) + 1) -
-               grid_.start(grid_.cellId(w.i0, j));
-    return count;
-  }
-
-  /// The end of the band of block rows from row j0: `block` rows, more by `block`
-  /// rows at a time while each of the band's blocks (`block` columns of the strip)
-  /// holds at most MAX_BLOCK_POINTS points, up to MAX_BLOCKS_TALL times `block`.
-  /// Taller blocks load fewer ring points (loaded twice) and leave fewer block
-  /// borders to the search; the bound keeps a window's arrays (about 250 bytes a
-  /// point) in the cache, the cap its cells (sparse bands of clustered points grew to
-  /// hundreds of mostly empty rows: +3 % instructions at 1e6).
-  std::uint32_t bandEnd(std::uint32_t j0, std::uint32_t block) const
-  {
-    constexpr std::size_t MAX_BLOCK_POINTS = 4608;
-    constexpr std::uint32_t MAX_BLOCKS_TALL = 3;
-    std::uint32_t j1 = std::min(grid_.ny, j0 + block);
-    while (j1 < grid_.ny && j1 - j0 < MAX_BLOCKS_TALL * block) {
-      const std::uint32_t taller = std::min(grid_.ny, j1 + block);
-      for (std::uint32_t i0 = first_column_; i0 < end_column_; i0 += block)
-        if (pointsIn({i0, std::min(end_column_, i0 + block), j0, taller}) >
-            MAX_BLOCK_POINTS)
-          return j1;
-      j1 = taller;
-    }
-    return j1;
-  }
+  std::size_t pointsIn(const CellWindow& w) const { return windowPoints(grid_, w); }
 
   /// Adds the proven triangles of one triangulated block: vertices, ownership and the
   /// twins inside the block written in place; only the other edges go through the
@@ -757,6 +728,46 @@ HullEdges::HullEdges(std::size_t points, const std::vector<VertexId>& hull)
     links_.emplace_back(v, hull[(k + 1) % hull.size()]);
   }
   std::sort(links_.begin(), links_.end());
+}
+
+std::size_t windowPoints(const CellGrid& grid, const CellWindow& w)
+{
+  std::size_t count = 0;
+  for (std::uint32_t j = w.j0; j < w.j1; ++j)
+    count +=
+        grid.start(grid.cellId(w.i1 - 1, j) + 1) - grid.start(grid.cellId(w.i0, j));
+  return count;
+}
+
+std::uint32_t blockColumnEnd(std::uint32_t i0, std::uint32_t end_column,
+                             std::uint32_t block)
+{
+  const std::uint32_t i1 = std::min(end_column, i0 + block);
+  return end_column - i1 < block / 2 ? end_column : i1;
+}
+
+std::uint32_t blockBandEnd(const CellGrid& grid, std::uint32_t first_column,
+                           std::uint32_t end_column, std::uint32_t j0,
+                           std::uint32_t block)
+{
+  const auto fits = [&grid, first_column, end_column, j0, block](std::uint32_t j1) {
+    for (std::uint32_t i0 = first_column, i1 = 0; i0 < end_column; i0 = i1) {
+      i1 = blockColumnEnd(i0, end_column, block);
+      if (windowPoints(grid, {i0, i1, j0, j1}) > MAX_BLOCK_POINTS)
+        return false;
+    }
+    return true;
+  };
+  std::uint32_t j1 = std::min(grid.ny, j0 + block);
+  while (j1 < grid.ny && j1 - j0 < MAX_BLOCKS_TALL * block) {
+    const std::uint32_t taller = std::min(grid.ny, j1 + block);
+    if (!fits(taller))
+      break;
+    j1 = taller;
+  }
+  if (j1 < grid.ny && grid.ny - j1 < block / 2 && fits(grid.ny))
+    j1 = grid.ny;
+  return j1;
 }
 
 StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns)

@@ -37,6 +37,35 @@ struct StripLayout {
 /// percent of the work; or `columns` wide when that is not 0 (a power of two).
 StripLayout stripLayoutFor(const CellGrid& grid, std::uint32_t columns = 0);
 
+/// The points of the cells of `w`.
+PCL_VTS_CORE_EXPORT std::size_t windowPoints(const CellGrid& grid, const CellWindow& w);
+
+/// Cache blocks' layout (docs/scaling.md): a strip's blocks are bands of rows cut into
+/// blocks of columns. Taller blocks load fewer ring points (loaded twice) and leave
+/// fewer block borders to the search; MAX_BLOCK_POINTS keeps a window's arrays (about
+/// 250 bytes a point) in the cache, MAX_BLOCKS_TALL its cells (sparse bands of
+/// clustered points grew to hundreds of mostly empty rows: +3 % instructions at 1e6).
+constexpr std::size_t MAX_BLOCK_POINTS = 4608;
+constexpr std::uint32_t MAX_BLOCKS_TALL = 3;
+
+/// The end of the block of columns from column i0 of a strip ending at end_column:
+/// `block` columns, or the strip's end when fewer than block / 2 would be left to a
+/// block of their own (the grid's right side, whose last strip's columns are not a
+/// multiple of `block`: a thin block loads about as many ring points as its own).
+PCL_VTS_CORE_EXPORT std::uint32_t
+blockColumnEnd(std::uint32_t i0, std::uint32_t end_column, std::uint32_t block);
+
+/// The end of the band of block rows from row j0 of the strip [first_column,
+/// end_column): `block` rows, more by `block` rows at a time while each of the band's
+/// blocks (blockColumnEnd) holds at most MAX_BLOCK_POINTS points, up to
+/// MAX_BLOCKS_TALL times `block`; then a rest of fewer than block / 2 rows (the grid's
+/// top) is joined to the band when each block still holds at most MAX_BLOCK_POINTS
+/// (ISPRS FSite8, 105 x 105 cells: one band of 105 rows instead of 96 + 9).
+PCL_VTS_CORE_EXPORT std::uint32_t blockBandEnd(const CellGrid& grid,
+                                               std::uint32_t first_column,
+                                               std::uint32_t end_column,
+                                               std::uint32_t j0, std::uint32_t block);
+
 /// The hull's directed edges v->w (interior on the left), for membership tests: a bit
 /// per point plus the sorted hull links, so it costs n/8 bytes, not 4n.
 class HullEdges {
