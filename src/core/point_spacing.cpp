@@ -216,6 +216,30 @@ noteLongRow(std::vector<LongRowEntry>& list, VertexId v, unsigned j, std::int16_
   return j < 255;
 }
 
+/// The need slots of n vertices, all 0 (VertexRows::build's `need`), their pages
+/// faulted in at once when the vector grows.
+void zeroNeeds(std::vector<double>& need, std::size_t n)
+{
+  if (need.capacity() < n) {
+    std::vector<double>().swap(need);
+    need.reserve(n);
+    populatePages(need.data(), need.data() + n);
+  }
+  need.assign(n, 0.0);
+}
+
+/// Vertex v's need slot (Clearance::slot) after its triangle `id` (in the high 32
+/// bits) of need t_need: the larger need (the float bits of non-negative values
+/// order as the values) and that triangle.
+[[gnu::always_inline]] inline void raiseNeed(double* needs, VertexId v,
+                                             std::uint64_t id, std::uint32_t t_need)
+{
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, needs + v, sizeof bits);
+  bits = id | std::max(static_cast<std::uint32_t>(bits), t_need);
+  std::memcpy(needs + v, &bits, sizeof bits);
+}
+
 } // namespace
 
 template <bool NEED>
@@ -241,14 +265,8 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
   ScratchArray<RowCount> bytes = scratchArray<RowCount>(n, temporary_);
   RowCount* const count = bytes.get();
   std::fill(count, count + n, RowCount{0});
-  if constexpr (NEED) {
-    if (need->capacity() < n) {
-      std::vector<double>().swap(*need);
-      need->reserve(n);
-      populatePages(need->data(), need->data() + n);
-    }
-    need->assign(n, 0.0);
-  }
+  if constexpr (NEED)
+    zeroNeeds(*need, n);
   std::vector<LongRowEntry> long_rows;
   // As fill's: ids once more than one neighbour in 2048 is farther than 32767 ids.
   const std::size_t far_limit = corners / 2048;
@@ -343,17 +361,10 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
           }
       }
       if constexpr (NEED) {
-        // The float bits of non-negative values order as the values.
         const std::uint64_t id = std::uint64_t{t} << 32;
-        auto update = [&](VertexId v) {
-          std::uint64_t bits = 0;
-          std::memcpy(&bits, needs + v, sizeof bits);
-          bits = id | std::max(static_cast<std::uint32_t>(bits), t_need);
-          std::memcpy(needs + v, &bits, sizeof bits);
-        };
-        update(a);
-        update(b);
-        update(c);
+        raiseNeed(needs, a, id, t_need);
+        raiseNeed(needs, b, id, t_need);
+        raiseNeed(needs, c, id, t_need);
       }
     };
     auto bad = [&](std::size_t e, std::size_t corners_here) {
@@ -656,17 +667,10 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
           put(a, c);
       }
       if constexpr (NEED) {
-        // The float bits of non-negative values order as the values.
         const std::uint64_t id = std::uint64_t{t} << 32;
-        auto update = [&](VertexId v) {
-          std::uint64_t slot = 0;
-          std::memcpy(&slot, needs + v, sizeof slot);
-          slot = id | std::max(static_cast<std::uint32_t>(slot), t_need);
-          std::memcpy(needs + v, &slot, sizeof slot);
-        };
-        update(a);
-        update(b);
-        update(c);
+        raiseNeed(needs, a, id, t_need);
+        raiseNeed(needs, b, id, t_need);
+        raiseNeed(needs, c, id, t_need);
       }
     };
     std::size_t e = 0, t = 0;
@@ -708,12 +712,7 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
     scatter(with_need, ids_.get());
   };
   if (need != nullptr) {
-    if (need->capacity() < n) {
-      std::vector<double>().swap(*need);
-      need->reserve(n);
-      detail::populatePages(need->data(), need->data() + n);
-    }
-    need->assign(n, 0.0);
+    zeroNeeds(*need, n);
     scatter_entries(std::true_type{});
   } else
     scatter_entries(std::false_type{});
