@@ -24,6 +24,8 @@
 #                      grid-to-fill time kept (3)
 #   BENCH_OUT          the report (default docs/benchmarks.md; the plot goes to img/ beside it)
 #   BENCH_RASTER=0     skip the DEM rasters; BENCH_RASTER_ROUNDS: rounds per raster (3)
+#   BENCH_SMALL_REPEAT processes per method on an input under 200000 points, the
+#                      fastest kept, VTS and CGAL alternating (15)
 #   (run_lattice_bench.sh's BENCH_CGAL_MAX_CELLS and BENCH_GRID_MAX_CELLS apply)
 set -euo pipefail
 build=${1:-build}
@@ -74,36 +76,73 @@ order=()     # input ids in table order
 commands=()  # every command run, for the report
 log() { echo "[run_bench] $*" >&2; }
 
-# run_json KEY ARGS...: one bench_triangulation process; its JSON line under KEY.
 # Inputs under SMALL_N points run in milliseconds, where one preempted run (a timer
-# tick, another process) moves a ratio by 30 %: they run SMALL_REPEAT times and keep
-# the fastest line, for every method alike.
+# tick, another process) moves a ratio by 10-30 %: they run SMALL_REPEAT times and
+# keep the fastest line, for every method alike, VTS and CGAL alternating so that a
+# slow stretch of the machine falls on both.
 SMALL_N=200000
-SMALL_REPEAT=5
-run_json() {
-  local key=$1 line best best_s s n r
+SMALL_REPEAT=${BENCH_SMALL_REPEAT:-15}
+
+# run_once KEY ARGS...: one bench_triangulation process; its JSON line goes under KEY
+# unless KEY already holds a faster one. Returns 1 when it failed.
+run_once() {
+  local key=$1 line
   shift
-  commands+=("$bench $*")
   if ! line=$("$bench" "$@" 2>"$tmp/err"); then
     log "FAILED: $bench $*: $(tail -1 "$tmp/err")"
-    json[$key]=""
-    return
+    return 1
   fi
-  best=$line
-  n=$(field "$line" n)
-  if [ -n "$n" ] && [ "$n" -lt "$SMALL_N" ]; then
-    best_s=$(field "$line" seconds)
+  log "$line"
+  if [ -z "${json[$key]:-}" ] || awk -v a="$(run_seconds "$line")" \
+    -v b="$(run_seconds "${json[$key]}")" 'BEGIN{exit !(a < b)}'; then
+    json[$key]=$line
+  fi
+}
+
+# run_seconds JSON: the run's wall time in seconds, to the microsecond where the line
+# has it.
+run_seconds() {
+  local us
+  us=$(field "$1" wall_us)
+  if [ -n "$us" ]; then awk -v u="$us" 'BEGIN{printf "%.6f", u / 1e6}'; else field "$1" seconds; fi
+}
+
+# small KEY: whether the input of the line under KEY has fewer than SMALL_N points.
+small() {
+  local n
+  n=$(field "${json[$1]:-}" n)
+  [ -n "$n" ] && [ "$n" -lt "$SMALL_N" ]
+}
+
+# run_json KEY ARGS...: one bench_triangulation process (SMALL_REPEAT for a small
+# input); the fastest JSON line under KEY ("" when it failed).
+run_json() {
+  local key=$1 r
+  shift
+  commands+=("$bench $*")
+  json[$key]=""
+  run_once "$key" "$@" || return 0
+  if small "$key"; then
+    for ((r = 1; r < SMALL_REPEAT; ++r)); do run_once "$key" "$@" || true; done
+  fi
+}
+
+# run_vts_cgal ID ARGS...: VTS and CGAL single-threaded on the same input (ARGS after
+# the method), alternating SMALL_REPEAT times on a small input; under ID|vts|1 and
+# ID|cgal|1.
+run_vts_cgal() {
+  local id=$1 r m
+  shift
+  for m in vts cgal; do
+    commands+=("$bench $m $*")
+    json[$id|$m|1]=""
+    run_once "$id|$m|1" "$m" "$@" || true
+  done
+  if small "$id|vts|1" || small "$id|cgal|1"; then
     for ((r = 1; r < SMALL_REPEAT; ++r)); do
-      line=$("$bench" "$@" 2>"$tmp/err") || continue
-      s=$(field "$line" seconds)
-      if awk -v a="$s" -v b="$best_s" 'BEGIN{exit !(a < b)}'; then
-        best=$line
-        best_s=$s
-      fi
+      for m in vts cgal; do run_once "$id|$m|1" "$m" "$@" || true; done
     done
   fi
-  log "$best"
-  json[$key]=$best
 }
 
 # field JSON KEY: a value of a one-line JSON object ("" when absent).
@@ -224,8 +263,7 @@ run_slow() {
 bench_synthetic() {
   local dist=$1 n=$2 id="$1_$2"
   order+=("$id"); label[$id]=$dist; input_n[$id]=$n
-  run_json "$id|vts|1" vts "$dist" "$n"
-  run_json "$id|cgal|1" cgal "$dist" "$n"
+  run_vts_cgal "$id" "$dist" "$n"
   if [ "$dist" = jittered ]; then run_json "$id|vts|2" vts "$dist" "$n" 1 2; fi
   local pcd="$tmp/$id.pcd"
   commands+=("$bench write-pcd $dist $n $id.pcd")
@@ -246,8 +284,7 @@ bench_file() {
     missing[$id]=$path
     return 0
   fi
-  run_json "$id|vts|1" vts file "$path" "$@" --name "$id"
-  run_json "$id|cgal|1" cgal file "$path" "$@" --name "$id"
+  run_vts_cgal "$id" file "$path" "$@" --name "$id"
   local n
   n=$(field "${json[$id|vts|1]}" n)
   input_n[$id]=${n:-0}
@@ -319,7 +356,11 @@ e2e_field() { # ID INDEX (0 wall, 1 peak KiB, 2-7 read grid hull tri write total
     if [ "$2" -le 7 ]; then echo "${t[$(($2 - 2))]:-?}"; else echo "${parts[3]}"; fi
   else echo "${parts[4]}"; fi
 }
-cgal_s() { val "$1|cgal|1" seconds; }
+# secs KEY: the run's wall time (s, to the microsecond where measured) or "-";
+# shown KEY: the same to 4 significant digits, as the tables print it.
+secs() { if have "$1"; then run_seconds "${json[$1]}"; else echo "-"; fi; }
+shown() { local t; t=$(secs "$1"); if [ "$t" = "-" ]; then echo "-"; else calc "%.4g" "$t"; fi; }
+cgal_s() { secs "$1|cgal|1"; }
 
 # ---- plot ----------------------------------------------------------------------------
 : >"$tmp/vts1.dat"; : >"$tmp/vts2.dat"; : >"$tmp/cgal.dat"
@@ -398,7 +439,7 @@ not_run() { echo "not run (MAX_N $max_n)"; }
 for n in 1000000 10000000; do
   id=jittered_$n
   if have "$id|vts|1"; then
-    s=$(speedup "$(cgal_s "$id")" "$(val "$id|vts|1" seconds)")
+    s=$(speedup "$(cgal_s "$id")" "$(secs "$id|vts|1")")
     target "VTS >= 3x faster than CGAL, jittered $n" "${s}x" "$(verdict_ge "$s" 3)"
   else target "VTS >= 3x faster than CGAL, jittered $n" "$(not_run)" "not measured"; fi
 done
@@ -413,7 +454,7 @@ for id in uniform_1000000 ign tujunga csite1; do
     esac
   fi
   if have "$id|vts|1"; then
-    s=$(speedup "$(cgal_s "$id")" "$(val "$id|vts|1" seconds)")
+    s=$(speedup "$(cgal_s "$id")" "$(secs "$id|vts|1")")
     target "VTS >= 2x faster than CGAL, $what" "${s}x" "$(verdict_ge "$s" 2)"
   elif [ -n "${missing[$id]:-}" ]; then
     target "VTS >= 2x faster than CGAL, $what" "not run: data file missing" "not measured"
@@ -426,7 +467,7 @@ for id in uniform_1000000 ign tujunga csite1; do
   fi
 done
 if have "clustered_1000000|vts|1"; then
-  s=$(speedup "$(cgal_s clustered_1000000)" "$(val "clustered_1000000|vts|1" seconds)")
+  s=$(speedup "$(cgal_s clustered_1000000)" "$(secs "clustered_1000000|vts|1")")
   target "never slower than CGAL, clustered 1e6" "${s}x" "$(verdict_ge "$s" 1)"
 else target "never slower than CGAL, clustered 1e6" "$(not_run)" "not measured"; fi
 if have "jittered_10000000|vts|1" && have "jittered_100000|vts|1"; then
@@ -444,7 +485,7 @@ target "VTS peak <= 80 bytes/point above the input (every input)" \
 for n in 1000000 10000000; do
   id=jittered_$n
   if have "$id|vts|2"; then
-    s=$(speedup "$(val "$id|vts|1" seconds)" "$(val "$id|vts|2" seconds)")
+    s=$(speedup "$(secs "$id|vts|1")" "$(secs "$id|vts|2")")
     same=$([ "$(val "$id|vts|1" triangles)" = "$(val "$id|vts|2" triangles)" ] && echo "same triangle count" || echo "**triangle counts differ**")
     if [ "$n" = 10000000 ]; then
       target "2 threads >= 1.7x over 1, jittered 1e7" "${s}x, $same" "$(verdict_ge "$s" 1.7)"
@@ -457,7 +498,7 @@ if [ -n "${e2e[jittered_1000000]:-}" ] && [ "${e2e[jittered_1000000]}" != failed
   w=$(e2e_field jittered_1000000 0)
   s=$(speedup "$(cgal_s jittered_1000000)" "$w")
   target "pcd_to_mesh --no-trim --no-fill, 1e6 PCD -> PLY, >= 2x faster than CGAL's triangulation alone" \
-    "${s}x (wall $w s vs CGAL $(cgal_s jittered_1000000) s)" "$(verdict_ge "$s" 2)"
+    "${s}x (wall $w s vs CGAL $(shown "jittered_1000000|cgal|1") s)" "$(verdict_ge "$s" 2)"
 else target "pcd_to_mesh end to end 1e6 >= 2x faster than CGAL alone" "$(not_run)" "not measured"; fi
 split_text() { # ID: "read R s + write W s = P % of wall; triangulation T s"
   local id=$1 r w g h t wall
@@ -476,7 +517,7 @@ else target "split between I/O and triangulation, 1e7 end to end" "$(not_run)" "
 t15_rows=()
 t15() { t15_rows+=("| $1 | $2 | $3 |"); } # TARGET MEASURED STATUS
 vs_cgal() { # ID: CGAL s / VTS s of the triangulation table, or "-"
-  if have "$1|vts|1" && have "$1|cgal|1"; then speedup "$(cgal_s "$1")" "$(val "$1|vts|1" seconds)"
+  if have "$1|vts|1" && have "$1|cgal|1"; then speedup "$(cgal_s "$1")" "$(secs "$1|vts|1")"
   else echo "-"; fi
 }
 why_not() { # ID: why a row has no figure
@@ -513,7 +554,7 @@ if [ -n "$worst_s" ]; then
 else t15 "never slower than CGAL on any generator" "$(not_run)" "not measured"; fi
 # Rasters: lattice fast path against CGAL, wall clock (CPU beside it).
 real_met=0 real_all=0 real_worst="" real_worst_label=""
-while IFS=$'\t' read -r rl rn rv rvc rg rc rcc; do
+while IFS=$'\t' read -r rl rn rv rvc _ rc rcc; do
   [ -n "$rl" ] || continue
   if [ "$rc" = "-" ] || [ "$rv" = "-" ]; then
     [[ $rl == synthetic* ]] && t15 "DEM raster >= 10x CGAL: $rl" "CGAL not run" "not measured"
@@ -551,11 +592,11 @@ what="default pcd_to_mesh (trim + fill), jittered 1e7, 1 thread, no slower than 
 if num "$gr" && num "$tri" && num "$fi_" && have "$id|cgal|1"; then
   mesh_s=$(calc "%.3f" "($gr + $hu + $tri + $tr + $fi_) / 1000")
   r=$(speedup "$(cgal_s "$id")" "$mesh_s")
-  t15 "$what" "${r}x: grid to fill $mesh_s s vs CGAL $(cgal_s "$id") s (whole process with read and write: $wall s)" "$(verdict_ge "$r" 1)"
+  t15 "$what" "${r}x: grid to fill $mesh_s s vs CGAL $(shown "$id|cgal|1") s (whole process with read and write: $wall s)" "$(verdict_ge "$r" 1)"
 else t15 "$what" "$(not_run)" "not measured"; fi
 id=jittered_10000000
 if have "$id|vts|2"; then
-  s=$(speedup "$(val "$id|vts|1" seconds)" "$(val "$id|vts|2" seconds)")
+  s=$(speedup "$(secs "$id|vts|1")" "$(secs "$id|vts|2")")
   t15 "threads: 2 threads >= 1.8x one thread, jittered 1e7 (grid included)" "${s}x" "$(verdict_ge "$s" 1.8)"
 else t15 "threads: 2 threads >= 1.8x one thread, jittered 1e7" "$(not_run)" "not measured"; fi
 same_all=yes compared=0
@@ -587,8 +628,9 @@ else t15 "memory <= 80 B/point above the input at 1e7" "$(not_run)" "not measure
   echo "spatially sorts the points first: its fastest use), on the same points in the same"
   echo "run. Single thread unless a column says otherwise. Each number is one process"
   echo "(tools/bench/bench_triangulation), so its peak memory belongs to one method and one"
-  echo "input (inputs under 200000 points: the fastest of 5 such processes per method, since"
-  echo "one preempted run of a few milliseconds moves a ratio by tens of per cent). Timed: VTS's whole core pipeline (input conditioning and duplicate merging,"
+  echo "input (inputs under 200000 points: the fastest of $SMALL_REPEAT such processes per method,"
+  echo "VTS and CGAL alternating, since one preempted run of a few milliseconds moves a ratio"
+  echo "by tens of per cent). Timed: VTS's whole core pipeline (input conditioning and duplicate merging,"
   echo "grid, hull, region growing) and CGAL's construction; not timed: generating or reading"
   echo "the input (real files go through pcl_vts::loadPointCloud, as pcd_to_mesh does). Both"
   echo "get every input point: VTS merges identical XY positions by its duplicate rule, CGAL's"
@@ -625,7 +667,7 @@ else t15 "memory <= 80 B/point above the input at 1e7" "$(not_run)" "not measure
     [ "$tri" = "$(val "$c" triangles)" ] || tri="$tri (CGAL $(val "$c" triangles))"
     dv=$(val "$v" distinct); dc=$(val "$c" distinct)
     [ "$dv" = "$dc" ] || dv="$dv (CGAL $dc)"
-    echo "| ${label[$id]} | $(val "$v" n) | $dv | $(val "$v" seconds) | $(val "$c" seconds) | $(speedup "$(val "$c" seconds)" "$(val "$v" seconds)")x | $(val "$v" ns_per_point) | $(val "$c" ns_per_point) | $(val "$v" peak_rss_mib) | $(val "$c" peak_rss_mib) | $(val "$v" bytes_per_point_above_input) | $(val "$c" bytes_per_point_above_input) | $(val "$v" grid_s) / $(val "$v" hull_s) / $(val "$v" triangulate_s) | $tri |"
+    echo "| ${label[$id]} | $(val "$v" n) | $dv | $(shown "$v") | $(shown "$c") | $(speedup "$(secs "$c")" "$(secs "$v")")x | $(val "$v" ns_per_point) | $(val "$c" ns_per_point) | $(val "$v" peak_rss_mib) | $(val "$c" peak_rss_mib) | $(val "$v" bytes_per_point_above_input) | $(val "$c" bytes_per_point_above_input) | $(val "$v" grid_s) / $(val "$v" hull_s) / $(val "$v" triangulate_s) | $tri |"
   done
   echo
   echo "speed-up = CGAL s / VTS s (> 1: VTS faster). Synthetic inputs (tools/bench/bench_triangulation.cpp):"
@@ -645,7 +687,7 @@ else t15 "memory <= 80 B/point above the input at 1e7" "$(not_run)" "not measure
   for id in "${order[@]}"; do
     have "$id|vts|2" || continue
     h1=$(val "$id|vts|1" hash); h2=$(val "$id|vts|2" hash)
-    echo "| ${label[$id]} | $(val "$id|vts|1" n) | $(val "$id|vts|1" seconds) | $(val "$id|vts|2" seconds) | $(speedup "$(val "$id|vts|1" seconds)" "$(val "$id|vts|2" seconds)")x | $(val "$id|vts|1" triangles) / $(val "$id|vts|2" triangles) | $([ -n "$h1" ] && [ "$h1" = "$h2" ] && echo "yes ($h1)" || echo "**no** ($h1 / $h2)") |"
+    echo "| ${label[$id]} | $(val "$id|vts|1" n) | $(shown "$id|vts|1") | $(shown "$id|vts|2") | $(speedup "$(secs "$id|vts|1")" "$(secs "$id|vts|2")")x | $(val "$id|vts|1" triangles) / $(val "$id|vts|2" triangles) | $([ -n "$h1" ] && [ "$h1" = "$h2" ] && echo "yes ($h1)" || echo "**no** ($h1 / $h2)") |"
   done
   echo
   echo "The whole core pipeline, grid phase included (bench_triangulation vts DIST N 1 2)."
@@ -679,7 +721,7 @@ else t15 "memory <= 80 B/point above the input at 1e7" "$(not_run)" "not measure
       cols=$(calc "%.3f | %.3f | %.3f | %.3f | %.3f | %.0f %%" "$r / 1000, ($g + $h + $t) / 1000, ($me - $g - $h - $t) / 1000, $w / 1000, $wall - $tot / 1000, 100 * ($r + $w) / 1000 / ($wall > 0 ? $wall : 0.01)")
     else cols="- | - | - | - | - | -"; fi
     case $ver in OK*) ver="OK";; not\ run*) ;; *) ver="**${ver}**";; esac
-    echo "| ${label[$id]} | ${input_n[$id]} | $wall | $(calc "%.1f" "$pk / 1024") | $cols | $(cgal_s "$id") | $(speedup "$(cgal_s "$id")" "$wall")x | $ver |"
+    echo "| ${label[$id]} | ${input_n[$id]} | $wall | $(calc "%.1f" "$pk / 1024") | $cols | $(shown "$id|cgal|1") | $(speedup "$(cgal_s "$id")" "$wall")x | $ver |"
   done
   echo
   echo "verify_delaunay (tools/bench/verify_delaunay.cpp) uses CGAL's exact predicates only:"
@@ -712,7 +754,7 @@ else t15 "memory <= 80 B/point above the input at 1e7" "$(not_run)" "not measure
       r2=$(calc "%.2f" "(${f[6]} + ${f[7]}) / (${f[3]} + ${f[4]} + ${f[5]})")
       gf=$(calc "%.3f" "(${f[3]} + ${f[4]} + ${f[5]} + ${f[6]} + ${f[7]}) / 1000")
     else cols="- | - | - | - | - | -"; r1="-"; r2="-"; gf="-"; fi
-    echo "| ${label[$id]} | ${input_n[$id]} | $cols | ${f[10]} / ${f[11]} | $r1 | $r2 | $gf | $(cgal_s "$id") | $(speedup "$(cgal_s "$id")" "$gf")x | ${f[0]} | $(calc "%.1f" "${f[1]} / 1024") |"
+    echo "| ${label[$id]} | ${input_n[$id]} | $cols | ${f[10]} / ${f[11]} | $r1 | $r2 | $gf | $(shown "$id|cgal|1") | $(speedup "$(cgal_s "$id")" "$gf")x | ${f[0]} | $(calc "%.1f" "${f[1]} / 1024") |"
   done
   echo
   echo "Targets (issue 15): (trim + fill) <= 0.3x the triangulation; grid to fill no slower"
@@ -726,7 +768,7 @@ else t15 "memory <= 80 B/point above the input at 1e7" "$(not_run)" "not measure
   echo "\`pcd_to_mesh --no-lattice\`: the grid path), one thread, the same points, the same"
   echo "triangle set (tests/core/test_lattice_triangulation.cpp). By"
   echo "tools/bench/run_lattice_bench.sh: rounds interleaved (lattice, grid path, CGAL), the"
-  echo "minimum of $raster_rounds rounds per figure (1 round above 1e7 cells); wall clock and"
+  echo "minimum of $raster_rounds rounds per figure (1 round above 1e7 cells, 15 below 200000 points); wall clock and"
   echo "process CPU time (user + system) both. Synthetic raster: square, spacing 1, rows from"
   echo "the top like an .asc, NODATA ellipses (one per 20000 cells, radii 0.5 to 12.5 cells)"
   echo "and 0.1 % single-cell dropouts (\`bench_triangulation METHOD raster N\`); CGAL and the"
@@ -760,9 +802,9 @@ else t15 "memory <= 80 B/point above the input at 1e7" "$(not_run)" "not measure
         if [ "$st" = ok ]; then
           tot=$(calc "%.2f" "$a + $b")
           bpt=$(num "$d" && calc "%.0f" "($c - $d) * 1048576 / $n" || echo "-")
-          echo "| ${label[$id]} | $n | $name | $tot ($b) | $(calc "%.0f" "1e9 * $tot / $n") | $(speedup "$(cgal_s "$id")" "$tot")x | $(val "$id|vts|1" seconds) | $c | $bpt |"
+          echo "| ${label[$id]} | $n | $name | $tot ($b) | $(calc "%.0f" "1e9 * $tot / $n") | $(speedup "$(cgal_s "$id")" "$tot")x | $(shown "$id|vts|1") | $c | $bpt |"
         else
-          echo "| ${label[$id]} | $n | $name | $a | - | - | $(val "$id|vts|1" seconds) | - | - |"
+          echo "| ${label[$id]} | $n | $name | $a | - | - | $(shown "$id|vts|1") | - | - |"
         fi
       done
     done

@@ -14,7 +14,8 @@
 # Usage: tools/bench/run_lattice_bench.sh BUILD_DIR [MAX_CELLS [ROUNDS]]
 #   (from the repository root) MAX_CELLS: largest synthetic raster (1e6, 1e7, 1e8 as
 #   far as this; a single raster of MAX_CELLS cells when it is below 1e6; default 1e7).
-#   ROUNDS: default 3 (1 above 1e7 cells). BENCH_DATA: default ../shared/data.
+#   ROUNDS: default 3 (1 above 1e7 cells; BENCH_RASTER_SMALL_ROUNDS, default 15, for
+#   a raster of under 200000 points). BENCH_DATA: default ../shared/data.
 #   BENCH_CGAL_MAX_CELLS: no CGAL run on a synthetic raster above this (default: what
 #   MemAvailable holds at 220 bytes per point: CGAL takes about 170 above the input).
 #   BENCH_GRID_MAX_CELLS: the same for the grid path (default: 130 bytes per point).
@@ -25,6 +26,8 @@ set -euo pipefail
 build=${1:-build}
 max_cells=$(awk -v v="${2:-1e7}" 'BEGIN{printf "%d", v}')
 rounds=${3:-3}
+small_points=200000
+small_rounds=${BENCH_RASTER_SMALL_ROUNDS:-15}
 avail=$(awk '/MemAvailable/{print $2 * 1024}' /proc/meminfo)
 cgal_max=$(awk -v v="${BENCH_CGAL_MAX_CELLS:-$(awk -v a="$avail" 'BEGIN{printf "%d", a / 220}')}" 'BEGIN{printf "%d", v}')
 grid_max=$(awk -v v="${BENCH_GRID_MAX_CELLS:-$(awk -v a="$avail" 'BEGIN{printf "%d", a / 130}')}" 'BEGIN{printf "%d", v}')
@@ -46,7 +49,7 @@ minimum() { awk 'NR == 1 || $1 < m {m = $1} END {if (NR) printf "%.6f", m; else 
 
 # row LABEL ARGS...: one table row for bench_triangulation METHOD ARGS...
 row() {
-  local label=$1 method line n="" fringe="" pieces cells
+  local label=$1 method line n="" fringe="" cells
   shift
   cells=$(awk -v v="${2:-0}" 'BEGIN{printf "%d", v}')
   declare -A times=([vts]="" [vts-grid]="" [cgal]="") cpus=([vts]="" [vts-grid]="" [cgal]="")
@@ -69,6 +72,10 @@ row() {
         [ "$(field "$line" lattice)" = true ] || fringe="(not a lattice)"
       fi
     done
+    # A raster of under SMALL_POINTS points runs in a millisecond or less, where one
+    # timer tick or preemption moves a ratio by tens of per cent: more rounds.
+    if [ "$r" -eq 0 ] && [ -n "$n" ] && [ "$n" -lt "$small_points" ] &&
+      [ "$row_rounds" -lt "$small_rounds" ]; then row_rounds=$small_rounds; fi
   done
   local v g c vc cc
   v=$(printf '%s' "${times[vts]}" | minimum)
