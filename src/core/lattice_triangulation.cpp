@@ -190,7 +190,8 @@ struct Lattice {
   /// 1) of them) before each cell row. A cell's rank in its row is counted while its
   /// row is walked: no per-cell array.
   std::vector<std::size_t> row_start;
-  std::vector<std::size_t> incomplete; ///< the other cells, sorted
+  /// The other cells, sorted (cell ids fit 32 bits: positions are below INVALID_ID).
+  std::vector<std::uint32_t> incomplete;
   /// Each lattice row's first present position and one past its last (columns):
   /// every position outside them is absent.
   std::vector<std::uint32_t> row_first, row_end;
@@ -666,13 +667,21 @@ bool fullRow(const VertexId* row, std::uint32_t nx)
          row[nx - 1] - row[0] == nx - 1;
 }
 
-/// The complete cells' row offsets, the incomplete cells.
+/// The complete cells' row offsets, the incomplete cells. One thread lists them
+/// straight into lat.incomplete, reserved for every cell (only the pages written are
+/// faulted in): no copies of a growing list (on zSW3.asc's 35 k incomplete cells the
+/// list's regrowth and the copy of the per-thread lists faulted in about 190 pages);
+/// several list theirs per chunk, joined in row order.
 void rankCompleteCells(Lattice& lat, unsigned threads)
 {
   const std::uint32_t cx = lat.nx - 1, cy = lat.ny - 1;
   lat.row_start.assign(static_cast<std::size_t>(cy) + 1, 0);
-  std::vector<std::vector<std::size_t>> incomplete(std::max(1u, threads));
+  const unsigned parts = std::max(1u, threads);
+  std::vector<std::vector<std::uint32_t>> incomplete(parts > 1 ? parts : 0);
+  if (parts == 1)
+    lat.incomplete.reserve(lat.cellCount());
   parallelChunks(threads, cy, [&](std::size_t begin, std::size_t end, unsigned t) {
+    std::vector<std::uint32_t>& list = parts == 1 ? lat.incomplete : incomplete[t];
     for (auto j = static_cast<std::uint32_t>(begin); j < end; ++j) {
       const VertexId* below = &lat.vertex_at[lat.position(0, j)];
       const VertexId* above = below + lat.nx;
@@ -681,6 +690,7 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
         lat.row_start[j + 1] = cx; // every cell complete
         continue;
       }
+      const auto row = static_cast<std::uint32_t>(lat.cell(0, j));
       std::uint32_t i = 0;
 #if defined(__SSE2__)
       // Four cells at a time: a lane is set where a corner is missing.
@@ -698,8 +708,7 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
         auto bits = static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(m)));
         count += 4u - SET_BITS[bits];
         for (; bits != 0; bits &= bits - 1)
-          incomplete[t].push_back(
-              lat.cell(i + static_cast<std::uint32_t>(__builtin_ctz(bits)), j));
+          list.push_back(row + i + static_cast<std::uint32_t>(__builtin_ctz(bits)));
       }
 #endif
       for (; i < cx; ++i)
@@ -707,13 +716,13 @@ void rankCompleteCells(Lattice& lat, unsigned threads)
             above[i] != INVALID_ID && above[i + 1] != INVALID_ID)
           ++count;
         else
-          incomplete[t].push_back(lat.cell(i, j));
+          list.push_back(row + i);
       lat.row_start[j + 1] = count;
     }
   });
   for (std::uint32_t j = 0; j < cy; ++j)
     lat.row_start[j + 1] += lat.row_start[j];
-  for (const std::vector<std::size_t>& part : incomplete) // chunks in row order
+  for (const std::vector<std::uint32_t>& part : incomplete) // chunks in row order
     lat.incomplete.insert(lat.incomplete.end(), part.begin(), part.end());
 }
 
@@ -729,7 +738,7 @@ struct CellRow {
   HalfedgeId first = 0; ///< the row's first triangle
   std::vector<HalfedgeId> idx;
   /// PARTIAL: the row's incomplete cells in lat.incomplete, the row's first cell id.
-  const std::size_t *incomplete_begin = nullptr, *incomplete_end = nullptr;
+  const std::uint32_t *incomplete_begin = nullptr, *incomplete_end = nullptr;
   std::size_t cell0 = 0;
 
   void index(const Lattice& lat, std::int64_t r)
@@ -870,7 +879,7 @@ void emitRun(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
         open.push_back(start + 6 * (c - i0) + k);
       return;
     }
-    for (const std::size_t* it =
+    for (const std::uint32_t* it =
              std::lower_bound(row.incomplete_begin, row.incomplete_end, row.cell0 + i0);
          it != row.incomplete_end && *it < row.cell0 + i1; ++it)
       open.push_back(start + 6 * static_cast<HalfedgeId>(*it - row.cell0 - i0) + k);
@@ -1117,7 +1126,7 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
   // lattice border, cells beyond it do not count: the border vertex's cells inside
   // being complete, its neighbours along the border are present, every point lies
   // on the inner side of the border line, and those cells cover the hull around it).
-  const std::vector<std::size_t>& cells = lat_.incomplete;
+  const std::vector<std::uint32_t>& cells = lat_.incomplete;
   const std::uint32_t cx = lat_.nx - 1, cy = lat_.ny - 1;
   // The components from the runs of incomplete cells along each row: two runs in
   // consecutive rows touch (by an edge or a corner) when their column ranges,
@@ -1131,7 +1140,7 @@ void Fringe::labelPieces(std::vector<Piece>& pieces)
   // The first run of each cell row (cy + 1 entries: the corners below are listed
   // row by row from them).
   std::vector<std::size_t> row_runs(static_cast<std::size_t>(cy) + 1, 0);
-  for (const std::size_t c : cells) {
+  for (const std::uint32_t c : cells) {
     const auto i = static_cast<std::uint32_t>(c % cx),
                j = static_cast<std::uint32_t>(c / cx);
     if (runs.empty() || runs.back().j != j || runs.back().i1 != i) {
