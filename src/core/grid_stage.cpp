@@ -16,6 +16,10 @@
 #include <string>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace pcl_vts {
 namespace {
 
@@ -69,10 +73,20 @@ struct Input {
   std::size_t count;
   double x(std::size_t k) const { return xyz[3 * k]; }
   double y(std::size_t k) const { return xyz[3 * k + 1]; }
+  Point2 point(std::size_t k) const { return {xyz[3 * k], xyz[3 * k + 1]}; }
   std::uint32_t sourceOf(std::size_t k) const
   {
     return source != nullptr ? source[k] : static_cast<std::uint32_t>(k);
   }
+};
+
+/// The points and input indices staged in the grid's own slots by the band scatter
+/// (GridBuilder::sortBand's records, Input's interface).
+struct StagedSlots {
+  const Point2* points;
+  const std::uint32_t* source;
+  Point2 point(std::size_t k) const { return points[k]; }
+  std::uint32_t sourceOf(std::size_t k) const { return source[k]; }
 };
 
 /// One chunk's share of the first pass.
@@ -82,6 +96,65 @@ struct Scan {
   std::size_t finite = 0;
   std::size_t out_of_range = std::numeric_limits<std::size_t>::max(); ///< first one
 };
+
+/// The first pass over points [begin, end) of xyz, one by one.
+Scan scanPoints(const double* xyz, std::size_t begin, std::size_t end)
+{
+  Scan s;
+  for (std::size_t k = begin; k < end; ++k) {
+    const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h))
+      continue;
+    if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE) {
+      s.out_of_range = k;
+      break;
+    }
+    ++s.finite;
+    s.xmin = std::min(s.xmin, x);
+    s.xmax = std::max(s.xmax, x);
+    s.ymin = std::min(s.ymin, y);
+    s.ymax = std::max(s.ymax, y);
+  }
+  return s;
+}
+
+/// scanPoints without a branch a point: x and y in the two lanes of one register, the
+/// bounds by minpd(p, low) = (p < low ? p : low), std::min(low, p)'s rule (a tie
+/// keeps the first value met), maxpd likewise; a point with a non-finite coordinate or
+/// |x| or |y| beyond MAX_ABS_COORDINATE only noted. When one was met the points are
+/// scanned again one by one (scanPoints): the same Scan in every case.
+Scan scanFinitePoints(const double* xyz, std::size_t begin, std::size_t end)
+{
+#if defined(__SSE2__)
+  const double inf = std::numeric_limits<double>::infinity();
+  __m128d low = _mm_set1_pd(inf), high = _mm_set1_pd(-inf);
+  const __m128d magnitude =
+      _mm_castsi128_pd(_mm_set1_epi64x(std::numeric_limits<std::int64_t>::max()));
+  const __m128d limit = _mm_set1_pd(MAX_ABS_COORDINATE);
+  __m128d beyond = _mm_setzero_pd();  // a lane all ones once |x| or |y| failed
+  __m128d heights = _mm_setzero_pd(); // the sum of h - h: NaN once h is not finite
+  for (std::size_t k = begin; k < end; ++k) {
+    const __m128d p = _mm_loadu_pd(xyz + 3 * k);
+    const __m128d h = _mm_load_sd(xyz + 3 * k + 2);
+    low = _mm_min_pd(p, low);
+    high = _mm_max_pd(p, high);
+    beyond = _mm_or_pd(beyond, _mm_cmpnle_pd(_mm_and_pd(p, magnitude), limit));
+    heights = _mm_add_sd(heights, _mm_sub_sd(h, h));
+  }
+  beyond = _mm_or_pd(beyond, _mm_cmpunord_pd(heights, heights)); // its high lane 0
+  if (_mm_movemask_pd(beyond) != 0)
+    return scanPoints(xyz, begin, end);
+  Scan s;
+  s.finite = end - begin;
+  s.xmin = _mm_cvtsd_f64(low);
+  s.ymin = _mm_cvtsd_f64(_mm_unpackhi_pd(low, low));
+  s.xmax = _mm_cvtsd_f64(high);
+  s.ymax = _mm_cvtsd_f64(_mm_unpackhi_pd(high, high));
+  return s;
+#else
+  return scanPoints(xyz, begin, end);
+#endif
+}
 
 /// Cells of up to this many points are sorted by insertion.
 constexpr std::uint32_t INSERTION_SORT_MAX = 16;
@@ -221,7 +294,7 @@ bool sampleKeepsCellSize(const Input& in, double xmin, double ymin, double width
 class GridBuilder {
  public:
   GridBuilder(const double* xyz, DuplicateRule rule, unsigned threads, GridStage& stage,
-              std::vector<VertexId>& input_to_vertex)
+              std::vector<VertexId>* input_to_vertex)
       : xyz_(xyz)
       , rule_(rule)
       , threads_(threads)
@@ -241,7 +314,10 @@ class GridBuilder {
  private:
   void makeBands(const Input& in, unsigned chunks, std::vector<std::uint32_t>& rows,
                  std::vector<std::uint32_t>& chunk_offsets);
-  void sortBand(std::size_t b, BandScratch& scratch);
+  /// \param staged the band's records from its first slot on (point(k), sourceOf(k)
+  ///        for slot k): StagedSlots, or the Input itself when it is the only band
+  template <typename Staged>
+  void sortBand(std::size_t b, BandScratch& scratch, const Staged& staged);
   /// Folds the runs of equal XY of sorted slots [begin, end) of (points, records)
   /// into the grid's slots [out, ...): the new out. sources: the input index of each
   /// record; assign(record, v) for each record of a run of two or more: its record
@@ -259,7 +335,7 @@ class GridBuilder {
   unsigned threads_;
   CellGrid& grid_;
   GridStage& stage_;
-  std::vector<VertexId>& input_to_vertex_;
+  std::vector<VertexId>* input_to_vertex_; ///< nullptr: not built
   Bands bands_;
   unsigned workers_ = 1; ///< threads of the band sort
   std::vector<BandResult> results_;
@@ -331,7 +407,8 @@ std::size_t GridBuilder::run(const Input& in, std::size_t inputs,
   // The output arrays, zero-filled (page faults and all) by up to two threads at
   // once: the points on one, the sources and cells on the other. The scatter below
   // stages each point and its input index in the slots of its band in the points and
-  // the sources themselves: no other copy of the input. Each array faulted in a
+  // the sources themselves: no other copy of the input (one band is sorted from the
+  // input itself: no scatter). Each array faulted in a
   // chunk ahead of its fill (fillPopulated) instead of a trap per page.
   const unsigned fillers = std::min(chunks, 2u);
   runTeam(fillers, [&](unsigned w) {
@@ -342,30 +419,38 @@ std::size_t GridBuilder::run(const Input& in, std::size_t inputs,
       detail::fillPopulated(grid_.cell_start, grid_.cellCount() + 1);
     }
   });
-  Point2* staged = grid_.points.data();
-  std::uint32_t* staged_source = stage_.source.data();
-  parallelChunks(chunks, m, [&](std::size_t begin, std::size_t end, unsigned t) {
-    std::uint32_t* at = &offsets[t * band_count];
-    const std::uint32_t* band_of_row = bands_.of_row.data();
-    const CellLookup lookup(grid_);
-    for (std::size_t k = begin; k < end; ++k) {
-      const double x = in.x(k), y = in.y(k);
-      const std::uint32_t record = at[band_of_row[lookup.row(y)]]++;
-      staged[record] = {x, y};
-      staged_source[record] = in.sourceOf(k);
-    }
-  });
   results_.assign(band_count, BandResult{});
   startCellPyramid(grid_.nx, grid_.ny, stage_.pyramid); // the band sort marks cells
-  const unsigned workers =
-      static_cast<unsigned>(std::min<std::size_t>(chunks, band_count));
-  workers_ = workers;
-  std::atomic<std::size_t> next{0};
-  runTeam(workers, [&](unsigned) {
+  if (band_count == 1) {
+    // One band: its records are the input's points in order (what the scatter below
+    // would stage, chunks in order), sorted straight from the input.
+    workers_ = 1;
     BandScratch scratch;
-    for (std::size_t b = next++; b < band_count; b = next++)
-      sortBand(b, scratch);
-  });
+    sortBand(0, scratch, in);
+  } else {
+    Point2* staged = grid_.points.data();
+    std::uint32_t* staged_source = stage_.source.data();
+    parallelChunks(chunks, m, [&](std::size_t begin, std::size_t end, unsigned t) {
+      std::uint32_t* at = &offsets[t * band_count];
+      const std::uint32_t* band_of_row = bands_.of_row.data();
+      const CellLookup lookup(grid_);
+      for (std::size_t k = begin; k < end; ++k) {
+        const double x = in.x(k), y = in.y(k);
+        const std::uint32_t record = at[band_of_row[lookup.row(y)]]++;
+        staged[record] = {x, y};
+        staged_source[record] = in.sourceOf(k);
+      }
+    });
+    const unsigned workers =
+        static_cast<unsigned>(std::min<std::size_t>(chunks, band_count));
+    workers_ = workers;
+    std::atomic<std::size_t> next{0};
+    runTeam(workers, [&](unsigned) {
+      BandScratch scratch;
+      for (std::size_t b = next++; b < band_count; b = next++)
+        sortBand(b, scratch, StagedSlots{staged, staged_source});
+    });
+  }
   std::size_t occupied = 0;
   for (const BandResult& result : results_)
     occupied += result.occupied;
@@ -405,7 +490,7 @@ std::uint32_t GridBuilder::mergeCell(const Point2* points, const std::uint32_t* 
             best = q;
       }
     }
-    if (run_end - k > 1)
+    if (run_end - k > 1 && input_to_vertex_ != nullptr)
       for (std::uint32_t q = k; q < run_end; ++q)
         assign(records[q], out);
     grid_points[out] = points[k];
@@ -416,7 +501,8 @@ std::uint32_t GridBuilder::mergeCell(const Point2* points, const std::uint32_t* 
   return out;
 }
 
-void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
+template <typename Staged>
+void GridBuilder::sortBand(std::size_t b, BandScratch& scratch, const Staged& staged)
 {
   const std::uint32_t bs = bands_.start[b], be = bands_.start[b + 1];
   const std::uint32_t r0 = bands_.first_row[b];
@@ -442,10 +528,10 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
   std::uint32_t* sources = scratch.sources.data();
   const CellLookup lookup(grid_);
   for (std::uint32_t r = 0; r < n; ++r) {
-    const Point2 p = grid_points[bs + r];
+    const Point2 p = staged.point(bs + r);
     cell[r] =
         static_cast<std::uint32_t>((lookup.row(p.y) - r0) * nx) + lookup.column(p.x);
-    sources[r] = source[bs + r];
+    sources[r] = staged.sourceOf(bs + r);
     ++count[cell[r] + 1];
   }
   // The cells' starts as if no point were merged (clustered input has several empty
@@ -459,7 +545,7 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
   std::uint32_t* slot = scratch.records.data();
   for (std::uint32_t r = 0; r < n; ++r) {
     const std::uint32_t at = count[cell[r]]++;
-    points[at] = grid_points[bs + r];
+    points[at] = staged.point(bs + r);
     slot[at] = r;
   }
   // count[c] is now cell c's end. Each occupied cell, in order: sort, merge equal XY
@@ -471,8 +557,10 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
   // to the next occupied one are rewritten.
   BandResult& result = results_[b];
   std::vector<std::pair<std::uint32_t, std::uint32_t>>& merged = result.merged;
-  const auto vertex = [&merged, sources](std::uint32_t record, std::uint32_t v) {
-    merged.emplace_back(sources[record], v);
+  const bool map = input_to_vertex_ != nullptr;
+  const auto vertex = [&merged, sources, map](std::uint32_t record, std::uint32_t v) {
+    if (map)
+      merged.emplace_back(sources[record], v);
   };
   // Each occupied cell also sets its bit of the pyramid's level 0 (the band's rows
   // are whole words of it: no word is shared with another band).
@@ -514,6 +602,32 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch)
       grid_points[out] = points[begin];
       source[out] = sources[slot[begin]];
       ++out;
+    } else if (end - begin == 2) { // sortSmallCell and mergeCell for two points
+      const Point2 p = points[begin], q = points[begin + 1];
+      const std::uint32_t rp = slot[begin], rq = slot[begin + 1]; // rp < rq
+      if (p == q) {
+        // mergeCell's representative: q only when its z is strictly better (a tie
+        // goes to the smaller record, p's).
+        std::uint32_t best = rp;
+        if (rule_ == DuplicateRule::LOWEST_Z || rule_ == DuplicateRule::HIGHEST_Z) {
+          const double zp = xyz_[3 * std::size_t{sources[rp]} + 2];
+          const double zq = xyz_[3 * std::size_t{sources[rq]} + 2];
+          if (rule_ == DuplicateRule::LOWEST_Z ? zq < zp : zq > zp)
+            best = rq;
+        }
+        vertex(rp, out);
+        vertex(rq, out);
+        grid_points[out] = p;
+        source[out] = sources[best];
+        ++out;
+      } else {
+        const bool swap = lexLess(q, p);
+        grid_points[out] = swap ? q : p;
+        source[out] = sources[swap ? rq : rp];
+        grid_points[out + 1] = swap ? p : q;
+        source[out + 1] = sources[swap ? rp : rq];
+        out += 2;
+      }
     } else if (end - begin <= INSERTION_SORT_MAX) { // no quadtree
       if (sortSmallCell(points, slot, begin, end)) {
         out = mergeCell(points, slot, sources, begin, end, out, vertex);
@@ -595,16 +709,17 @@ void GridBuilder::finish(std::size_t inputs)
   stage_.source.resize(distinct);
   // Each input point's vertex, where points were merged: the inverse of the sources,
   // then the merged runs' points (else the caller has the inverse when needed).
-  input_to_vertex_.clear();
-  if (distinct < m) {
-    detail::fillPopulated(input_to_vertex_, inputs, VertexId{INVALID_ID});
+  if (input_to_vertex_ != nullptr && distinct < m) {
+    std::vector<VertexId>& map = *input_to_vertex_;
+    map.clear();
+    detail::fillPopulated(map, inputs, VertexId{INVALID_ID});
     parallelRanges(threads_, distinct, [&](std::size_t v0, std::size_t v1) {
       for (std::size_t v = v0; v < v1; ++v)
-        input_to_vertex_[source[v]] = static_cast<VertexId>(v);
+        map[source[v]] = static_cast<VertexId>(v);
     });
     for (std::size_t b = 0; b < band_count; ++b)
       for (const auto& [input, v] : results_[b].merged)
-        input_to_vertex_[input] = v - shift[b];
+        map[input] = v - shift[b];
   }
   // The quadtrees, in cell order as subdivideCrowdedCells numbers them.
   CellSubdivision& sub = stage_.subdivision;
@@ -635,30 +750,24 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
                       DuplicateRule rule, unsigned threads, GridStage& stage,
                       std::vector<VertexId>& input_to_vertex, Diagnostics& diag)
 {
+  return buildGridStage(xyz, n, cell_size, rule, threads, stage, &input_to_vertex,
+                        diag);
+}
+
+Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
+                      DuplicateRule rule, unsigned threads, GridStage& stage,
+                      std::vector<VertexId>* input_to_vertex, Diagnostics& diag)
+{
   stage = GridStage{};
-  input_to_vertex.clear();
+  if (input_to_vertex != nullptr)
+    input_to_vertex->clear();
   // First pass: the finite points' bounding box, non-finite ones counted, the first
   // coordinate out of range found. Chunks combine in order, as one loop would (a min
   // or max tie keeps the first value: -0.0 and +0.0 stay as a serial loop has them).
   const unsigned chunks = usefulThreads(threads, n);
   std::vector<Scan> scans(chunks);
   parallelChunks(chunks, n, [&](std::size_t begin, std::size_t end, unsigned t) {
-    Scan s;
-    for (std::size_t k = begin; k < end; ++k) {
-      const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
-      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h))
-        continue;
-      if (std::fabs(x) > MAX_ABS_COORDINATE || std::fabs(y) > MAX_ABS_COORDINATE) {
-        s.out_of_range = k;
-        break;
-      }
-      ++s.finite;
-      s.xmin = std::min(s.xmin, x);
-      s.xmax = std::max(s.xmax, x);
-      s.ymin = std::min(s.ymin, y);
-      s.ymax = std::max(s.ymax, y);
-    }
-    scans[t] = s;
+    scans[t] = scanFinitePoints(xyz, begin, end);
   });
   Scan all;
   for (const Scan& s : scans) {
@@ -785,7 +894,8 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
         detail::refinedCellSize(width, height, m, initial, occupied) == initial)
       break;
     stage = GridStage{}; // the sample was wrong: count first
-    input_to_vertex.clear();
+    if (input_to_vertex != nullptr)
+      input_to_vertex->clear();
     count_first = true;
   }
   diag.duplicates_merged = m - grid.points.size();

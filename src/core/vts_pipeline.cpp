@@ -153,8 +153,12 @@ Status runPipeline(const double* xyz, std::size_t n, const VtsOptions& options,
   Stopwatch watch;
   const unsigned threads = options.threads > 0 ? options.threads : allCores();
   GridStage stage;
-  if (Status s = buildGridStage(xyz, n, options.cell_size, options.duplicate_rule,
-                                threads, stage, result.input_to_vertex, diag);
+  // The per-input map only where it is kept (input_map) or read (the mean heights).
+  const bool map_needed =
+      options.input_map || options.duplicate_rule == DuplicateRule::MEAN_Z;
+  if (Status s =
+          buildGridStage(xyz, n, options.cell_size, options.duplicate_rule, threads,
+                         stage, map_needed ? &result.input_to_vertex : nullptr, diag);
       !s.ok())
     return s;
   const CellGrid& grid = stage.grid;

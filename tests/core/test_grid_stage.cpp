@@ -237,6 +237,59 @@ TEST(GridStage, SameAsTheReferenceOnOtherShapesAndCellSizes)
   }
 }
 
+/// An input of one band (sorted straight from the input, no scatter into bands), every
+/// point finite (the first pass's branch-free loop), half of the XY given twice as by
+/// two passes over the same ground (another z, the same z one time in five: cells of
+/// two equal points take their own path) and -0.0 against +0.0 at the smallest x, in
+/// either order: the reference's stage for every rule and thread count, and the same
+/// stage from the overload that builds no per-input map.
+TEST(GridStage, OneBandOfPairsWithAndWithoutTheMap)
+{
+  for (const bool negative_first : {true, false}) {
+    std::mt19937_64 rng(negative_first ? 3 : 4);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const std::size_t distinct = 12000;
+    std::vector<double> xyz;
+    for (std::size_t k = 0; k < distinct; ++k) {
+      const double x = k == 0   ? (negative_first ? -0.0 : 0.0)
+                       : k == 1 ? (negative_first ? 0.0 : -0.0)
+                                : 1.0 + 100.0 * unit(rng);
+      xyz.insert(xyz.end(), {x, 100.0 * unit(rng), unit(rng)});
+    }
+    for (std::size_t k = 2; k < distinct; k += 2) // the zeros once: the first one wins
+      xyz.insert(xyz.end(), {xyz[3 * k], xyz[3 * k + 1],
+                             k % 10 == 0 ? xyz[3 * k + 2] : unit(rng)});
+    const std::size_t n = xyz.size() / 3;
+    for (const DuplicateRule rule : {DuplicateRule::LOWEST_Z, DuplicateRule::HIGHEST_Z,
+                                     DuplicateRule::MEAN_Z, DuplicateRule::FIRST}) {
+      GridStage expected;
+      std::vector<VertexId> expected_map;
+      ASSERT_TRUE(referenceStage(xyz, 0.0, rule, expected, expected_map).ok());
+      ASSERT_EQ(expected.grid.points.size(), distinct);
+      ASSERT_EQ(expected.grid.origin_x, 0.0);
+      ASSERT_EQ(std::signbit(expected.grid.origin_x), negative_first);
+      for (const unsigned threads : {1u, 2u, 3u}) {
+        const std::string what = std::string(duplicateRuleName(rule)) + " threads " +
+                                 std::to_string(threads) +
+                                 (negative_first ? " -0 first " : " +0 first ");
+        GridStage stage;
+        std::vector<VertexId> map;
+        Diagnostics diag;
+        ASSERT_TRUE(
+            buildGridStage(xyz.data(), n, 0.0, rule, threads, stage, map, diag).ok());
+        expectSameStage(stage, map, expected, expected_map, what);
+        GridStage without;
+        Diagnostics without_diag;
+        ASSERT_TRUE(buildGridStage(xyz.data(), n, 0.0, rule, threads, without, nullptr,
+                                   without_diag)
+                        .ok());
+        expectSameStage(without, map, expected, expected_map, what + "no map ");
+        EXPECT_EQ(without_diag.duplicates_merged, diag.duplicates_merged) << what;
+      }
+    }
+  }
+}
+
 /// The grid stage guesses from every 64th point whether the automatic cell size stays
 /// and then lets the band sort count the occupied cells. Here that sample is uniform
 /// while the other points pile up in a small patch: the count refines the size after

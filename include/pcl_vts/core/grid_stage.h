@@ -47,4 +47,13 @@ PCL_VTS_CORE_EXPORT Status buildGridStage(const double* xyz, std::size_t n,
                                           std::vector<VertexId>& input_to_vertex,
                                           Diagnostics& diag);
 
+/// buildGridStage without the per-input map when input_to_vertex is nullptr (the
+/// same grid stage, less the merged points' bookkeeping): for a caller that needs
+/// neither the map nor the merged points' mean height.
+PCL_VTS_CORE_EXPORT Status buildGridStage(const double* xyz, std::size_t n,
+                                          double cell_size, DuplicateRule rule,
+                                          unsigned threads, GridStage& stage,
+                                          std::vector<VertexId>* input_to_vertex,
+                                          Diagnostics& diag);
+
 } // namespace pcl_vts
