@@ -13,6 +13,7 @@
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 
 #if defined(__SSE2__)
@@ -185,7 +186,8 @@ bool VertexRows::build(const TriangleMesh& mesh, std::vector<HalfedgeId>* bounda
        (2 * mesh.triangles.size() < std::numeric_limits<std::uint32_t>::max()
             ? fill(mesh, start32_, boundary, need, edge_limit2)
             : fill(mesh, start64_, boundary, need, edge_limit2)));
-  if (slotted != Built::ROWS)
+  slotted_ = slotted == Built::ROWS;
+  if (!slotted_)
     first32_ = start32_.data();
   if (!built && boundary != nullptr)
     boundary->clear();
@@ -206,14 +208,25 @@ struct LongRowEntry {
   std::int16_t entry;
 };
 
-/// Entry j of v's row, past the slot, into the side list; false for a row of 255
-/// entries (its count byte would wrap). Out of line and cold, taking its values by
-/// copy (see VertexRows::noteFar).
-[[gnu::cold, gnu::noinline]] bool
+/// Entry j of v's row, past the slot, into the side list. Out of line and cold,
+/// taking its values by copy (see VertexRows::noteFar).
+[[gnu::cold, gnu::noinline]] void
 noteLongRow(std::vector<LongRowEntry>& list, VertexId v, unsigned j, std::int16_t entry)
 {
   list.push_back({v, j, entry});
-  return j < 255;
+}
+
+/// A count byte holds a row's size up to FULL_COUNT; the entries of a longer row
+/// past it are counted in a side map (the convex hull's fans: a corner of a
+/// lattice's ragged last row sees a whole row below it).
+constexpr unsigned FULL_COUNT = 255;
+
+/// The index in v's row of its next entry once its count byte is full: FULL_COUNT
+/// plus the entries already past it (which `past` counts).
+[[gnu::cold, gnu::noinline]] unsigned
+nextPastFullCount(std::unordered_map<VertexId, std::uint32_t>& past, VertexId v)
+{
+  return FULL_COUNT + past[v]++;
 }
 
 /// The need slots of n vertices, all 0 (VertexRows::build's `need`), their pages
@@ -259,7 +272,8 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
       return Built::BAD_CORNER; // a corner past the last triangle
   const ScratchBlock lent = scratch_;
   // Vertex v's slot: entries SLOTS v to SLOTS v + SLOTS - 1, filled from the last;
-  // count[v] entries so far (all of them, those past the slot in `long_rows`).
+  // count[v] entries so far (all of them, those past the slot in `long_rows`; past
+  // FULL_COUNT, the rest in `past_full`).
   ScratchArray<std::int16_t> slots = scratchArray<std::int16_t>(SLOTS * n, scratch_);
   // The count bytes die with build: in the temporary memory when it holds them.
   ScratchArray<RowCount> bytes = scratchArray<RowCount>(n, temporary_);
@@ -268,6 +282,7 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
   if constexpr (NEED)
     zeroNeeds(*need, n);
   std::vector<LongRowEntry> long_rows;
+  std::unordered_map<VertexId, std::uint32_t> past_full; // entries past FULL_COUNT
   // As fill's: ids once more than one neighbour in 2048 is farther than 32767 ids.
   const std::size_t far_limit = corners / 2048;
   // The slots (and the needs, the points) a corner writes fetched AHEAD triangles
@@ -289,8 +304,11 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
     bool stop = false;
     auto put = [&](VertexId v, VertexId u) __attribute__((always_inline))
     {
-      const auto j = static_cast<unsigned>(counts[v]);
-      counts[v] = static_cast<RowCount>(j + 1);
+      auto j = static_cast<unsigned>(counts[v]);
+      if (__builtin_expect(j < FULL_COUNT, 1))
+        counts[v] = static_cast<RowCount>(j + 1);
+      else
+        j = nextPastFullCount(past_full, v);
       constexpr std::int64_t NEAR = std::numeric_limits<std::int16_t>::max();
       const std::int64_t offset =
           static_cast<std::int64_t>(u) - static_cast<std::int64_t>(v);
@@ -299,12 +317,14 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
                                static_cast<std::uint64_t>(2 * NEAR),
                            0)) {
         entry = FAR;
-        stop = stop || !noteFar((std::size_t{v} << 8) | j, v, u, far_limit);
+        // Listed by its place in the first 256 (8 bits); past them, the counting sort.
+        stop = stop || j > FULL_COUNT ||
+               !noteFar((std::size_t{v} << 8) | j, v, u, far_limit);
       }
       if (__builtin_expect(j < SLOTS, 1))
         slot[SLOTS * std::size_t{v} + (SLOTS - 1 - j)] = entry;
       else
-        stop = stop || !noteLongRow(long_rows, v, j, entry);
+        noteLongRow(long_rows, v, j, entry);
     };
     // Triangle t (its corners from e, checked): its entries, and its need (t_need)
     // into its corners' slots.
@@ -424,7 +444,15 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
       boundary->clear();
     return scattered;
   }
-  // The packing: row v is the last count[v] entries of its slot (at most SLOTS),
+  // Row v's size: its count byte, and for a full one the entries counted past it.
+  const auto rowSize = [&](std::size_t v) -> std::size_t {
+    const auto size = static_cast<std::size_t>(count[v]);
+    if (__builtin_expect(size < FULL_COUNT, 1))
+      return size;
+    const auto more = past_full.find(static_cast<VertexId>(v));
+    return size + (more != past_full.end() ? more->second : 0);
+  };
+  // The packing: row v is the last rowSize(v) entries of its slot (at most SLOTS),
   // after its entries from the side list, at the sum of the rows before it. Its
   // slot's SLOTS entries are moved as one block, read from where the row's slot
   // entries start (so past them lie the next slot's first entries, overwritten by
@@ -446,7 +474,7 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
   };
   std::size_t v = 0;
   for (; v + 1 < n; ++v) {
-    const auto size = static_cast<std::size_t>(count[v]);
+    const std::size_t size = rowSize(v);
     const std::size_t in_slot = std::min<std::size_t>(size, SLOTS);
     const std::size_t to = at + size - in_slot; // the slot's entries' place
     if (__builtin_expect(row == slot && to > SLOTS * v, 0)) {
@@ -460,7 +488,7 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
     at += size;
   }
   { // the last row: its slot's entries alone (no slot follows it)
-    const auto size = static_cast<std::size_t>(count[v]);
+    const std::size_t size = rowSize(v);
     const std::size_t in_slot = std::min<std::size_t>(size, SLOTS);
     std::memmove(row + at + size - in_slot, slot + SLOTS * v + (SLOTS - in_slot),
                  in_slot * sizeof(std::int16_t));
@@ -494,7 +522,7 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
   std::size_t sum = 0;
   for (std::size_t u = 0; u < n; ++u) {
     first[u] = static_cast<std::uint32_t>(sum);
-    sum += static_cast<std::size_t>(count[u]);
+    sum += rowSize(u);
   }
   first[n] = static_cast<std::uint32_t>(sum);
   first32_ = first;

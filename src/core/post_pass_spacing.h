@@ -306,6 +306,8 @@ class VertexRows {
   /// The vertices, in increasing order, whose rows hold an entry that rowEntry does
   /// not decode (a neighbour more than 32767 ids away in the 16-bit entries).
   const std::vector<VertexId>& wideRows() const { return wide_rows_; }
+  /// Whether the last build was the slotted one (for the tests).
+  bool slotted() const { return slotted_; }
   /// Entry k of v's row, in any row.
   VertexId entry(std::size_t v, std::size_t k) const;
 
@@ -324,9 +326,10 @@ class VertexRows {
   /// build in one scatter instead of a count and a scatter: each vertex's entries go
   /// to a slot of SLOTS 16-bit entries (from its end: the counting sort's order) and
   /// a count byte, the few beyond SLOTS to a side list, and one sequential pass packs
-  /// the slots into the rows, in place. NOT_SLOTTED, nothing kept, where the design
-  /// does not apply (a row of more than 255 entries, too many far neighbours for the
-  /// 16-bit entries, 32-bit starts too narrow): fill builds the rows then.
+  /// the slots into the rows, in place (a row of more than 255 entries counted past
+  /// its full count byte in a side map). NOT_SLOTTED, nothing kept, where the design
+  /// does not apply (too many far neighbours for the 16-bit entries, a far one past
+  /// a row's 256th entry, 32-bit starts too narrow): fill builds the rows then.
   template <bool NEED>
   Built fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundary,
                   std::vector<double>* need, double edge_limit2);
@@ -356,6 +359,7 @@ class VertexRows {
   ScratchBlock scratch_;
   ScratchBlock temporary_;
   bool slots_allowed_ = true;
+  bool slotted_ = false;
 };
 
 /// The vertex of entry k of v's row (VertexRows::visitRows).

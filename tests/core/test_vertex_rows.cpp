@@ -3,8 +3,9 @@
 // same starts, entries, far-neighbour lists, needs and boundary list as the counting
 // sort, on triangulations and on meshes made to reach each of its rules: rows longer
 // than the slots, a long row at the first vertex (the packing cannot stay in place),
-// far neighbours in and past the slots, too many far neighbours (32-bit ids), a row
-// of more than 255 entries (the counting sort builds it), a corner that is no vertex.
+// far neighbours in and past the slots, too many far neighbours (32-bit ids), rows
+// of more than 255 entries (past the full count byte), a far neighbour past a row's
+// 256th entry (the counting sort builds those rows), a corner that is no vertex.
 #include "../../src/core/post_pass_spacing.h"
 #include "support/generators.h"
 #include "support/mesh_shuffle.h"
@@ -28,6 +29,7 @@ namespace {
 /// Everything a build leaves for its readers.
 struct BuiltRows {
   bool built = false;
+  bool slotted = false; ///< built by the slotted scatter
   std::vector<std::size_t> begins;
   std::vector<VertexId> entries; ///< entry(v, k), row after row
   std::vector<std::int64_t> raw; ///< visitRows' entries as stored
@@ -49,6 +51,7 @@ BuiltRows buildRows(const TriangleMesh& mesh, bool slots, bool with_need,
                          with_need ? &need : nullptr, 2.5e3);
   if (!out.built)
     return out;
+  out.slotted = rows.slotted();
   const std::size_t n = mesh.vertexCount();
   for (std::size_t v = 0; v <= n; ++v)
     out.begins.push_back(rows.begin(v));
@@ -175,15 +178,58 @@ TEST(VertexRows, SlottedEqualsCountedWithLongRowsAtTheFirstVertices)
   }
 }
 
+/// The vertices and triangles of a, then those of b (ids and twins shifted).
+TriangleMesh joined(const TriangleMesh& a, const TriangleMesh& b)
+{
+  TriangleMesh out = a;
+  const auto vertices = static_cast<VertexId>(a.vertexCount());
+  const auto halfedges = static_cast<HalfedgeId>(a.halfedges.size());
+  out.xy.insert(out.xy.end(), b.xy.begin(), b.xy.end());
+  out.z.insert(out.z.end(), b.z.begin(), b.z.end());
+  for (const VertexId v : b.triangles)
+    out.triangles.push_back(v + vertices);
+  for (const HalfedgeId e : b.halfedges)
+    out.halfedges.push_back(e == INVALID_ID ? INVALID_ID : e + halfedges);
+  return out;
+}
+
 TEST(VertexRows, SlottedEqualsCountedWithMoreThan255Entries)
 {
-  // A row of more than 255 entries does not fit the count bytes: the counting sort
-  // builds the rows.
-  for (const int rim : {255, 256, 300}) {
+  // A row of more than 255 entries fills its count byte: the entries past it are
+  // counted apart, and the slotted build still makes the rows.
+  for (const int rim : {254, 255, 256, 300, 700}) {
     SCOPED_TRACE(rim);
-    EXPECT_TRUE(expectSameRows(star(rim, 0)));
-    EXPECT_TRUE(expectSameRows(star(rim, static_cast<VertexId>(rim / 3))));
+    for (const VertexId centre :
+         {VertexId{0}, static_cast<VertexId>(rim / 3), static_cast<VertexId>(rim)}) {
+      const TriangleMesh mesh = star(rim, centre);
+      EXPECT_TRUE(expectSameRows(mesh));
+      EXPECT_TRUE(buildRows(mesh, true, true, true).slotted);
+    }
   }
+}
+
+TEST(VertexRows, SlottedLeavesAFarNeighbourPastTheRowsFirst256ToTheCountingSort)
+{
+  // A star's centre moved more than 32767 ids from its rim, in a mesh with corners
+  // enough (one in 2048 may be far) for all 600 far entries, the rim's 300 and the
+  // centre's 300: the 16-bit rows with a far list. The centre's entries past its
+  // 256th no longer fit the far list's 8-bit place in the row: the counting sort.
+  const test::PipelineRun run =
+      test::runPipeline(test::generatePoints(test::Distribution::UNIFORM, 230000, 5));
+  ASSERT_TRUE(run.status.ok()) << run.status.toString();
+  const TriangleMesh near = joined(star(300, 0), run.result.mesh);
+  const auto last = static_cast<VertexId>(near.vertexCount() - 1);
+  ASSERT_GT(near.triangles.size() / 2048, 2u * 300u);
+  EXPECT_TRUE(buildRows(near, true, true, true).slotted);
+  const TriangleMesh far = swapped(near, 0, last);
+  EXPECT_TRUE(expectSameRows(far)); // 16-bit entries
+  EXPECT_FALSE(buildRows(far, true, true, true).slotted);
+  // A centre of 255 entries: every far one in place, slotted.
+  const TriangleMesh shorter_near = joined(star(255, 0), run.result.mesh);
+  const TriangleMesh shorter =
+      swapped(shorter_near, 0, static_cast<VertexId>(shorter_near.vertexCount() - 1));
+  EXPECT_TRUE(expectSameRows(shorter));
+  EXPECT_TRUE(buildRows(shorter, true, true, true).slotted);
 }
 
 TEST(VertexRows, SlottedEqualsCountedWithFarNeighbours)
