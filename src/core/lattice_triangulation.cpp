@@ -266,9 +266,29 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
       return OK;
     return std::isfinite(x) && std::isfinite(y) ? OUT_OF_RANGE : DROP;
   };
+  constexpr double MAX = std::numeric_limits<double>::max();
   for (std::size_t k = 0; k < n; ++k) {
     const double x = xyz[3 * k], y = xyz[3 * k + 1], h = xyz[3 * k + 2];
-    if (!(std::fabs(h) <= std::numeric_limits<double>::max())) {
+    const bool next_x = id_x + 1 < x_count && x_values[id_x + 1] == x;
+    // Along a row of a raster: the table's next x value, the row's y, a finite height
+    // (what the tests below find), tested together without a branch each; then the
+    // points after it likewise, while they go on so.
+    if (next_x & (y == last_y) & (std::fabs(h) <= MAX)) {
+      ++id_x;
+      ++finite_count;
+      last_x = x;
+      for (const double* p = xyz + 3 * k + 3;
+           k + 1 < n && id_x + 1 < x_count &&
+           ((x_values[id_x + 1] == p[0]) & (p[1] == last_y) & (std::fabs(p[2]) <= MAX));
+           p += 3) {
+        ++k;
+        ++id_x;
+        ++finite_count;
+        last_x = p[0];
+      }
+      continue;
+    }
+    if (!(std::fabs(h) <= MAX)) {
       ++dropped_count; // h not finite
       continue;
     }
@@ -278,7 +298,7 @@ bool distinctCoordinates(const double* xyz, std::size_t n, ValueTable& xt,
       return static_cast<std::size_t>(x_count) * static_cast<std::size_t>(y_count) >
              limit;
     };
-    if (id_x + 1 < x_count && x_values[id_x + 1] == x) {
+    if (next_x) {
       ++id_x;
       last_x = x;
     } else if (!(x == last_x)) {
@@ -373,6 +393,31 @@ bool readRows(const double* xyz, std::size_t n, const YRuns& runs, std::size_t f
     const auto readRun = [&](auto skip, auto map) {
       const double* p = xyz + 3 * run.first;
       for (std::size_t k = run.first; k < end; ++k, p += 3) {
+        if constexpr (!decltype(skip)::value) {
+          // Two points at the next two x values: the steps below for each, without a
+          // test between them.
+          while (k + 2 <= end && allowed + 2 <= nx &&
+                 ((xs[allowed] == p[0]) & (xs[allowed + 1] == p[3]))) {
+            row[allowed] = next;
+            row[allowed + 1] = next + 1;
+            src[next] = static_cast<std::uint32_t>(k);
+            src[next + 1] = static_cast<std::uint32_t>(k + 1);
+            std::memcpy(&xy[next], p, sizeof(Point2));
+            std::memcpy(&xy[next + 1], p + 3, sizeof(Point2));
+            z[next] = p[2];
+            z[next + 1] = p[5];
+            if (decltype(map)::value) {
+              code[k] = next;
+              code[k + 1] = next + 1;
+            }
+            allowed += 2;
+            next += 2;
+            k += 2;
+            p += 6;
+          }
+          if (k == end)
+            break;
+        }
         if (decltype(skip)::value &&
             (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])))
           continue;
