@@ -861,7 +861,7 @@ void emitRun(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
 #if defined(__SSE2__)
   // Two cells at a time: their twelve vertex ids and twelve twins in three vectors
   // each, every lane counting up (by 2 and 12 a pair), the twins across the rows
-  // below and above written over theirs.
+  // below and above written over theirs unless that row is FULL.
   if (i1 - i0 >= 2) {
     const auto lanes = [](std::uint32_t w, std::uint32_t x, std::uint32_t y,
                           std::uint32_t z) {
@@ -870,8 +870,12 @@ void emitRun(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
     };
     __m128i t0 = lanes(lo, lo + 1, hi, lo + 1), t1 = lanes(hi + 1, hi, lo + 1, lo + 2),
             t2 = lanes(hi + 1, lo + 2, hi + 2, hi + 1);
-    __m128i h0 = lanes(0, e0 + 5, e0 - 3, e0 + 8), h1 = lanes(0, e0 + 1, 0, e0 + 11),
-            h2 = lanes(e0 + 3, e0 + 14, 0, e0 + 7);
+    // The twins across a FULL row count up in their lanes too.
+    const HalfedgeId d0 = BELOW == CellRow::FULL ? below_e + 6 * i : 0,
+                     u0 = ABOVE == CellRow::FULL ? above_e + 6 * i : 0;
+    __m128i h0 = lanes(d0, e0 + 5, e0 - 3, e0 + 8),
+            h1 = lanes(u0, e0 + 1, BELOW == CellRow::FULL ? d0 + 6 : 0, e0 + 11),
+            h2 = lanes(e0 + 3, e0 + 14, ABOVE == CellRow::FULL ? u0 + 6 : 0, e0 + 7);
     const __m128i two = _mm_set1_epi32(2), twelve = _mm_set1_epi32(12);
     for (; i + 2 <= i1; i += 2, v += 12, h += 12) {
       _mm_storeu_si128(reinterpret_cast<__m128i*>(v), t0);
@@ -880,10 +884,14 @@ void emitRun(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
       _mm_storeu_si128(reinterpret_cast<__m128i*>(h), h0);
       _mm_storeu_si128(reinterpret_cast<__m128i*>(h + 4), h1);
       _mm_storeu_si128(reinterpret_cast<__m128i*>(h + 8), h2);
-      h[0] = down(i);
-      h[4] = up(i);
-      h[6] = down(i + 1);
-      h[10] = up(i + 1);
+      if constexpr (BELOW != CellRow::FULL) {
+        h[0] = down(i);
+        h[6] = down(i + 1);
+      }
+      if constexpr (ABOVE != CellRow::FULL) {
+        h[4] = up(i);
+        h[10] = up(i + 1);
+      }
       t0 = _mm_add_epi32(t0, two);
       t1 = _mm_add_epi32(t1, two);
       t2 = _mm_add_epi32(t2, two);
