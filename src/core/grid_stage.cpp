@@ -218,6 +218,40 @@ bool sortSmallCell(Point2* points, std::uint32_t* records, std::uint32_t first,
   return equal;
 }
 
+/// sortSmallCell for a cell of exactly S points (3 or 4): each point's place from
+/// its comparisons with the others, without a branch, instead of the insertion's
+/// shifts. Point j goes before point i (j < i, records ascending) when it is
+/// lexicographically smaller or equal (the stable order), else after it; the places
+/// are the counts of the points before each one, a permutation since this order is
+/// total.
+template <std::uint32_t S>
+bool rankSmallCell(Point2* points, std::uint32_t* records, std::uint32_t first)
+{
+  Point2 p[S];
+  std::uint32_t record[S];
+  std::uint32_t place[S] = {};
+  for (std::uint32_t i = 0; i < S; ++i) {
+    p[i] = points[first + i];
+    record[i] = records[first + i];
+  }
+  bool equal = false;
+  for (std::uint32_t i = 1; i < S; ++i)
+    for (std::uint32_t j = 0; j < i; ++j) {
+      // As integers (GCC branches on the bools' | and &).
+      const int same_x = static_cast<int>(p[j].x == p[i].x);
+      const int before = static_cast<int>(p[j].x < p[i].x) |
+                         (same_x & static_cast<int>(p[j].y <= p[i].y));
+      equal |= (same_x & static_cast<int>(p[j].y == p[i].y)) != 0;
+      place[i] += static_cast<std::uint32_t>(before);
+      place[j] += static_cast<std::uint32_t>(1 - before);
+    }
+  for (std::uint32_t i = 0; i < S; ++i) {
+    points[first + place[i]] = p[i];
+    records[first + place[i]] = record[i];
+  }
+  return equal;
+}
+
 /// The band partition: bands of consecutive rows.
 struct Bands {
   std::vector<std::uint32_t> first_row; ///< per band, then ny
@@ -346,6 +380,17 @@ void GridBuilder::makeBands(const Input& in, unsigned chunks,
                             std::vector<std::uint32_t>& chunk_offsets)
 {
   const std::uint32_t ny = grid_.ny;
+  Bands& bands = bands_;
+  if (rows.empty() && in.count < BAND_POINTS &&
+      std::size_t{grid_.nx} * ny <= BAND_CELLS) {
+    // One band (it closes at neither limit below) whatever the rows hold: no count
+    // (run() sorts it straight from the input, without the offsets).
+    bands.of_row.assign(ny, 0);
+    bands.first_row = {0, ny};
+    bands.start = {0, static_cast<std::uint32_t>(in.count)};
+    chunk_offsets.clear();
+    return;
+  }
   if (rows.empty()) { // points per row, per chunk
     rows.assign(static_cast<std::size_t>(chunks) * ny, 0);
     parallelChunks(chunks, in.count,
@@ -357,7 +402,6 @@ void GridBuilder::makeBands(const Input& in, unsigned chunks,
                    });
   }
   // Greedy bands of consecutive rows.
-  Bands& bands = bands_;
   bands.of_row.resize(ny);
   bands.first_row.assign(1, 0);
   bands.start.assign(1, 0);
@@ -469,31 +513,33 @@ std::uint32_t GridBuilder::mergeCell(const Point2* points, const std::uint32_t* 
   const auto z = [&](std::uint32_t k) {
     return xyz_[3 * std::size_t{sources[records[k]]} + 2];
   };
+  const bool by_z =
+      rule_ == DuplicateRule::LOWEST_Z || rule_ == DuplicateRule::HIGHEST_Z;
+  const bool lowest = rule_ == DuplicateRule::LOWEST_Z;
+  const bool map = input_to_vertex_ != nullptr;
   for (std::uint32_t k = begin; k < end;) {
+    const Point2 p = points[k];
     std::uint32_t run_end = k + 1;
-    while (run_end < end && points[run_end] == points[k])
-      ++run_end;
-    // The representative, as mergeDuplicates picks it: ties to the smaller input
-    // index (records are in input order inside a band), which comes first in the run.
+    // The representative, as mergeDuplicates picks it: the best z, ties to the
+    // smaller input index. Records ascend along a run (they are in input order inside
+    // a band, and the sort is stable): a tie keeps the earlier point, and without a z
+    // rule the first point is the one.
     std::uint32_t best = k;
-    if (run_end - k > 1) {
-      if (rule_ == DuplicateRule::LOWEST_Z || rule_ == DuplicateRule::HIGHEST_Z) {
-        const bool lowest = rule_ == DuplicateRule::LOWEST_Z;
-        for (std::uint32_t q = k + 1; q < run_end; ++q)
-          if (lowest
-                  ? z(q) < z(best) || (z(q) == z(best) && records[q] < records[best])
-                  : z(q) > z(best) || (z(q) == z(best) && records[q] < records[best]))
-            best = q;
-      } else {
-        for (std::uint32_t q = k + 1; q < run_end; ++q)
-          if (records[q] < records[best])
-            best = q;
-      }
+    if (run_end < end && points[run_end] == p) {
+      double best_z = by_z ? z(k) : 0.0;
+      for (; run_end < end && points[run_end] == p; ++run_end)
+        if (by_z) {
+          const double h = z(run_end);
+          if (lowest ? h < best_z : h > best_z) {
+            best = run_end;
+            best_z = h;
+          }
+        }
+      if (map)
+        for (std::uint32_t q = k; q < run_end; ++q)
+          assign(records[q], out);
     }
-    if (run_end - k > 1 && input_to_vertex_ != nullptr)
-      for (std::uint32_t q = k; q < run_end; ++q)
-        assign(records[q], out);
-    grid_points[out] = points[k];
+    grid_points[out] = p;
     source[out] = sources[records[best]];
     ++out;
     k = run_end;
@@ -629,7 +675,11 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch, const Staged& st
         out += 2;
       }
     } else if (end - begin <= INSERTION_SORT_MAX) { // no quadtree
-      if (sortSmallCell(points, slot, begin, end)) {
+      const std::uint32_t size = end - begin;
+      const bool equal = size == 3   ? rankSmallCell<3>(points, slot, begin)
+                         : size == 4 ? rankSmallCell<4>(points, slot, begin)
+                                     : sortSmallCell(points, slot, begin, end);
+      if (equal) {
         out = mergeCell(points, slot, sources, begin, end, out, vertex);
       } else {
         for (std::uint32_t q = begin; q < end; ++q, ++out) {
@@ -698,10 +748,13 @@ void GridBuilder::finish(std::size_t inputs)
       }
     parallelChunks(usefulThreads(threads_, grid_.cellCount()), band_count,
                    [&](std::size_t first, std::size_t last, unsigned) {
-                     for (std::size_t b = first; b < last; ++b)
+                     for (std::size_t b = first; b < last; ++b) {
+                       if (shift[b] == 0) // the first band: no shift
+                         continue;
                        for (std::size_t c = bands_.first_row[b] * nx;
                             c < bands_.first_row[b + 1] * nx; ++c)
                          grid_.cell_start[c] -= shift[b];
+                     }
                    });
   }
   grid_.cell_start[grid_.cellCount()] = distinct;
@@ -840,7 +893,9 @@ Status buildGridStage(const double* xyz, std::size_t n, double cell_size,
     double size = initial;
     std::vector<std::uint32_t> rows;
     std::size_t rows_ny = 0;
-    if (automatic) {
+    // Fewer points than a band holds: the rows are counted only should the grid's
+    // cells need several bands (makeBands).
+    if (automatic && (count_first || m >= BAND_POINTS)) {
       const std::size_t cx = detail::occupancyColumns(width, size);
       const std::size_t cy = detail::occupancyColumns(height, size);
       const std::size_t words = count_first ? (cx * cy + 63) / 64 : 0;

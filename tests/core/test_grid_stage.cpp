@@ -212,6 +212,8 @@ TEST(GridStage, SameAsTheReferenceOnOtherShapesAndCellSizes)
       {test::Distribution::CLUSTERED, 150000, 25.0}, // crowded cells, asked size
       {test::Distribution::UTM_OFFSET, 100000, 0.0},
       {test::Distribution::FLOAT_ROUNDED, 100000, 0.0},
+      {test::Distribution::UNIFORM, 20000, 2.0}, // one band's points, many bands' cells
+      {test::Distribution::DUPLICATES, 20000, 0.0}, // one band
       {test::Distribution::THREE_POINTS, 3, 0.0},
       {test::Distribution::COLLINEAR, 1000, 0.0},
   };
