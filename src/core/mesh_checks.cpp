@@ -6,12 +6,18 @@
 #include <pcl_vts/core/predicates.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <tuple>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace pcl_vts {
 namespace {
@@ -410,27 +416,199 @@ bool edgesUnshared(const TriangleMesh& mesh, unsigned threads)
              : edgesUnsharedIn<std::uint64_t>(mesh, threads);
 }
 
+// The fans' proof (isValidSurfaceMesh's edge test without listing the edges).
+// Given ids in range, reciprocal reversed twins and every triangle counter-clockwise
+// by the exact orient2d, a directed edge a -> b used twice is a vertex a whose
+// outgoing halfedges repeat a target. Around a, sigma(e) = twin(prev(e)) takes the
+// outgoing halfedge e = a -> b of triangle (a, b, c) to a -> c, the next one
+// counter-clockwise: the corner at a turns from b's direction to c's by an angle in
+// (0, pi). sigma is one-to-one, so a's outgoing halfedges fall into chains: open
+// ones, each starting at a halfedge without twin (B(a) of them), and closed cycles.
+// The quadrants [0, pi/2), [pi/2, pi), [pi, 3pi/2), [3pi/2, 2pi) of a direction
+// b - a come from comparing b's coordinates with a's (exact); a corner crosses (q(c -
+// a) - q(b - a)) mod 4 quadrant starts (0, 1 or 2: it turns less than pi), and Q(a)
+// sums them over a's corners. A chain crosses as many quadrant starts as lie in the
+// half-open range of angles it sweeps: a closed cycle of w full turns exactly 4w (w >=
+// 1), an open chain turning 2 pi or more at least 4. So D(a) = Q(a) + 4 B(a) is 0 (no
+// corner), 4 (B = 0: one cycle of one turn; more cycles or turns give 8, 12, ...) or 4
+// to 7 (B = 1 and Q <= 3: one open chain turning less than 2 pi and no cycle beside it)
+// exactly when D(a) <= 7; B >= 2 gives 8 or more. When D(a) <= 7, a's halfedges point
+// in directions that strictly increase within one turn: no two point the same way, so
+// no two share a target. Vertices with D(a) > 7 (a pinch, a boundary corner sweeping
+// about 3 pi / 2 or more, overlapping triangles) are suspects: their halfedges are
+// listed and sorted, the exact test. So the edge test is one pass over the triangles
+// (twins, orientation, quadrants: each corner adds its crossings and 4 if its halfedge
+// has no twin to its vertex's byte) and a scan of the bytes, instead of a sort of every
+// edge.
+
+/// A vertex's fan byte D = Q + 4 B, summed without saturation: the sum of every
+/// byte equals the sum of every corner's addend exactly when no byte wrapped.
+using FanByte = std::uint8_t;
+constexpr unsigned FAN_PROVEN = 7; // D <= 7: no two outgoing halfedges share a target
+constexpr FanByte SUSPECT = 0xff;
+
+#if defined(__SSE2__)
+/// Quadrants 0-3 ([0, pi/2) ... [3pi/2, 2pi)) of a direction by its sign bits:
+/// index bit 0: x > 0, bit 1: y > 0, bit 2: x < 0, bit 3: y < 0 (0 for a zero vector).
+constexpr std::array<std::uint8_t, 16> quadrantTable()
+{
+  std::array<std::uint8_t, 16> table{};
+  for (unsigned i = 0; i < 16; ++i) {
+    const unsigned gx = i & 1u, gy = i >> 1 & 1u, lx = i >> 2 & 1u, ly = i >> 3 & 1u;
+    const unsigned lower = ly | ((gy ^ 1u) & lx); // y < 0, or y = 0 and x < 0
+    const unsigned odd = (gy & (gx ^ 1u)) | (ly & (lx ^ 1u)); // quadrant 1 or 3
+    table[i] = static_cast<std::uint8_t>(2 * lower + odd);
+  }
+  return table;
+}
+constexpr std::array<std::uint8_t, 16> QUADRANT = quadrantTable();
+
+/// The quadrant of to - from by comparing the coordinates (no difference rounded).
+inline unsigned quadrant(__m128d from, __m128d to)
+{
+  return QUADRANT[static_cast<unsigned>(_mm_movemask_pd(_mm_cmpgt_pd(to, from)) |
+                                        _mm_movemask_pd(_mm_cmplt_pd(to, from)) << 2)];
+}
+#else
+inline unsigned quadrant(const Point2& from, const Point2& to)
+{
+  const unsigned gx = to.x > from.x, lx = to.x < from.x;
+  const unsigned gy = to.y > from.y, ly = to.y < from.y;
+  const unsigned lower = ly | ((gy ^ 1u) & lx);
+  const unsigned odd = (gy & (gx ^ 1u)) | (ly & (lx ^ 1u));
+  return 2 * lower + odd;
+}
+#endif
+
+inline bool finite(const Point2& p)
+{
+  return std::abs(p.x) <= std::numeric_limits<double>::max() &&
+         std::abs(p.y) <= std::numeric_limits<double>::max();
+}
+
+/// isValidSurfaceMesh's verdict (sizes already checked): one pass over the
+/// triangles (twins, orientation, each corner's addend to its vertex's fan byte),
+/// then the bytes, then the suspects' halfedges sorted; the counting sort of every
+/// edge (edgesUnshared) only where a coordinate is not finite or a byte wrapped.
+bool validByFans(const TriangleMesh& mesh, unsigned threads)
+{
+  const std::size_t n = mesh.xy.size(), count = mesh.triangleCount();
+  constexpr std::size_t MIN_PER_THREAD = 1u << 16; // triangles, as parallelRanges
+  const auto workers = static_cast<unsigned>(
+      std::max<std::size_t>(1, std::min<std::size_t>(threads > 0 ? threads : allCores(),
+                                                     count / MIN_PER_THREAD)));
+  std::vector<FanByte> fans(n, 0);
+  std::vector<std::vector<FanByte>> more(workers - 1); // the other workers' bytes
+  std::vector<std::uint64_t> added(workers, 0);        // the addends, by worker
+  std::atomic<bool> failed{false}, nonfinite{false};
+  parallelChunks(workers, count, [&](std::size_t begin, std::size_t end, unsigned w) {
+    if (w > 0)
+      more[w - 1].assign(n, 0);
+    FanByte* const fan = w == 0 ? fans.data() : more[w - 1].data();
+    const VertexId* const corners = mesh.triangles.data();
+    const HalfedgeId* const twins = mesh.halfedges.data();
+    const Point2* const xy = mesh.xy.data();
+    const std::size_t corner_count = mesh.triangles.size();
+    // A twin in range whose twin is this halfedge and that starts where this one
+    // ends: its own test then gives the other end (the pair runs both ways).
+    auto twinGood = [&](std::size_t e, VertexId to) {
+      const HalfedgeId twin = twins[e];
+      return twin == INVALID_ID || (twin < corner_count && twin != e &&
+                                    twins[twin] == e && corners[twin] == to);
+    };
+    std::uint64_t sum = 0;
+    bool finite_all = true;
+    constexpr std::size_t STEP = 4096; // triangles between flag reads
+    for (std::size_t t = begin; t < end;) {
+      if (failed.load(std::memory_order_relaxed))
+        return;
+      const std::size_t stop = std::min(end, t + STEP);
+      for (; t < stop; ++t) {
+        const std::size_t e = 3 * t;
+        const VertexId a = corners[e], b = corners[e + 1], c = corners[e + 2];
+        if (!(a < n && b < n && c < n) ||
+            int{twinGood(e, b)} + int{twinGood(e + 1, c)} + int{twinGood(e + 2, a)} !=
+                3 ||
+            orient2d(xy[a], xy[b], xy[c]) != Sign::POSITIVE) {
+          failed.store(true, std::memory_order_relaxed);
+          return;
+        }
+        finite_all &= finite(xy[a]) && finite(xy[b]) && finite(xy[c]);
+#if defined(__SSE2__)
+        const __m128d pa = _mm_loadu_pd(&xy[a].x), pb = _mm_loadu_pd(&xy[b].x),
+                      pc = _mm_loadu_pd(&xy[c].x);
+        const unsigned ab = quadrant(pa, pb), bc = quadrant(pb, pc),
+                       ca = quadrant(pc, pa);
+#else
+        const unsigned ab = quadrant(xy[a], xy[b]), bc = quadrant(xy[b], xy[c]),
+                       ca = quadrant(xy[c], xy[a]);
+#endif
+        // Corner a turns from a -> b (quadrant ab) to a -> c (ca + 2: the reverse).
+        const unsigned add_a = ((ca + 2 - ab) & 3u) + 4u * (twins[e] == INVALID_ID);
+        const unsigned add_b = ((ab + 2 - bc) & 3u) + 4u * (twins[e + 1] == INVALID_ID);
+        const unsigned add_c = ((bc + 2 - ca) & 3u) + 4u * (twins[e + 2] == INVALID_ID);
+        fan[a] = static_cast<FanByte>(fan[a] + add_a);
+        fan[b] = static_cast<FanByte>(fan[b] + add_b);
+        fan[c] = static_cast<FanByte>(fan[c] + add_c);
+        sum += add_a + add_b + add_c;
+      }
+    }
+    added[w] = sum;
+    if (!finite_all)
+      nonfinite.store(true, std::memory_order_relaxed);
+  });
+  if (failed.load())
+    return false;
+  if (nonfinite.load()) // no angles to argue with: every edge listed
+    return edgesUnshared(mesh, threads);
+  // Each vertex's D from the workers' bytes; the bytes' sum against the addends'.
+  std::vector<std::uint64_t> stored(workers, 0);
+  std::atomic<bool> suspects{false};
+  parallelChunks(workers, n, [&](std::size_t begin, std::size_t end, unsigned w) {
+    std::uint64_t sum = 0;
+    bool any = false;
+    for (std::size_t v = begin; v < end; ++v) {
+      unsigned d = fans[v];
+      for (const std::vector<FanByte>& other : more)
+        d += other[v];
+      sum += d;
+      fans[v] = d <= FAN_PROVEN ? FanByte{0} : SUSPECT;
+      any |= d > FAN_PROVEN;
+    }
+    stored[w] = sum;
+    if (any)
+      suspects.store(true, std::memory_order_relaxed);
+  });
+  std::uint64_t added_all = 0, stored_all = 0;
+  for (unsigned w = 0; w < workers; ++w) {
+    added_all += added[w];
+    stored_all += stored[w];
+  }
+  if (stored_all != added_all) // a byte wrapped (256 or more at one vertex)
+    return edgesUnshared(mesh, threads);
+  if (!suspects.load())
+    return true;
+  // The suspects' outgoing halfedges as (origin, target): sorted, none repeated.
+  std::vector<std::uint64_t> uses;
+  for (std::size_t e = 0; e < 3 * count; ++e) {
+    const VertexId from = mesh.triangles[e];
+    if (fans[from] == SUSPECT)
+      uses.push_back(std::uint64_t{from} << 32 |
+                     mesh.triangles[nextHalfedge(static_cast<HalfedgeId>(e))]);
+  }
+  std::sort(uses.begin(), uses.end());
+  return std::adjacent_find(uses.begin(), uses.end()) == uses.end();
+}
+
 } // namespace
 
 bool isValidSurfaceMesh(const TriangleMesh& mesh, std::string* why, unsigned threads)
 {
-  auto fast = [&] {
-    // One pass over the triangles: ids in range, no self-loop, twins reversed,
-    // counter-clockwise (the exact predicate).
-    if (mesh.xy.size() != mesh.z.size() || mesh.triangles.size() % 3 != 0 ||
-        mesh.halfedges.size() != mesh.triangles.size())
-      return false;
-    if (!everyIndex(threads, mesh.triangleCount(), [&](std::size_t t) {
-          if (!triangleTwinsGood(mesh, t))
-            return false;
-          const VertexId* corner = mesh.triangles.data() + 3 * t;
-          return orient2d(mesh.xy[corner[0]], mesh.xy[corner[1]], mesh.xy[corner[2]]) ==
-                 Sign::POSITIVE; // also no self-loop: a degenerate triangle is not
-        }))
-      return false;
-    return edgesUnshared(mesh, threads);
-  };
-  if (fast())
+  // One pass over the triangles: ids in range, no self-loop, twins reversed,
+  // counter-clockwise (the exact predicate; a degenerate triangle is not, so no
+  // self-loop either), and the fans' proof that no directed edge is used twice.
+  if (mesh.xy.size() == mesh.z.size() && mesh.triangles.size() % 3 == 0 &&
+      mesh.halfedges.size() == mesh.triangles.size() && validByFans(mesh, threads))
     return true;
   // The checks one by one for the first failure's message (one of them fails).
   return isEdgeManifold(mesh, why) && halfedgesConsistent(mesh, why) &&

@@ -1,16 +1,26 @@
 // The mesh checkers accept a correct mesh and catch each kind of damage: a flipped
 // (non-Delaunay) edge, a broken twin, a clockwise triangle, a non-manifold edge, an
 // unused vertex. A checker that cannot fail proves nothing.
+#include "support/asc_reader.h"
+#include "support/generators.h"
+#include "support/synthetic_terrain.h"
+
 #include <pcl_vts/core/mesh_arrays.h>
 #include <pcl_vts/core/mesh_checks.h>
 #include <pcl_vts/core/predicates.h>
+#include <pcl_vts/core/reconstruct_surface.h>
+#include <pcl_vts/core/vts_pipeline.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <fstream>
 #include <map>
 #include <random>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace pcl_vts {
 namespace {
@@ -334,6 +344,304 @@ TEST(IsValidSurfaceMesh, AgreesWithTheThreeChecksAndTheirFirstMessage)
   EXPECT_GT(valid, 50);
   EXPECT_GT(invalid, 200);
   EXPECT_TRUE(isValidSurfaceMesh(fanMesh()));
+}
+
+/// isValidSurfaceMesh against the three checks one by one (isEdgeManifold sorts
+/// every edge: the independent oracle of the fans' proof), verdict and message, on
+/// 1, 2 and 3 threads.
+void expectSameVerdict(const TriangleMesh& mesh, bool expected_verdict,
+                       const std::string& label)
+{
+  std::string expected_why;
+  const bool expected = isEdgeManifold(mesh, &expected_why) &&
+                        halfedgesConsistent(mesh, &expected_why) &&
+                        allTrianglesCcw(mesh, &expected_why);
+  EXPECT_EQ(expected, expected_verdict) << label << ": " << expected_why;
+  for (const unsigned threads : {1u, 2u, 3u}) {
+    std::string why;
+    EXPECT_EQ(isValidSurfaceMesh(mesh, &why, threads), expected)
+        << label << ", threads " << threads;
+    EXPECT_EQ(why, expected_why) << label << ", threads " << threads;
+  }
+}
+
+/// A closed fan around vertex 0 at the origin: ring vertices 1..m at radius 10 and
+/// angles 2 pi turns k / m, triangles (0, k, k + 1) with twins around the centre
+/// (each corner turns 2 pi turns / m < pi); `ring[k]` renames ring vertices.
+TriangleMesh windingFan(int m, int turns, const std::vector<VertexId>& ring = {})
+{
+  TriangleMesh mesh;
+  mesh.xy.push_back({0, 0});
+  const double pi = std::acos(-1.0);
+  for (int k = 0; k < m; ++k) {
+    const double angle = 2 * pi * turns * k / m;
+    mesh.xy.push_back({10 * std::cos(angle), 10 * std::sin(angle)});
+  }
+  mesh.z.assign(mesh.xy.size(), 0.0);
+  auto vertex = [&](int k) {
+    return ring.empty() ? static_cast<VertexId>(1 + k % m) : ring[k % m];
+  };
+  for (int k = 0; k < m; ++k)
+    mesh.triangles.insert(mesh.triangles.end(), {0, vertex(k), vertex(k + 1)});
+  mesh.halfedges.assign(mesh.triangles.size(), INVALID_ID);
+  for (int k = 0; k < m; ++k) { // (k + 1 -> 0) of triangle k, (0 -> k + 1) of k + 1
+    const auto from = static_cast<HalfedgeId>(3 * k + 2);
+    const auto to = static_cast<HalfedgeId>(3 * ((k + 1) % m));
+    mesh.halfedges[from] = to;
+    mesh.halfedges[to] = from;
+  }
+  return mesh;
+}
+
+TEST(IsValidSurfaceMesh, SameDirectedEdgeInTwoTrianglesWithoutTwinsIsRejected)
+{
+  // Both corners at 0 lie in one quadrant (no crossing): 0's byte is 4 + 4, two
+  // halfedges without twin. Nothing else repeats: only the bound 7 rejects it.
+  TriangleMesh mesh;
+  mesh.xy = {{0, 0}, {10, 1}, {10, 3}, {10, 5}};
+  mesh.z.assign(4, 0.0);
+  mesh.triangles = {0, 1, 2, 0, 1, 3};
+  mesh.halfedges.assign(6, INVALID_ID);
+  expectSameVerdict(mesh, false, "0 -> 1 twice");
+  mesh.triangles = {0, 1, 2, 0, 2, 3}; // the same fan, one edge shared
+  ASSERT_TRUE(mesh.rebuildHalfedges());
+  expectSameVerdict(mesh, true, "a fan of two");
+}
+
+TEST(IsValidSurfaceMesh, EdgeInThreeTrianglesIsRejected)
+{
+  // 0-1 in (0, 1, 2) and (1, 0, 3) as twins, and in (0, 1, 4) again.
+  TriangleMesh mesh;
+  mesh.xy = {{0, 0}, {4, 0}, {2, 2}, {2, -2}, {3, 5}};
+  mesh.z.assign(5, 0.0);
+  mesh.triangles = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+  mesh.halfedges.assign(9, INVALID_ID);
+  mesh.halfedges[0] = 3;
+  mesh.halfedges[3] = 0;
+  expectSameVerdict(mesh, false, "0-1 in three triangles");
+}
+
+TEST(IsValidSurfaceMesh, BowtieVertexIsAcceptedAsTheEdgeTestDoes)
+{
+  // Two triangles meet at vertex 0 only (two open fans there): no edge repeats, so
+  // the edge test accepts it, and so must the fans' proof (0 is a suspect, listed).
+  TriangleMesh mesh;
+  mesh.xy = {{0, 0}, {2, 1}, {1, 2}, {-2, -1}, {-1, -2}};
+  mesh.z.assign(5, 0.0);
+  mesh.triangles = {0, 1, 2, 0, 3, 4};
+  ASSERT_TRUE(mesh.rebuildHalfedges());
+  expectSameVerdict(mesh, true, "bowtie");
+  // A third triangle repeating 0 -> 1 on the other fan's side of it.
+  mesh.xy.push_back({3, 3});
+  mesh.z.push_back(0.0);
+  mesh.triangles.insert(mesh.triangles.end(), {0, 1, 5});
+  mesh.halfedges.assign(mesh.triangles.size(), INVALID_ID);
+  expectSameVerdict(mesh, false, "bowtie with 0 -> 1 twice");
+}
+
+TEST(IsValidSurfaceMesh, FanOfTwoTurnsIsDecidedByItsNeighbours)
+{
+  // Seven triangles turning twice around 0 (angles 4 pi k / 7): every neighbour once,
+  // no edge repeats, so the mesh is valid though it overlaps itself (0's byte is 8).
+  expectSameVerdict(windingFan(7, 2), true, "two turns, 7 neighbours");
+  // Six triangles turning twice through neighbours 1, 2, 3, 1, 2, 3: 0 -> 1 twice.
+  const TriangleMesh twice = windingFan(6, 2, {1, 2, 3, 1, 2, 3});
+  expectSameVerdict(twice, false, "two turns, 3 neighbours");
+  // One turn: each neighbour's fan is open (one triangle side each), 0's closed.
+  expectSameVerdict(windingFan(5, 1), true, "one turn");
+}
+
+TEST(IsValidSurfaceMesh, BoundaryCornerSweepingNearlyAFullTurnIsAccepted)
+{
+  // The fan around 0 without one triangle: an open fan turning 2 pi - 2 pi / 9 (its
+  // quadrant crossings can reach 4, a suspect), and with one more triangle gone.
+  for (int removed = 1; removed <= 2; ++removed) {
+    TriangleMesh mesh = windingFan(9, 1);
+    mesh.triangles.resize(mesh.triangles.size() - 3 * removed);
+    ASSERT_TRUE(mesh.rebuildHalfedges());
+    expectSameVerdict(mesh, true, "open fan");
+  }
+}
+
+TEST(IsValidSurfaceMesh, FanByteOverflowFallsBackToTheEdgeTest)
+{
+  // 127 triangles turning 62 times around 0 (each corner 2 pi 62 / 127 < pi): 248
+  // quadrant crossings; two triangles (0, 128, 129) and (0, 128, 130) add 8 for
+  // their halfedges without twin: 0's sum reaches 256 or more and its byte wraps to
+  // a small value. The bytes' sum then differs from the addends', and the edge test
+  // decides: 0 -> 128 twice (rejected), or once (accepted).
+  TriangleMesh mesh = windingFan(127, 62);
+  mesh.xy.insert(mesh.xy.end(), {{20, 0.5}, {20, 2}, {20, 3}});
+  mesh.z.resize(mesh.xy.size(), 0.0);
+  mesh.triangles.insert(mesh.triangles.end(), {0, 128, 129, 0, 128, 130});
+  mesh.halfedges.resize(mesh.triangles.size(), INVALID_ID);
+  expectSameVerdict(mesh, false, "0 -> 128 twice, byte wrapped");
+  mesh.triangles[mesh.triangles.size() - 2] = 129; // (0, 129, 130): 0's sum is 256
+  expectSameVerdict(mesh, true, "byte wrapped, no edge repeated");
+}
+
+/// An exact lattice of w x h unit squares, each split by a diagonal chosen at random:
+/// every edge axis-aligned or diagonal (the quadrants' borders).
+TriangleMesh latticeMesh(int w, int h, std::mt19937& rng)
+{
+  TriangleMesh mesh;
+  for (int j = 0; j <= h; ++j)
+    for (int i = 0; i <= w; ++i)
+      mesh.xy.push_back({static_cast<double>(i), static_cast<double>(j)});
+  mesh.z.assign(mesh.xy.size(), 0.0);
+  auto id = [&](int i, int j) { return static_cast<VertexId>(j * (w + 1) + i); };
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const VertexId a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1),
+                     d = id(i, j + 1);
+      if (rng() % 2 == 0)
+        mesh.triangles.insert(mesh.triangles.end(), {a, b, c, a, c, d});
+      else
+        mesh.triangles.insert(mesh.triangles.end(), {a, b, d, b, c, d});
+    }
+  EXPECT_TRUE(mesh.rebuildHalfedges());
+  return mesh;
+}
+
+/// The triangles reached from `seed` across twins, breadth first, at most `limit`.
+std::vector<TriangleId> patchAround(const TriangleMesh& mesh, TriangleId seed,
+                                    std::size_t limit)
+{
+  std::vector<TriangleId> patch{seed};
+  std::vector<bool> in(mesh.triangleCount(), false);
+  in[seed] = true;
+  for (std::size_t k = 0; k < patch.size() && patch.size() < limit; ++k)
+    for (HalfedgeId e = 3 * patch[k]; e < 3 * patch[k] + 3; ++e) {
+      const HalfedgeId twin = mesh.halfedges[e];
+      if (twin != INVALID_ID && !in[triangleOf(twin)] && patch.size() < limit) {
+        in[triangleOf(twin)] = true;
+        patch.push_back(triangleOf(twin));
+      }
+    }
+  return patch;
+}
+
+/// One random damage of a valid mesh that keeps the twins reciprocal and reversed
+/// and the triangles counter-clockwise (so the edge test alone decides), or breaks
+/// one of them; returns its name.
+std::string corrupt(TriangleMesh& mesh, std::mt19937& rng)
+{
+  std::uniform_int_distribution<TriangleId> pick(
+      0, static_cast<TriangleId>(mesh.triangleCount() - 1));
+  const auto kind = static_cast<unsigned>(rng() % 9); // 7 and 8: the valid kinds again
+  switch (kind < 7 ? kind : kind - 6) {
+  case 0: { // a patch of 1-40 triangles copied, twins inside the copy: edges repeated
+    const std::vector<TriangleId> patch = patchAround(mesh, pick(rng), 1 + rng() % 40);
+    std::vector<TriangleId> copy_of(mesh.triangleCount(), INVALID_ID);
+    const auto first = static_cast<TriangleId>(mesh.triangleCount());
+    for (std::size_t k = 0; k < patch.size(); ++k)
+      copy_of[patch[k]] = first + static_cast<TriangleId>(k);
+    for (const TriangleId t : patch)
+      for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e) {
+        mesh.triangles.push_back(mesh.triangles[e]);
+        const HalfedgeId twin = mesh.halfedges[e];
+        mesh.halfedges.push_back(twin != INVALID_ID &&
+                                         copy_of[triangleOf(twin)] != INVALID_ID
+                                     ? 3 * copy_of[triangleOf(twin)] + twin % 3
+                                     : INVALID_ID);
+      }
+    return "patch copied";
+  }
+  case 1: { // triangles removed (holes, pinched vertices, notches): still valid
+    std::vector<bool> removed(mesh.triangleCount(), false);
+    for (int k = 0, count = 1 + static_cast<int>(rng() % 60); k < count; ++k)
+      for (const TriangleId t : patchAround(mesh, pick(rng), 1 + rng() % 6))
+        removed[t] = true;
+    std::vector<VertexId> kept;
+    for (TriangleId t = 0; t < mesh.triangleCount(); ++t)
+      if (!removed[t])
+        kept.insert(kept.end(), mesh.triangles.begin() + 3 * t,
+                    mesh.triangles.begin() + 3 * t + 3);
+    mesh.triangles = kept;
+    (void)mesh.rebuildHalfedges(); // false after a copied patch: repeats stay twinless
+    return "triangles removed";
+  }
+  case 2: { // interior edges cut (both twins invalid): still valid
+    for (int k = 0, count = 1 + static_cast<int>(rng() % 50); k < count; ++k) {
+      const HalfedgeId e = 3 * pick(rng) + static_cast<HalfedgeId>(rng() % 3);
+      if (mesh.halfedges[e] != INVALID_ID) {
+        mesh.halfedges[mesh.halfedges[e]] = INVALID_ID;
+        mesh.halfedges[e] = INVALID_ID;
+      }
+    }
+    return "edges cut";
+  }
+  case 3: { // one triangle repeated with its twins left invalid
+    const TriangleId t = pick(rng);
+    for (HalfedgeId e = 3 * t; e < 3 * t + 3; ++e)
+      mesh.triangles.push_back(mesh.triangles[e]);
+    mesh.halfedges.resize(mesh.triangles.size(), INVALID_ID);
+    return "triangle repeated";
+  }
+  case 4: { // one twin broken on one side
+    const HalfedgeId e = 3 * pick(rng) + static_cast<HalfedgeId>(rng() % 3);
+    mesh.halfedges[e] = mesh.halfedges[e] == INVALID_ID ? e : INVALID_ID;
+    return "twin broken";
+  }
+  case 5: { // one triangle turned clockwise, twins rebuilt where they still pair
+    const TriangleId t = pick(rng);
+    std::swap(mesh.triangles[3 * t + 1], mesh.triangles[3 * t + 2]);
+    (void)mesh.rebuildHalfedges();
+    return "triangle flipped";
+  }
+  default: { // a vertex renamed as another in one triangle: bad twins or orientation
+    const HalfedgeId e = 3 * pick(rng) + static_cast<HalfedgeId>(rng() % 3);
+    mesh.triangles[e] = mesh.triangles[3 * pick(rng)];
+    return "vertex renamed";
+  }
+  }
+}
+
+TEST(IsValidSurfaceMesh, AgreesWithTheEdgeTestOnDamagedRealMeshes)
+{
+  // Meshes as the pipeline makes them (trim and fill: notches, voids, filled holes,
+  // pinches), a real DEM (lattice: edges on the quadrants' borders) and an exact
+  // lattice, each damaged 1-3 times at random; the verdict and message are the three
+  // checks', on 1-3 threads (the terrain's 250 thousand triangles give each thread
+  // its own part and its own bytes).
+  std::mt19937 rng(5);
+  std::vector<std::pair<std::string, TriangleMesh>> meshes;
+  auto pipeline = [](const std::vector<double>& xyz) {
+    VtsOptions options;
+    options.reconstruction = ReconstructionOptions{};
+    VtsResult result;
+    EXPECT_TRUE(runVtsPipeline(xyz.data(), xyz.size() / 3, options, result).ok());
+    return result.mesh;
+  };
+  meshes.emplace_back("terrain", pipeline(test::makeSyntheticTerrain(3).xyz));
+  meshes.emplace_back("clustered", pipeline(test::generatePoints(
+                                       test::Distribution::CLUSTERED, 20000, 4)));
+  const std::string dem =
+      std::string(PCL_VTS_SHARED_DATA_DIR) + "/dem/landlab/pre_runout_DEM.asc";
+  test::AsciiGrid grid;
+  if (std::ifstream(dem).good() && test::readAsciiGrid(dem, grid))
+    meshes.emplace_back("pre_runout_DEM", pipeline(grid.xyz));
+  meshes.emplace_back("lattice", latticeMesh(60, 40, rng));
+  int valid = 0, invalid = 0;
+  for (const auto& [name, original] : meshes) {
+    ASSERT_GT(original.triangleCount(), 1000u) << name;
+    expectSameVerdict(original, true, name);
+    const int rounds = original.triangleCount() > 200000 ? 6 : 30;
+    for (int round = 0; round < rounds; ++round) {
+      TriangleMesh mesh = original;
+      std::string label = name + " round " + std::to_string(round) + ":";
+      for (int k = 0, count = 1 + static_cast<int>(rng() % 3); k < count; ++k)
+        label += " " + corrupt(mesh, rng);
+      std::string why;
+      const bool verdict = isEdgeManifold(mesh, &why) &&
+                           halfedgesConsistent(mesh, &why) &&
+                           allTrianglesCcw(mesh, &why);
+      expectSameVerdict(mesh, verdict, label);
+      (verdict ? valid : invalid) += 1;
+    }
+  }
+  EXPECT_GT(valid, 20);
+  EXPECT_GT(invalid, 40);
 }
 
 TEST(AllVerticesUsed, FlagsAnUnusedVertex)

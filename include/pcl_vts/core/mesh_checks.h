@@ -31,8 +31,10 @@ PCL_VTS_CORE_EXPORT bool isEdgeManifold(const TriangleMesh& mesh,
                                         std::string* why = nullptr);
 
 /// isEdgeManifold, halfedgesConsistent and allTrianglesCcw, in this order (the first
-/// failure's message), in fewer passes: once the twins are known consistent, an
-/// interior edge is counted once for both its directions.
+/// failure's message), in one pass over the triangles and a byte a vertex: with
+/// consistent twins and CCW triangles, a vertex whose fan turns once (its corners'
+/// quadrant crossings, docs/reconstruction.md) uses no directed edge twice; only the
+/// other vertices' halfedges are sorted.
 PCL_VTS_CORE_EXPORT bool isValidSurfaceMesh(const TriangleMesh& mesh,
                                             std::string* why = nullptr,
                                             unsigned threads = 1);
