@@ -943,11 +943,29 @@ void emitRun(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
     openFacing(above, 4);
 }
 
-/// emitRun for the kinds of the rows below and above.
+/// emitRun for the kinds of the rows below and above. A PARTIAL row whose cells
+/// beside the run are all complete counts up there as a FULL row does: its cells'
+/// first triangles idx[i] are idx[i0] + 2 (i - i0), those of a FULL row whose first
+/// triangle is idx[i0] - 2 i0 (modulo 2^32: only the run's values are formed), and
+/// it has no open halfedge facing the run.
 void emitRunOf(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0,
                HalfedgeId first, const CellRow& below, const CellRow& above,
                VertexId* tri, HalfedgeId* twin, std::vector<HalfedgeId>& open)
 {
+  const auto completeBeside = [i0, i1](const CellRow& row, CellRow& full) {
+    if (row.kind != CellRow::PARTIAL)
+      return false;
+    const HalfedgeId* c = row.idx.data() + 1;
+    if (c[i0] == INVALID_ID || c[i1 - 1] == INVALID_ID ||
+        c[i1 - 1] - c[i0] != 2 * (i1 - 1 - i0))
+      return false; // an incomplete cell beside the run: idx skips it
+    full.kind = CellRow::FULL;
+    full.first = c[i0] - 2 * i0;
+    return true;
+  };
+  CellRow below_full, above_full;
+  const CellRow& b = completeBeside(below, below_full) ? below_full : below;
+  const CellRow& a = completeBeside(above, above_full) ? above_full : above;
   using K = CellRow;
   using Emit = void (*)(std::uint32_t, std::uint32_t, VertexId, VertexId, HalfedgeId,
                         const CellRow&, const CellRow&, VertexId*, HalfedgeId*,
@@ -959,8 +977,7 @@ void emitRunOf(std::uint32_t i0, std::uint32_t i1, VertexId low0, VertexId high0
        emitRun<K::FULL, K::PARTIAL>},
       {emitRun<K::PARTIAL, K::NONE>, emitRun<K::PARTIAL, K::FULL>,
        emitRun<K::PARTIAL, K::PARTIAL>}};
-  EMIT[below.kind][above.kind](i0, i1, low0, high0, first, below, above, tri, twin,
-                               open);
+  EMIT[b.kind][a.kind](i0, i1, low0, high0, first, b, a, tri, twin, open);
 }
 
 /// The triangles of every complete cell in row-major order (the first
