@@ -192,6 +192,9 @@ class LocalDelaunay {
       order_;
   std::uint32_t order_width_ = 0, order_height_ = 0;
   double orient_bound_ = 0.0, incircle_wide_bound_ = 0.0, incircle_tight_bound_ = 0.0;
+  /// Where the pages faulted in ahead of the writes end, per array written in full by
+  /// a window (p, ids, in_core, rec_, corners_, v; see populateFirst).
+  std::array<const void*, 6> populated_{};
 };
 
 inline bool LocalDelaunay::finalTriangle(const Point2& a, const Point2& b,
