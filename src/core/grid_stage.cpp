@@ -14,6 +14,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #if defined(__SSE2__)
@@ -562,10 +563,15 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch, const Staged& st
   const std::uint32_t n = be - bs;
   std::vector<std::uint32_t>& count = scratch.count;
   count.assign(cells + 1, 0);
-  if (scratch.points.size() < n) {
+  // Sorted from the input (the one band), the points go by cell straight into the
+  // grid's own slots: nothing is staged there, and the cells below write each slot at
+  // or before the ones they read (out <= begin), so no scratch copy is needed.
+  constexpr bool in_place = std::is_same_v<Staged, Input>;
+  if (scratch.cell.size() < n) {
     scratch.cell.resize(n);
     scratch.sources.resize(n);
-    scratch.points.resize(n);
+    if (!in_place)
+      scratch.points.resize(n);
     scratch.records.resize(n);
   }
   Point2* grid_points = grid_.points.data();
@@ -587,7 +593,7 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch, const Staged& st
     cell_start[c] = bs + count[c];
     count[c + 1] += count[c];
   }
-  Point2* points = scratch.points.data();
+  Point2* points = in_place ? grid_.points.data() + bs : scratch.points.data();
   std::uint32_t* slot = scratch.records.data();
   for (std::uint32_t r = 0; r < n; ++r) {
     const std::uint32_t at = count[cell[r]]++;
