@@ -1,6 +1,8 @@
 // The canonical order of the tiled path, applied to an in-memory mesh (tiled_mesh.h).
 #include <pcl_vts/tiling/tiled_mesh.h>
 
+#include "../core/release_memory.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -25,27 +27,42 @@ TileFrame frameOfMesh(const TriangleMesh& mesh,
 
 namespace {
 
+/// The low 16 bits of v spread to the even bits (TileFrame::code's spread).
+inline std::uint32_t spreadBits16(std::uint32_t v)
+{
+  v &= 0xFFFFu;
+  v = (v | (v << 8)) & 0x00FF00FFu;
+  v = (v | (v << 4)) & 0x0F0F0F0Fu;
+  v = (v | (v << 2)) & 0x33333333u;
+  v = (v | (v << 1)) & 0x55555555u;
+  return v;
+}
+
 /// True when the mesh has twins for all its halfedges, mutual and joining the same two
 /// vertices the other way, and no triangle repeats a vertex: then they can be carried
-/// along instead of rebuilt.
+/// along instead of rebuilt. One pass without a branch per halfedge: each twin in
+/// range, not the halfedge itself, naming it back and starting where it ends (the
+/// twin's own test gives the other end: the pair runs both ways).
 bool twinsToCarry(const TriangleMesh& mesh)
 {
   const std::vector<VertexId>& tri = mesh.triangles;
   const std::vector<HalfedgeId>& twin = mesh.halfedges;
-  if (twin.size() != tri.size() || tri.size() % 3 != 0)
+  const std::size_t count = tri.size();
+  if (twin.size() != count || count % 3 != 0)
     return false;
-  for (std::size_t e = 0; e < tri.size(); e += 3)
-    if (tri[e] == tri[e + 1] || tri[e + 1] == tri[e + 2] || tri[e] == tri[e + 2])
-      return false;
-  for (std::size_t i = 0; i < tri.size(); ++i) {
-    const auto e = static_cast<HalfedgeId>(i);
+  const auto good = [&](std::size_t e, VertexId to) {
     const HalfedgeId t = twin[e];
-    if (t != INVALID_ID &&
-        (t >= tri.size() || t == e || twin[t] != e || tri[t] != tri[nextHalfedge(e)] ||
-         tri[nextHalfedge(t)] != tri[e]))
-      return false;
+    const std::size_t at = t < count ? t : e; // read in range either way
+    return t == INVALID_ID || (t < count && t != e && twin[at] == e && tri[at] == to);
+  };
+  bool all = true;
+  for (std::size_t e = 0; e < count; e += 3) {
+    const VertexId a = tri[e], b = tri[e + 1], c = tri[e + 2];
+    all &= int{a != b} + int{b != c} + int{a != c} + int{good(e, b)} +
+               int{good(e + 1, c)} + int{good(e + 2, a)} ==
+           6;
   }
-  return true;
+  return all;
 }
 
 } // namespace
@@ -57,16 +74,27 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   // Keys (code << 32 | vertex) by code in three counting passes of 11 bits (linear;
   // every pass reads its keys in sequence and writes 2048 streams, which the caches
   // hold), then each run of equal codes (a few points) by x, then y.
-  std::vector<std::uint64_t> keys(nv);
-  for (std::size_t v = 0; v < nv; ++v)
-    keys[v] = std::uint64_t{frame.code(mesh.xy[v])} << 32 | v;
+  // The three passes' counts are taken with the keys (TileFrame::code inline here:
+  // the same column, row and bit spread, without a call into the library a vertex).
+  constexpr std::size_t DIGITS = (1u << 11) + 1;
+  std::vector<std::size_t> counts(3 * DIGITS, 0);
+  std::vector<std::uint64_t> keys;
+  detail::fillPopulated(keys, nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::uint32_t code = spreadBits16(frame.column(mesh.xy[v].x)) |
+                               spreadBits16(frame.row(mesh.xy[v].y)) << 1;
+    keys[v] = std::uint64_t{code} << 32 | v;
+    ++counts[(code & 0x7ff) + 1];
+    ++counts[DIGITS + ((code >> 11) & 0x7ff) + 1];
+    ++counts[2 * DIGITS + (code >> 22) + 1];
+  }
   {
-    std::vector<std::uint64_t> scratch(nv);
-    for (const int shift : {32, 43, 54}) {
-      std::vector<std::size_t> start((1u << 11) + 1, 0);
-      for (const std::uint64_t k : keys)
-        ++start[((k >> shift) & 0x7ff) + 1];
-      for (std::size_t d = 1; d < start.size(); ++d)
+    std::vector<std::uint64_t> scratch;
+    detail::fillPopulated(scratch, nv);
+    for (const int pass : {0, 1, 2}) {
+      std::size_t* const start = counts.data() + pass * DIGITS;
+      const int shift = 32 + 11 * pass;
+      for (std::size_t d = 1; d < DIGITS; ++d)
         start[d] += start[d - 1];
       for (const std::uint64_t k : keys)
         scratch[start[(k >> shift) & 0x7ff]++] = k;
@@ -88,8 +116,8 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   }
   std::vector<VertexId> rank(nv);
   TriangleMesh out;
-  out.xy.resize(nv);
-  out.z.resize(nv);
+  detail::fillPopulated(out.xy, nv);
+  detail::fillPopulated(out.z, nv);
   std::vector<std::uint8_t> flags(inserted != nullptr ? nv : 0);
   for (std::size_t k = 0; k < nv; ++k) {
     const VertexId v = vertexOf(keys[k]);
@@ -127,7 +155,8 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   rank = {};
   for (std::size_t v = 1; v <= nv; ++v)
     start[v] += start[v - 1];
-  std::vector<std::uint32_t> order(nt);
+  std::vector<std::uint32_t> order;
+  detail::fillPopulated(order, nt);
   for (std::size_t t = 0; t < nt; ++t)
     order[start[tri[3 * t]]++] = static_cast<std::uint32_t>(t);
   // start[v] is now where row v + 1 begins; rows hold a few triangles: insertion sort.
@@ -145,32 +174,45 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
       order[j] = p;
     }
   start = {};
-  out.triangles.resize(3 * nt);
+  // Each triangle and its twins written at its new place in one pass in the old
+  // order: the reads are in sequence and a twin's triangle is a neighbour (nearby in
+  // the old order), only the writes jump. Old halfedge 3t + i is new
+  // 3 where[t] + (i - turn[t]) mod 3.
+  std::vector<std::uint32_t> where;
+  detail::fillPopulated(where, nt);
   for (std::size_t i = 0; i < nt; ++i)
-    std::copy_n(tri.data() + 3 * std::size_t{order[i]}, 3,
-                out.triangles.data() + 3 * i);
-  tri = {};
+    where[order[i]] = static_cast<std::uint32_t>(i);
+  order = {};
+  detail::fillPopulated(out.triangles, 3 * nt);
   if (carry) {
     // The twins carried along (for an oriented 2-manifold, what a rebuild from the new
-    // triangles finds, without its sort): old halfedge 3t + i is new
-    // 3 where[t] + (i - turn[t]) mod 3.
-    std::vector<std::uint32_t> where(nt);
-    for (std::size_t i = 0; i < nt; ++i)
-      where[order[i]] = static_cast<std::uint32_t>(i);
+    // triangles finds, without its sort).
     const auto renamed = [&](HalfedgeId e) {
       const std::size_t t = e / 3;
       return static_cast<HalfedgeId>(3 * std::size_t{where[t]} +
                                      (e % 3 + 3 - turn[t]) % 3);
     };
-    out.halfedges.resize(3 * nt);
-    for (std::size_t i = 0; i < nt; ++i) {
-      const std::size_t t = order[i];
-      for (std::size_t j = 0; j < 3; ++j) {
-        const HalfedgeId twin = mesh.halfedges[3 * t + (j + turn[t]) % 3];
-        out.halfedges[3 * i + j] = twin == INVALID_ID ? INVALID_ID : renamed(twin);
+    detail::fillPopulated(out.halfedges, 3 * nt);
+    for (std::size_t t = 0; t < nt; ++t) {
+      const std::size_t base = 3 * std::size_t{where[t]};
+      const unsigned k = turn[t];
+      std::copy_n(tri.data() + 3 * t, 3, out.triangles.data() + base);
+      for (unsigned i = 0; i < 3; ++i) {
+        const HalfedgeId twin = mesh.halfedges[3 * t + i];
+        out.halfedges[base + (i + 3 - k) % 3] =
+            twin == INVALID_ID ? INVALID_ID : renamed(twin);
       }
     }
-  } else if (!out.rebuildHalfedges()) {
+    tri = {};
+  } else {
+    for (std::size_t t = 0; t < nt; ++t)
+      std::copy_n(tri.data() + 3 * t, 3,
+                  out.triangles.data() + 3 * std::size_t{where[t]});
+    tri = {};
+  }
+  where = {};
+  turn = {};
+  if (!carry && !out.rebuildHalfedges()) {
     // The vertices are renumbered one to one, so this fails only when the input is
     // not an oriented 2-manifold.
     return Status::error(StatusCode::INTERNAL_ERROR,

@@ -940,6 +940,71 @@ TEST(CanonicalMesh, ANonManifoldMeshIsAnInternalErrorAndLeftAsItWas)
   EXPECT_EQ(std::count(mesh.halfedges.begin(), mesh.halfedges.end(), INVALID_ID), 4);
 }
 
+// The twins are carried along only when every one is in range, not its own halfedge,
+// names it back and joins the same two vertices the other way (each halfedge tests
+// its twin's start; the twin's own test gives the other end). Each kind of damage
+// makes canonicalMesh rebuild them instead: the result equals the one from the
+// undamaged mesh, and would not if a damaged twin were carried.
+TEST(CanonicalMesh, DamagedTwinsAreRebuiltNotCarried)
+{
+  const std::vector<double> xyz = generatePoints(Distribution::JITTERED_GRID, 3000, 9);
+  VtsResult result;
+  ASSERT_TRUE(runVtsPipeline(xyz.data(), xyz.size() / 3, VtsOptions{}, result).ok());
+  const TriangleMesh original = result.mesh;
+  TriangleMesh expected = original;
+  ASSERT_TRUE(canonicalMesh(expected, nullptr).ok());
+  TriangleMesh cleared = original; // no twins given: rebuilt
+  cleared.halfedges.clear();
+  ASSERT_TRUE(canonicalMesh(cleared, nullptr).ok());
+  EXPECT_EQ(cleared.triangles, expected.triangles);
+  EXPECT_EQ(cleared.halfedges, expected.halfedges);
+  // An interior pair (e, t) and another interior halfedge f starting where e ends
+  // (f != t): f ends elsewhere than e starts.
+  HalfedgeId e = 0;
+  while (original.halfedges[e] == INVALID_ID)
+    ++e;
+  const HalfedgeId t = original.halfedges[e];
+  HalfedgeId f = 0;
+  while (f == t || original.halfedges[f] == INVALID_ID ||
+         original.triangles[f] != original.triangles[nextHalfedge(e)] ||
+         original.triangles[nextHalfedge(f)] == original.triangles[e])
+    ++f;
+  for (int kind = 0; kind < 6; ++kind) {
+    SCOPED_TRACE(kind);
+    TriangleMesh mesh = original;
+    std::vector<HalfedgeId>& twin = mesh.halfedges;
+    switch (kind) {
+    case 0: // e's twin is f: starts where e ends, ends elsewhere (mutual)
+      twin[twin[f]] = INVALID_ID;
+      twin[t] = INVALID_ID;
+      twin[e] = f;
+      twin[f] = e;
+      break;
+    case 1: // e names t, t names another
+      twin[t] = f;
+      break;
+    case 2: // out of range
+      twin[e] = static_cast<HalfedgeId>(twin.size());
+      break;
+    case 3: // its own twin
+      twin[e] = e;
+      break;
+    case 4: // e and the halfedge after t, mutual: runs the same way
+      twin[t] = INVALID_ID;
+      twin[twin[nextHalfedge(t)]] = INVALID_ID;
+      twin[e] = nextHalfedge(t);
+      twin[nextHalfedge(t)] = e;
+      break;
+    default: // one twin missing on one side only
+      twin[t] = INVALID_ID;
+      break;
+    }
+    ASSERT_TRUE(canonicalMesh(mesh, nullptr).ok());
+    EXPECT_EQ(mesh.triangles, expected.triangles);
+    EXPECT_EQ(mesh.halfedges, expected.halfedges);
+  }
+}
+
 } // namespace
 } // namespace test
 } // namespace pcl_vts
