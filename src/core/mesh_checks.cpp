@@ -70,10 +70,13 @@ std::string halfedgeText(const TriangleMesh& mesh, HalfedgeId e)
   return out.str();
 }
 
-/// Triangle t's corners name vertices and no edge joins a vertex to itself; each of
-/// its halfedges is a boundary one or has a twin in range, not itself, whose twin it
-/// is and that runs the other way. The three corners at once: no remainder by 3 per
-/// halfedge but for the twins'. Corners are range-checked before any use as an index.
+/// Triangle t's corners name vertices; each of its halfedges is a boundary one or has
+/// a twin in range, not itself, whose twin it is and that starts where it ends. Over
+/// every triangle that is halfedgesConsistent's verdict: the twin's own test gives
+/// the other end (it starts where this one ends, and this one where it ends), so the
+/// pair runs both ways. The three corners at once, without a branch per halfedge (a
+/// twin out of range reads the halfedge itself); corners are range-checked before
+/// any use as an index.
 bool triangleTwinsGood(const TriangleMesh& mesh, std::size_t t)
 {
   const std::size_t n = mesh.xy.size(), count = mesh.triangles.size();
@@ -82,16 +85,14 @@ bool triangleTwinsGood(const TriangleMesh& mesh, std::size_t t)
   const VertexId a = corner[0], b = corner[1], c = corner[2];
   if (!(a < n && b < n && c < n))
     return false;
-  auto good = [&](std::size_t e, VertexId from, VertexId to) {
+  auto good = [&](std::size_t e, VertexId to) {
     const HalfedgeId twin = twins[e];
+    const std::size_t at = twin < count ? twin : e;
     return twin == INVALID_ID ||
-           (twin < count && twin != e && twins[twin] == e &&
-            mesh.triangles[twin] == to && mesh.triangles[nextHalfedge(twin)] == from);
+           (twin < count && twin != e && twins[at] == e && mesh.triangles[at] == to);
   };
   // All three evaluated (no branch per edge): the bools summed.
-  return int{good(3 * t, a, b)} + int{good(3 * t + 1, b, c)} +
-             int{good(3 * t + 2, c, a)} ==
-         3;
+  return int{good(3 * t, b)} + int{good(3 * t + 1, c)} + int{good(3 * t + 2, a)} == 3;
 }
 
 /// Triangles come in threes and every id names an existing vertex.

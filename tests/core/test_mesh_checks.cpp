@@ -189,6 +189,22 @@ TEST(HalfedgesConsistent, FlagsTwinRunningTheSameWay)
   EXPECT_NE(why.find("other way"), std::string::npos) << why;
 }
 
+TEST(HalfedgesConsistent, FlagsMutualTwinsEndingAtAnotherVertex)
+{
+  // 0 -> 1 (halfedge 0) and 1 -> 2 (halfedge 3) as mutual twins: the twin of 0 -> 1
+  // starts where it ends, but ends at 2, not 0 (only halfedge 3's own test sees it).
+  TriangleMesh mesh = fanMesh();
+  mesh.halfedges[0] = 3;
+  mesh.halfedges[3] = 0;
+  for (const unsigned threads : {1u, 2u}) {
+    std::string why;
+    EXPECT_FALSE(halfedgesConsistent(mesh, &why, threads));
+    EXPECT_NE(why.find("other way"), std::string::npos) << why;
+    EXPECT_FALSE(isValidSurfaceMesh(mesh, &why, threads));
+    EXPECT_NE(why.find("other way"), std::string::npos) << why;
+  }
+}
+
 TEST(AllTrianglesCcw, FlagsAClockwiseTriangle)
 {
   TriangleMesh mesh = fanMesh();
