@@ -65,6 +65,27 @@ struct CellLookup {
   {
     return CellGrid::clampIndex((y - origin_y) * inv, rows, ny);
   }
+  /// The cell of p in a band starting at row r0: (row(p.y) - r0) * nx + column(p.x).
+  /// With SSE2 x and y in two lanes, the same difference and product, then clamped
+  /// as max(t, 0) and min(t, n - 1) before the truncation: clampIndex's index for
+  /// every t (NaN included: maxpd gives 0), without its two branches. The grid holds
+  /// at most 2^30 cells, so every index fits cvttpd2dq's 32-bit lanes.
+  std::uint32_t bandCell(const Point2& p, std::uint32_t r0) const
+  {
+#if defined(__SSE2__)
+    const __m128d t =
+        _mm_mul_pd(_mm_sub_pd(_mm_set_pd(p.y, p.x), _mm_set_pd(origin_y, origin_x)),
+                   _mm_set1_pd(inv));
+    const __m128d clamped = _mm_min_pd(_mm_max_pd(t, _mm_setzero_pd()),
+                                       _mm_set_pd(rows - 1.0, columns - 1.0));
+    const __m128i ij = _mm_cvttpd_epi32(clamped);
+    const auto i = static_cast<std::uint32_t>(_mm_cvtsi128_si32(ij));
+    const auto j = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_srli_si128(ij, 4)));
+    return (j - r0) * nx + i;
+#else
+    return (row(p.y) - r0) * nx + column(p.x);
+#endif
+  }
 };
 
 /// The finite points: xyz itself, or a compacted copy when some were dropped.
@@ -581,8 +602,7 @@ void GridBuilder::sortBand(std::size_t b, BandScratch& scratch, const Staged& st
   const CellLookup lookup(grid_);
   for (std::uint32_t r = 0; r < n; ++r) {
     const Point2 p = staged.point(bs + r);
-    cell[r] =
-        static_cast<std::uint32_t>((lookup.row(p.y) - r0) * nx) + lookup.column(p.x);
+    cell[r] = lookup.bandCell(p, r0);
     sources[r] = staged.sourceOf(bs + r);
     ++count[cell[r] + 1];
   }
