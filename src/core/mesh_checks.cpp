@@ -479,13 +479,13 @@ inline unsigned quadrant(const Point2& from, const Point2& to)
   const unsigned odd = (gy & (gx ^ 1u)) | (ly & (lx ^ 1u));
   return 2 * lower + odd;
 }
-#endif
 
 inline bool finite(const Point2& p)
 {
   return std::abs(p.x) <= std::numeric_limits<double>::max() &&
          std::abs(p.y) <= std::numeric_limits<double>::max();
 }
+#endif
 
 /// isValidSurfaceMesh's verdict (sizes already checked): one pass over the
 /// triangles (twins, orientation, each corner's addend to its vertex's fan byte),
@@ -519,6 +519,9 @@ bool validByFans(const TriangleMesh& mesh, unsigned threads)
     };
     std::uint64_t sum = 0;
     bool finite_all = true;
+#if defined(__SSE2__)
+    __m128d unfinite = _mm_setzero_pd();
+#endif
     constexpr std::size_t STEP = 4096; // triangles between flag reads
     for (std::size_t t = begin; t < end;) {
       if (failed.load(std::memory_order_relaxed))
@@ -534,13 +537,18 @@ bool validByFans(const TriangleMesh& mesh, unsigned threads)
           failed.store(true, std::memory_order_relaxed);
           return;
         }
-        finite_all &= finite(xy[a]) && finite(xy[b]) && finite(xy[c]);
 #if defined(__SSE2__)
         const __m128d pa = _mm_loadu_pd(&xy[a].x), pb = _mm_loadu_pd(&xy[b].x),
                       pc = _mm_loadu_pd(&xy[c].x);
+        // p - p is 0 for a finite coordinate and NaN for an infinite or NaN one; the
+        // sum stays 0 while every corner is finite (checked once, after the loop).
+        unfinite = _mm_add_pd(
+            unfinite, _mm_add_pd(_mm_sub_pd(pa, pa),
+                                 _mm_add_pd(_mm_sub_pd(pb, pb), _mm_sub_pd(pc, pc))));
         const unsigned ab = quadrant(pa, pb), bc = quadrant(pb, pc),
                        ca = quadrant(pc, pa);
 #else
+        finite_all &= finite(xy[a]) && finite(xy[b]) && finite(xy[c]);
         const unsigned ab = quadrant(xy[a], xy[b]), bc = quadrant(xy[b], xy[c]),
                        ca = quadrant(xy[c], xy[a]);
 #endif
@@ -555,6 +563,9 @@ bool validByFans(const TriangleMesh& mesh, unsigned threads)
       }
     }
     added[w] = sum;
+#if defined(__SSE2__)
+    finite_all = _mm_movemask_pd(_mm_cmpunord_pd(unfinite, unfinite)) == 0;
+#endif
     if (!finite_all)
       nonfinite.store(true, std::memory_order_relaxed);
   });

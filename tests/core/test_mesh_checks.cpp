@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
 #include <string>
@@ -477,6 +478,29 @@ TEST(IsValidSurfaceMesh, BoundaryCornerSweepingNearlyAFullTurnIsAccepted)
     ASSERT_TRUE(mesh.rebuildHalfedges());
     expectSameVerdict(mesh, true, "open fan");
   }
+}
+
+TEST(IsValidSurfaceMesh, NonFiniteCoordinatesGiveTheThreeChecksVerdict)
+{
+  // No angles to argue with: a corner at +-inf or NaN sends the edge test to the
+  // counting sort of every edge; whatever orient2d says there, the verdict and message
+  // are the three checks' (with and without a repeated triangle).
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const Point2 moved : {Point2{inf, 0.5}, Point2{-inf, 0.5}, Point2{1, inf},
+                             Point2{std::nan(""), 0.5}, Point2{inf, inf}})
+    for (const bool repeat : {false, true}) {
+      TriangleMesh mesh = fanMesh();
+      mesh.xy[1] = moved;
+      if (repeat) {
+        mesh.triangles.insert(mesh.triangles.end(), {3, 0, 4});
+        mesh.halfedges.resize(mesh.triangles.size(), INVALID_ID);
+      }
+      std::string expected_why;
+      const bool expected = isEdgeManifold(mesh, &expected_why) &&
+                            halfedgesConsistent(mesh, &expected_why) &&
+                            allTrianglesCcw(mesh, &expected_why);
+      expectSameVerdict(mesh, expected, "moved vertex 1");
+    }
 }
 
 TEST(IsValidSurfaceMesh, FanByteOverflowFallsBackToTheEdgeTest)
