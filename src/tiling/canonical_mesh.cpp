@@ -1,7 +1,7 @@
 // The canonical order of the tiled path, applied to an in-memory mesh (tiled_mesh.h).
-#include <pcl_vts/tiling/tiled_mesh.h>
-
 #include "../core/release_memory.h"
+
+#include <pcl_vts/tiling/tiled_mesh.h>
 
 #include <algorithm>
 #include <cmath>
@@ -155,61 +155,68 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   rank = {};
   for (std::size_t v = 1; v <= nv; ++v)
     start[v] += start[v - 1];
-  std::vector<std::uint32_t> order;
-  detail::fillPopulated(order, nt);
-  for (std::size_t t = 0; t < nt; ++t)
-    order[start[tri[3 * t]]++] = static_cast<std::uint32_t>(t);
+  // Each triangle's other two corners and its old id scattered into its first
+  // corner's row, three ids an entry (the rows then sorted without reading the
+  // triangles again); then the triangles written out in row order, in sequence, into
+  // the renamed triangles' array (no longer read), and the twins into the rows' (of
+  // the same size, read by then): no fresh pages for the output.
+  std::vector<std::uint32_t> rows;
+  detail::fillPopulated(rows, 3 * nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const VertexId* g = tri.data() + 3 * t;
+    std::uint32_t* entry = rows.data() + 3 * std::size_t{start[g[0]]++};
+    entry[0] = g[1];
+    entry[1] = g[2];
+    entry[2] = static_cast<std::uint32_t>(t);
+  }
   // start[v] is now where row v + 1 begins; rows hold a few triangles: insertion sort.
-  const auto less = [&](std::uint32_t p, std::uint32_t q) {
-    const VertexId* a = tri.data() + 3 * std::size_t{p};
-    const VertexId* b = tri.data() + 3 * std::size_t{q};
-    return a[1] < b[1] || (a[1] == b[1] && a[2] < b[2]);
+  const auto less = [](const std::array<std::uint32_t, 3>& p, const std::uint32_t* q) {
+    return p[0] < q[0] || (p[0] == q[0] && p[1] < q[1]);
   };
   for (std::size_t v = 0, first = 0; v < nv; first = start[v++])
     for (std::size_t i = first + 1; i < start[v]; ++i) {
-      const std::uint32_t p = order[i];
+      const std::array<std::uint32_t, 3> p = {rows[3 * i], rows[3 * i + 1],
+                                              rows[3 * i + 2]};
       std::size_t j = i;
-      for (; j > first && less(p, order[j - 1]); --j)
-        order[j] = order[j - 1];
-      order[j] = p;
+      for (; j > first && less(p, rows.data() + 3 * (j - 1)); --j)
+        std::copy_n(rows.data() + 3 * (j - 1), 3, rows.data() + 3 * j);
+      std::copy_n(p.data(), 3, rows.data() + 3 * j);
     }
-  start = {};
-  // Each triangle and its twins written at its new place in one pass in the old
-  // order: the reads are in sequence and a twin's triangle is a neighbour (nearby in
-  // the old order), only the writes jump. Old halfedge 3t + i is new
+  // Old triangle t is new triangle where[t]; old halfedge 3t + i is new
   // 3 where[t] + (i - turn[t]) mod 3.
   std::vector<std::uint32_t> where;
   detail::fillPopulated(where, nt);
-  for (std::size_t i = 0; i < nt; ++i)
-    where[order[i]] = static_cast<std::uint32_t>(i);
-  order = {};
-  detail::fillPopulated(out.triangles, 3 * nt);
+  out.triangles = std::move(tri);
+  for (std::size_t v = 0, i = 0; v < nv; ++v)
+    for (; i < start[v]; ++i) {
+      out.triangles[3 * i] = static_cast<VertexId>(v);
+      out.triangles[3 * i + 1] = rows[3 * i];
+      out.triangles[3 * i + 2] = rows[3 * i + 1];
+      where[rows[3 * i + 2]] = static_cast<std::uint32_t>(i);
+    }
+  start = {};
   if (carry) {
     // The twins carried along (for an oriented 2-manifold, what a rebuild from the new
-    // triangles finds, without its sort).
+    // triangles finds, without its sort), written at their new places in the old
+    // order: the reads are in sequence and a twin's triangle is a neighbour (nearby
+    // in the old order), only the writes jump.
     const auto renamed = [&](HalfedgeId e) {
       const std::size_t t = e / 3;
       return static_cast<HalfedgeId>(3 * std::size_t{where[t]} +
                                      (e % 3 + 3 - turn[t]) % 3);
     };
-    detail::fillPopulated(out.halfedges, 3 * nt);
+    out.halfedges = std::move(rows);
     for (std::size_t t = 0; t < nt; ++t) {
       const std::size_t base = 3 * std::size_t{where[t]};
       const unsigned k = turn[t];
-      std::copy_n(tri.data() + 3 * t, 3, out.triangles.data() + base);
       for (unsigned i = 0; i < 3; ++i) {
         const HalfedgeId twin = mesh.halfedges[3 * t + i];
         out.halfedges[base + (i + 3 - k) % 3] =
             twin == INVALID_ID ? INVALID_ID : renamed(twin);
       }
     }
-    tri = {};
-  } else {
-    for (std::size_t t = 0; t < nt; ++t)
-      std::copy_n(tri.data() + 3 * t, 3,
-                  out.triangles.data() + 3 * std::size_t{where[t]});
-    tri = {};
   }
+  rows = {};
   where = {};
   turn = {};
   if (!carry && !out.rebuildHalfedges()) {
