@@ -46,9 +46,10 @@ void appendStrip(const StripMesh& strip, bool release, std::vector<VertexId>& tr
     const std::size_t at = halfedges.size();
     detail::populateAhead(halfedges, end - begin, populated);
     halfedges.insert(halfedges.end(), local + begin, local + end);
-    for (std::size_t k = at; k < halfedges.size(); ++k)
-      if (halfedges[k] != INVALID_ID)
-        halfedges[k] += shift;
+    if (shift != 0) // the first strip's ids stay
+      for (std::size_t k = at; k < halfedges.size(); ++k)
+        if (halfedges[k] != INVALID_ID)
+          halfedges[k] += shift;
     if (release)
       detail::releasePages(local + begin, local + end);
   }
@@ -99,8 +100,10 @@ class StripMerge {
   {
     triangles_.clear();
     halfedges_.clear();
-    triangles_.reserve(3 * expected);
-    halfedges_.reserve(3 * expected);
+    if (count > 1) { // one strip: reserved once grown (see claim)
+      triangles_.reserve(3 * expected);
+      halfedges_.reserve(3 * expected);
+    }
   }
 
   /// The mesh strip s grows into: empty, on the arrays of a strip already merged
@@ -126,7 +129,10 @@ class StripMerge {
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     const bool last_use = s >= reuse_end_ || taken_ >= reuse_end_;
-    if (merging_ || merged_ != s || failed_ ||
+    // One strip is the whole mesh: appended once grown instead, when its worker's
+    // kernel arrays, the cells and open_head are freed, so that the output's
+    // allocation reuses their resident memory rather than fresh pages.
+    if (strips_.size() == 1 || merging_ || merged_ != s || failed_ ||
         (release_ && (last_use || strips_[s].triangles.size() > release_above_)))
       return nullptr;
     merging_ = true;
@@ -150,6 +156,10 @@ class StripMerge {
       lock.unlock();
       if (!results_[next].ok())
         failed_ = true;
+      if (!failed_ && appended_[next] == 0 && strips_.size() == 1) {
+        triangles_.reserve(strips_[next].triangles.size());
+        halfedges_.reserve(strips_[next].halfedges.size());
+      }
       if (!failed_ && appended_[next] == 0)
         appendStrip(strips_[next],
                     release_ &&
@@ -276,6 +286,8 @@ Status growAndMergeStrips(const CellGrid& grid, const CellPyramid& pyramid,
       Status result = detail::growStrip(
           grid, pyramid, layout, s, hull_edges, search, open_head.get(), merge.strip(s),
           cache_blocks, [&merge, s] { return merge.claim(s); }, &blocks, &box);
+      if (layout.count == 1)
+        blocks = detail::LocalDelaunay(); // freed before the output (StripMerge::claim)
       if (++strips_grown == layout.count) {
         // No strip reads the grid or open_head any more: both released before the
         // last strips are merged, when the output is nearly full (the peak).
