@@ -13,6 +13,7 @@
 #include <pcl_vts/mpi/mpi_comm.h>
 #endif
 
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/core/vts_pipeline.h>
 #include <pcl_vts/ground_tiles.h>
 #include <pcl_vts/io/mesh_writer.h>
@@ -1245,9 +1246,11 @@ int run(CliOptions opt, pcl_vts::JobComm& comm)
 
   out.begin("Writing '%s' ", opt.output.c_str());
   start = Clock::now();
-  // The canonical order (tiled_mesh.h): the same bytes as a tiled run would write.
+  // The canonical order (tiled_mesh.h): the same bytes as a tiled run would write,
+  // on the meshing's threads.
   if (pcl_vts::Status s = pcl_vts::canonicalMesh(
-          result.mesh, opt.no_fill ? nullptr : &result.reconstruction.fill.inserted);
+          result.mesh, opt.no_fill ? nullptr : &result.reconstruction.fill.inserted,
+          opt.vts.threads > 0 ? opt.vts.threads : pcl_vts::allCores());
       !s.ok())
     return out.fail(EXIT_INTERNAL, s.message);
   pcl_vts::MeshWriteOptions write_options;

@@ -1,6 +1,7 @@
 // The canonical order of the tiled path, applied to an in-memory mesh (tiled_mesh.h).
 #include "../core/release_memory.h"
 
+#include <pcl_vts/core/parallel_for.h>
 #include <pcl_vts/tiling/tiled_mesh.h>
 
 #include <algorithm>
@@ -43,7 +44,15 @@ inline std::uint32_t spreadBits16(std::uint32_t v)
 /// along instead of rebuilt. One pass without a branch per halfedge: each twin in
 /// range, not the halfedge itself, naming it back and starting where it ends (the
 /// twin's own test gives the other end: the pair runs both ways).
-bool twinsToCarry(const TriangleMesh& mesh)
+/// The chunks a pass over n items is split into on `threads` threads: one per thread,
+/// each of 65536 items or more (below that, threads cost more than they save).
+unsigned chunksFor(unsigned threads, std::size_t n)
+{
+  return static_cast<unsigned>(
+      std::max<std::size_t>(1, std::min<std::size_t>(threads, n >> 16)));
+}
+
+bool twinsToCarry(const TriangleMesh& mesh, unsigned threads)
 {
   const std::vector<VertexId>& tri = mesh.triangles;
   const std::vector<HalfedgeId>& twin = mesh.halfedges;
@@ -55,49 +64,90 @@ bool twinsToCarry(const TriangleMesh& mesh)
     const std::size_t at = t < count ? t : e; // read in range either way
     return t == INVALID_ID || (t < count && t != e && twin[at] == e && tri[at] == to);
   };
-  bool all = true;
-  for (std::size_t e = 0; e < count; e += 3) {
-    const VertexId a = tri[e], b = tri[e + 1], c = tri[e + 2];
-    all &= int{a != b} + int{b != c} + int{a != c} + int{good(e, b)} +
-               int{good(e + 1, c)} + int{good(e + 2, a)} ==
-           6;
-  }
-  return all;
+  const unsigned chunks = chunksFor(threads, count / 3);
+  std::vector<std::uint8_t> all(chunks, 0);
+  parallelChunks(
+      chunks, count / 3, [&](std::size_t begin, std::size_t end, unsigned chunk) {
+        bool chunk_all = true;
+        for (std::size_t e = 3 * begin; e < 3 * end; e += 3) {
+          const VertexId a = tri[e], b = tri[e + 1], c = tri[e + 2];
+          chunk_all &= int{a != b} + int{b != c} + int{a != c} + int{good(e, b)} +
+                           int{good(e + 1, c)} + int{good(e + 2, a)} ==
+                       6;
+        }
+        all[chunk] = chunk_all;
+      });
+  return std::find(all.begin(), all.end(), 0) == all.end();
 }
 
 } // namespace
 
-Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
+Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted,
+                     unsigned threads)
 {
+  // Every pass gives the arrays of one thread on any number: each index is written by
+  // one thread, and the counting passes are stable (each chunk scatters from offsets
+  // past the same digit's keys of the chunks before it).
+  threads = std::max(1u, threads);
   const TileFrame frame = frameOfMesh(mesh, inserted);
   const std::size_t nv = mesh.vertexCount();
   // Keys (code << 32 | vertex) by code in three counting passes of 11 bits (linear;
   // every pass reads its keys in sequence and writes 2048 streams, which the caches
   // hold), then each run of equal codes (a few points) by x, then y.
   // The three passes' counts are taken with the keys (TileFrame::code inline here:
-  // the same column, row and bit spread, without a call into the library a vertex).
+  // the same column, row and bit spread, without a call into the library a vertex);
+  // on several chunks the later passes count their chunks again.
   constexpr std::size_t DIGITS = (1u << 11) + 1;
-  std::vector<std::size_t> counts(3 * DIGITS, 0);
+  const unsigned chunks = chunksFor(threads, nv);
+  // counts[c]: chunk c's keys by digit, the three passes' after one another (+1: the
+  // offsets are summed in place).
+  std::vector<std::array<std::size_t, 3 * DIGITS>> counts(chunks);
   std::vector<std::uint64_t> keys;
   detail::fillPopulated(keys, nv);
-  for (std::size_t v = 0; v < nv; ++v) {
-    const std::uint32_t code = spreadBits16(frame.column(mesh.xy[v].x)) |
-                               spreadBits16(frame.row(mesh.xy[v].y)) << 1;
-    keys[v] = std::uint64_t{code} << 32 | v;
-    ++counts[(code & 0x7ff) + 1];
-    ++counts[DIGITS + ((code >> 11) & 0x7ff) + 1];
-    ++counts[2 * DIGITS + (code >> 22) + 1];
-  }
+  parallelChunks(chunks, nv, [&](std::size_t begin, std::size_t end, unsigned c) {
+    std::size_t* const count = counts[c].data();
+    std::fill(count, count + 3 * DIGITS, std::size_t{0});
+    for (std::size_t v = begin; v < end; ++v) {
+      const std::uint32_t code = spreadBits16(frame.column(mesh.xy[v].x)) |
+                                 spreadBits16(frame.row(mesh.xy[v].y)) << 1;
+      keys[v] = std::uint64_t{code} << 32 | v;
+      ++count[(code & 0x7ff) + 1];
+      ++count[DIGITS + ((code >> 11) & 0x7ff) + 1];
+      ++count[2 * DIGITS + (code >> 22) + 1];
+    }
+  });
   {
     std::vector<std::uint64_t> scratch;
     detail::fillPopulated(scratch, nv);
     for (const int pass : {0, 1, 2}) {
-      std::size_t* const start = counts.data() + pass * DIGITS;
       const int shift = 32 + 11 * pass;
+      const auto digit = [shift](std::uint64_t k) { return (k >> shift) & 0x7ff; };
+      const std::size_t at = pass * DIGITS;
+      // A later pass's chunks hold other keys than the first's: counted again (one
+      // chunk: the whole array's counts, the same in any order).
+      if (pass > 0 && chunks > 1)
+        parallelChunks(chunks, nv, [&](std::size_t begin, std::size_t end, unsigned c) {
+          std::size_t* const count = counts[c].data() + at;
+          std::fill(count, count + DIGITS, std::size_t{0});
+          for (std::size_t i = begin; i < end; ++i)
+            ++count[digit(keys[i]) + 1];
+        });
+      std::size_t sum = 0; // digit d's offset in chunk c: the keys before it
       for (std::size_t d = 1; d < DIGITS; ++d)
-        start[d] += start[d - 1];
-      for (const std::uint64_t k : keys)
-        scratch[start[(k >> shift) & 0x7ff]++] = k;
+        for (unsigned c = 0; c < chunks; ++c) {
+          const std::size_t here = counts[c][at + d];
+          counts[c][at + d - 1] = sum;
+          sum += here;
+        }
+      const std::uint64_t* const from = keys.data();
+      std::uint64_t* const to = scratch.data();
+      parallelChunks(chunks, nv, [&](std::size_t begin, std::size_t end, unsigned c) {
+        std::size_t* const next = counts[c].data() + at;
+        for (std::size_t i = begin; i < end; ++i) {
+          const std::uint64_t k = from[i];
+          to[next[digit(k)]++] = k;
+        }
+      });
       keys.swap(scratch);
     }
   }
@@ -119,13 +169,24 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   detail::fillPopulated(out.xy, nv);
   detail::fillPopulated(out.z, nv);
   std::vector<std::uint8_t> flags(inserted != nullptr ? nv : 0);
-  for (std::size_t k = 0; k < nv; ++k) {
-    const VertexId v = vertexOf(keys[k]);
-    rank[v] = static_cast<VertexId>(k);
-    out.xy[k] = mesh.xy[v];
-    out.z[k] = mesh.z[v];
-    if (inserted != nullptr)
-      flags[k] = (*inserted)[v];
+  { // raw pointers: the flags' byte stores would make every vector's be read again
+    const std::uint64_t* const key = keys.data();
+    VertexId* const rank_of = rank.data();
+    Point2* const xy = out.xy.data();
+    double* const z = out.z.data();
+    const Point2* const xy_in = mesh.xy.data();
+    const double* const z_in = mesh.z.data();
+    std::uint8_t* const flag = flags.data();
+    const std::uint8_t* const flag_in =
+        inserted != nullptr ? inserted->data() : nullptr;
+    parallelFor(threads, nv, [=](std::size_t k) {
+      const VertexId v = vertexOf(key[k]);
+      rank_of[v] = static_cast<VertexId>(k);
+      xy[k] = xy_in[v];
+      z[k] = z_in[v];
+      if (flag_in != nullptr)
+        flag[k] = flag_in[v];
+    });
   }
   keys = {};
   // Each triangle renamed and rotated (by `turn`) to start at its smallest vertex, in
@@ -133,7 +194,7 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   // position -> old triangle), then each vertex's few triangles by the other two.
   // With twins to carry, nothing can fail and the triangles are renamed in place;
   // without, in a copy, so that the mesh is left as it was if the rebuild fails.
-  const bool carry = twinsToCarry(mesh);
+  const bool carry = twinsToCarry(mesh, threads);
   std::vector<VertexId> copy;
   if (!carry)
     copy = mesh.triangles;
@@ -141,7 +202,7 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   const std::size_t nt = mesh.triangleCount();
   std::vector<std::uint8_t> turn(nt);
   std::vector<std::uint32_t> start(nv + 1, 0); // < 2^32: halfedge ids are 32-bit
-  for (std::size_t t = 0; t < nt; ++t) {
+  const auto rename = [&](std::size_t t) {
     VertexId* g = tri.data() + 3 * t;
     const VertexId a = rank[g[0]], b = rank[g[1]], c = rank[g[2]];
     const int k = a < b ? (a < c ? 0 : 2) : (b < c ? 1 : 2);
@@ -150,7 +211,15 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
     g[1] = r[k + 1];
     g[2] = r[k + 2];
     turn[t] = static_cast<std::uint8_t>(k);
-    ++start[g[0] + std::size_t{1}];
+    return g[0];
+  };
+  if (chunksFor(threads, nt) == 1) { // the count in the same pass
+    for (std::size_t t = 0; t < nt; ++t)
+      ++start[rename(t) + std::size_t{1}];
+  } else {
+    parallelFor(threads, nt, rename);
+    for (std::size_t t = 0; t < nt; ++t)
+      ++start[tri[3 * t] + std::size_t{1}];
   }
   rank = {};
   for (std::size_t v = 1; v <= nv; ++v)
@@ -173,27 +242,32 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
   const auto less = [](const std::array<std::uint32_t, 3>& p, const std::uint32_t* q) {
     return p[0] < q[0] || (p[0] == q[0] && p[1] < q[1]);
   };
-  for (std::size_t v = 0, first = 0; v < nv; first = start[v++])
-    for (std::size_t i = first + 1; i < start[v]; ++i) {
-      const std::array<std::uint32_t, 3> p = {rows[3 * i], rows[3 * i + 1],
-                                              rows[3 * i + 2]};
-      std::size_t j = i;
-      for (; j > first && less(p, rows.data() + 3 * (j - 1)); --j)
-        std::copy_n(rows.data() + 3 * (j - 1), 3, rows.data() + 3 * j);
-      std::copy_n(p.data(), 3, rows.data() + 3 * j);
-    }
+  parallelRanges(threads, nv, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin, first = v == 0 ? 0 : start[v - 1]; v < end;
+         first = start[v++])
+      for (std::size_t i = first + 1; i < start[v]; ++i) {
+        const std::array<std::uint32_t, 3> p = {rows[3 * i], rows[3 * i + 1],
+                                                rows[3 * i + 2]};
+        std::size_t j = i;
+        for (; j > first && less(p, rows.data() + 3 * (j - 1)); --j)
+          std::copy_n(rows.data() + 3 * (j - 1), 3, rows.data() + 3 * j);
+        std::copy_n(p.data(), 3, rows.data() + 3 * j);
+      }
+  });
   // Old triangle t is new triangle where[t]; old halfedge 3t + i is new
   // 3 where[t] + (i - turn[t]) mod 3.
   std::vector<std::uint32_t> where;
   detail::fillPopulated(where, nt);
   out.triangles = std::move(tri);
-  for (std::size_t v = 0, i = 0; v < nv; ++v)
-    for (; i < start[v]; ++i) {
-      out.triangles[3 * i] = static_cast<VertexId>(v);
-      out.triangles[3 * i + 1] = rows[3 * i];
-      out.triangles[3 * i + 2] = rows[3 * i + 1];
-      where[rows[3 * i + 2]] = static_cast<std::uint32_t>(i);
-    }
+  parallelRanges(threads, nv, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin, i = v == 0 ? 0 : start[v - 1]; v < end; ++v)
+      for (; i < start[v]; ++i) {
+        out.triangles[3 * i] = static_cast<VertexId>(v);
+        out.triangles[3 * i + 1] = rows[3 * i];
+        out.triangles[3 * i + 2] = rows[3 * i + 1];
+        where[rows[3 * i + 2]] = static_cast<std::uint32_t>(i);
+      }
+  });
   start = {};
   if (carry) {
     // The twins carried along (for an oriented 2-manifold, what a rebuild from the new
@@ -206,7 +280,7 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
                                      (e % 3 + 3 - turn[t]) % 3);
     };
     out.halfedges = std::move(rows);
-    for (std::size_t t = 0; t < nt; ++t) {
+    parallelFor(threads, nt, [&](std::size_t t) {
       const std::size_t base = 3 * std::size_t{where[t]};
       const unsigned k = turn[t];
       for (unsigned i = 0; i < 3; ++i) {
@@ -214,7 +288,7 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted)
         out.halfedges[base + (i + 3 - k) % 3] =
             twin == INVALID_ID ? INVALID_ID : renamed(twin);
       }
-    }
+    });
   }
   rows = {};
   where = {};

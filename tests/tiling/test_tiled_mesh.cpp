@@ -1005,6 +1005,41 @@ TEST(CanonicalMesh, DamagedTwinsAreRebuiltNotCarried)
   }
 }
 
+// The passes split over threads (counting sorts with a histogram per chunk, the
+// renaming, the rows' sorts, the gathers) give the arrays of one thread, with twins
+// carried and with twins rebuilt, on a mesh large enough for several chunks.
+TEST(CanonicalMesh, SameArraysForEveryThreadCount)
+{
+  // No post-passes (the default): the hull's fans make rows of many triangles.
+  const std::vector<double> xyz = generatePoints(Distribution::CLUSTERED, 300000, 9);
+  VtsResult result;
+  ASSERT_TRUE(runVtsPipeline(xyz.data(), xyz.size() / 3, VtsOptions{}, result).ok());
+  std::vector<std::uint8_t> flags(result.mesh.vertexCount());
+  for (std::size_t v = 0; v < flags.size(); ++v)
+    flags[v] = static_cast<std::uint8_t>(v % 7 == 0);
+  for (const bool carry : {true, false}) {
+    SCOPED_TRACE(carry ? "twins carried" : "twins rebuilt");
+    TriangleMesh given = result.mesh;
+    if (!carry)
+      given.halfedges.clear();
+    TriangleMesh one = given;
+    std::vector<std::uint8_t> one_flags = flags;
+    ASSERT_TRUE(canonicalMesh(one, &one_flags, 1).ok());
+    ASSERT_NE(one.triangles, result.mesh.triangles); // the order did change
+    for (const unsigned threads : {2u, 3u, 8u}) {
+      SCOPED_TRACE(threads);
+      TriangleMesh many = given;
+      std::vector<std::uint8_t> many_flags = flags;
+      ASSERT_TRUE(canonicalMesh(many, &many_flags, threads).ok());
+      EXPECT_EQ(many.xy, one.xy);
+      EXPECT_EQ(many.z, one.z);
+      EXPECT_EQ(many.triangles, one.triangles);
+      EXPECT_EQ(many.halfedges, one.halfedges);
+      EXPECT_EQ(many_flags, one_flags);
+    }
+  }
+}
+
 } // namespace
 } // namespace test
 } // namespace pcl_vts

@@ -31,9 +31,10 @@ PCL_VTS_TILING_EXPORT TileFrame frameOfMesh(const TriangleMesh& mesh,
 /// (the pipeline's meshes always are). Twins already given for every halfedge (mutual,
 /// joining the same vertices the other way, as the pipeline's meshes have them) are
 /// carried along, not rebuilt: the check of the edges' use counts is then the
-/// producer's (reconstructSurface's isValidSurfaceMesh).
-[[nodiscard]] PCL_VTS_TILING_EXPORT Status
-canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted);
+/// producer's (reconstructSurface's isValidSurfaceMesh). threads (0 counts as 1):
+/// the passes' threads; the result is the same for every count.
+[[nodiscard]] PCL_VTS_TILING_EXPORT Status canonicalMesh(
+    TriangleMesh& mesh, std::vector<std::uint8_t>* inserted, unsigned threads = 1);
 
 /// Calls sink with every input point (xyz triples, input order, chunk by chunk).
 /// The tiled path calls it twice (bounds, then bucketing): it must give the same
