@@ -28,22 +28,6 @@ TileFrame frameOfMesh(const TriangleMesh& mesh,
 
 namespace {
 
-/// The low 16 bits of v spread to the even bits (TileFrame::code's spread).
-inline std::uint32_t spreadBits16(std::uint32_t v)
-{
-  v &= 0xFFFFu;
-  v = (v | (v << 8)) & 0x00FF00FFu;
-  v = (v | (v << 4)) & 0x0F0F0F0Fu;
-  v = (v | (v << 2)) & 0x33333333u;
-  v = (v | (v << 1)) & 0x55555555u;
-  return v;
-}
-
-/// True when the mesh has twins for all its halfedges, mutual and joining the same two
-/// vertices the other way, and no triangle repeats a vertex: then they can be carried
-/// along instead of rebuilt. One pass without a branch per halfedge: each twin in
-/// range, not the halfedge itself, naming it back and starting where it ends (the
-/// twin's own test gives the other end: the pair runs both ways).
 /// The chunks a pass over n items is split into on `threads` threads: one per thread,
 /// each of 65536 items or more (below that, threads cost more than they save).
 unsigned chunksFor(unsigned threads, std::size_t n)
@@ -94,9 +78,9 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted,
   // Keys (code << 32 | vertex) by code in three counting passes of 11 bits (linear;
   // every pass reads its keys in sequence and writes 2048 streams, which the caches
   // hold), then each run of equal codes (a few points) by x, then y.
-  // The three passes' counts are taken with the keys (TileFrame::code inline here:
-  // the same column, row and bit spread, without a call into the library a vertex);
-  // on several chunks the later passes count their chunks again.
+  // The three passes' counts are taken with the keys (TileFrame::code is inline: no
+  // call into the library a vertex); on several chunks the later passes count their
+  // chunks again.
   constexpr std::size_t DIGITS = (1u << 11) + 1;
   const unsigned chunks = chunksFor(threads, nv);
   // counts[c]: chunk c's keys by digit, the three passes' after one another (+1: the
@@ -108,8 +92,7 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted,
     std::size_t* const count = counts[c].data();
     std::fill(count, count + 3 * DIGITS, std::size_t{0});
     for (std::size_t v = begin; v < end; ++v) {
-      const std::uint32_t code = spreadBits16(frame.column(mesh.xy[v].x)) |
-                                 spreadBits16(frame.row(mesh.xy[v].y)) << 1;
+      const std::uint32_t code = frame.code(mesh.xy[v]);
       keys[v] = std::uint64_t{code} << 32 | v;
       ++count[(code & 0x7ff) + 1];
       ++count[DIGITS + ((code >> 11) & 0x7ff) + 1];

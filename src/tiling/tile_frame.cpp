@@ -6,16 +6,6 @@
 
 namespace pcl_vts {
 
-std::uint32_t spreadBits(std::uint32_t v)
-{
-  v &= 0xFFFFu;
-  v = (v | (v << 8)) & 0x00FF00FFu;
-  v = (v | (v << 4)) & 0x0F0F0F0Fu;
-  v = (v | (v << 2)) & 0x33333333u;
-  v = (v | (v << 1)) & 0x55555555u;
-  return v;
-}
-
 std::uint32_t gatherBits(std::uint32_t v)
 {
   v &= 0x55555555u;
@@ -36,11 +26,6 @@ TileFrame TileFrame::fromBounds(double min_x, double min_y, double max_x, double
     frame.side = 1.0;
   frame.scale = CODE_CELLS / frame.side;
   return frame;
-}
-
-std::uint32_t TileFrame::code(double x, double y) const
-{
-  return spreadBits(column(x)) | (spreadBits(row(y)) << 1);
 }
 
 Rect TileFrame::nodeRect(int level, std::uint32_t node) const

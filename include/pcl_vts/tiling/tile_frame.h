@@ -32,7 +32,7 @@ struct PCL_VTS_TILING_EXPORT TileFrame {
   std::uint32_t column(double x) const { return clampCell((x - min_x) * scale); }
   std::uint32_t row(double y) const { return clampCell((y - min_y) * scale); }
   /// Morton code (x bits even, y bits odd) of the code cell holding (x, y).
-  std::uint32_t code(double x, double y) const;
+  std::uint32_t code(double x, double y) const; // inline below
   std::uint32_t code(const Point2& p) const { return code(p.x, p.y); }
 
   /// Node of `level` (0 = the whole frame) holding code cell `code`, Morton-numbered.
@@ -62,9 +62,23 @@ inline bool canonicalLess(std::uint32_t code_a, const Point2& a, std::uint32_t c
   return a.x < b.x || (a.x == b.x && a.y < b.y);
 }
 
-/// Spreads the 16 low bits of v to the even bit positions.
-PCL_VTS_TILING_EXPORT std::uint32_t spreadBits(std::uint32_t v);
+/// Spreads the 16 low bits of v to the even bit positions (inline: a Morton code a
+/// vertex in canonicalMesh's loop).
+inline std::uint32_t spreadBits(std::uint32_t v)
+{
+  v &= 0xFFFFu;
+  v = (v | (v << 8)) & 0x00FF00FFu;
+  v = (v | (v << 4)) & 0x0F0F0F0Fu;
+  v = (v | (v << 2)) & 0x33333333u;
+  v = (v | (v << 1)) & 0x55555555u;
+  return v;
+}
 /// The inverse of spreadBits: gathers the even bits.
 PCL_VTS_TILING_EXPORT std::uint32_t gatherBits(std::uint32_t v);
+
+inline std::uint32_t TileFrame::code(double x, double y) const
+{
+  return spreadBits(column(x)) | (spreadBits(row(y)) << 1);
+}
 
 } // namespace pcl_vts
