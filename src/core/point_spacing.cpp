@@ -233,11 +233,7 @@ nextPastFullCount(std::unordered_map<VertexId, std::uint32_t>& past, VertexId v)
 /// faulted in at once when the vector grows.
 void zeroNeeds(std::vector<double>& need, std::size_t n)
 {
-  if (need.capacity() < n) {
-    std::vector<double>().swap(need);
-    need.reserve(n);
-    populatePages(need.data(), need.data() + n);
-  }
+  reserveDiscarding(need, n);
   need.assign(n, 0.0);
 }
 
@@ -509,14 +505,9 @@ VertexRows::fillSlots(const TriangleMesh& mesh, std::vector<HalfedgeId>* boundar
               (n + 1);
   }
   if (first == nullptr) {
-    std::vector<std::uint32_t>& start = start32_;
-    if (start.capacity() < n + 1) {
-      std::vector<std::uint32_t>().swap(start);
-      start.reserve(n + 1);
-      populatePages(start.data(), start.data() + n + 1);
-    }
-    start.resize(n + 1);
-    first = start.data();
+    reserveDiscarding(start32_, n + 1);
+    start32_.resize(n + 1);
+    first = start32_.data();
   } else
     std::vector<std::uint32_t>().swap(start32_);
   std::size_t sum = 0;
@@ -552,11 +543,7 @@ bool VertexRows::fill(const TriangleMesh& mesh, std::vector<Index>& start,
   // counts row v, then holds its end, and the scatter moves it back to its
   // beginning. A row's order does not matter: only its medians are read.
   // Per triangle, its three halfedges at once (no remainder by 3 per halfedge).
-  if (start.capacity() < n + 1) {
-    std::vector<Index>().swap(start);
-    start.reserve(n + 1);
-    detail::populatePages(start.data(), start.data() + n + 1);
-  }
+  detail::reserveDiscarding(start, n + 1);
   const VertexId* corner = mesh.triangles.data();
   const HalfedgeId* twin = mesh.halfedges.data();
   // The counts first in bytes, a quarter of the starts' cache footprint (a
@@ -835,6 +822,55 @@ constexpr std::uint8_t SORT_FOUR[5][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}
 constexpr SortNetwork<8>::Table SORT_EIGHT = SortNetwork<8>::table();
 constexpr SortNetwork<16>::Table SORT_SIXTEEN = SortNetwork<16>::table();
 
+/// The network that laneMedian and quadMedian run on N values (ownMedian's choice):
+/// after it the element at index N / 2 of the values sorted is in place (N = 6: the
+/// smaller of those at indices 3 and 4).
+template <std::size_t N>
+constexpr const auto& laneNetwork()
+{
+  static_assert(N >= 2 && N <= 16);
+  if constexpr (N == 2)
+    return SORT_TWO;
+  else if constexpr (N == 3)
+    return SORT_THREE;
+  else if constexpr (N == 4)
+    return SORT_FOUR;
+  else if constexpr (N == 5)
+    return MEDIAN_OF_FIVE;
+  else if constexpr (N == 6)
+    return MEDIAN_OF_SIX;
+  else if constexpr (N == 7)
+    return MEDIAN_OF_SEVEN;
+  else if constexpr (N == 8)
+    return SORT_EIGHT;
+  else
+    return SORT_SIXTEEN;
+}
+
+/// A network's compare-exchanges, in a table of byte pairs or SortNetwork's: their
+/// count, and exchange k as (lo, hi).
+template <std::size_t M>
+constexpr std::size_t pairCount(const std::uint8_t (&)[M][2])
+{
+  return M;
+}
+template <class Table>
+constexpr std::size_t pairCount(const Table& table)
+{
+  return sizeof table.pairs / sizeof table.pairs[0];
+}
+template <std::size_t M>
+constexpr std::pair<std::size_t, std::size_t> pairAt(const std::uint8_t (&pairs)[M][2],
+                                                     std::size_t k)
+{
+  return {pairs[k][0], pairs[k][1]};
+}
+template <class Table>
+constexpr std::pair<std::size_t, std::size_t> pairAt(const Table& table, std::size_t k)
+{
+  return {table.pairs[k].lo, table.pairs[k].hi};
+}
+
 /// One compare-exchange in both lanes: a[lo] gets the smaller, a[hi] the larger.
 inline void exchangeLanes(__m128d* a, std::size_t lo, std::size_t hi)
 {
@@ -843,18 +879,10 @@ inline void exchangeLanes(__m128d* a, std::size_t lo, std::size_t hi)
   a[lo] = low;
 }
 
-template <std::size_t M, std::size_t... I>
-inline void exchangeLanes(__m128d* a, const std::uint8_t (&pairs)[M][2],
-                          std::index_sequence<I...>)
+template <class Network, std::size_t... I>
+inline void exchangeLanes(__m128d* a, const Network& network, std::index_sequence<I...>)
 {
-  (exchangeLanes(a, pairs[I][0], pairs[I][1]), ...);
-}
-
-template <std::size_t N, std::size_t... I>
-inline void exchangeLanes(__m128d* a, const typename SortNetwork<N>::Table& table,
-                          std::index_sequence<I...>)
-{
-  (exchangeLanes(a, table.pairs[I].lo, table.pairs[I].hi), ...);
+  (exchangeLanes(a, pairAt(network, I).first, pairAt(network, I).second), ...);
 }
 
 /// The element at index N / 2 of each lane's N values sorted, a[N, LANE_SLOTS<N>)
@@ -863,29 +891,16 @@ inline void exchangeLanes(__m128d* a, const typename SortNetwork<N>::Table& tabl
 template <std::size_t N>
 inline __m128d laneMedian(__m128d* a)
 {
-  if constexpr (N == 1)
+  if constexpr (N == 1) {
     return a[0];
-  else if constexpr (N == 2)
-    exchangeLanes(a, SORT_TWO, std::make_index_sequence<1>());
-  else if constexpr (N == 3)
-    exchangeLanes(a, SORT_THREE, std::make_index_sequence<3>());
-  else if constexpr (N == 4)
-    exchangeLanes(a, SORT_FOUR, std::make_index_sequence<5>());
-  else if constexpr (N == 5)
-    exchangeLanes(a, MEDIAN_OF_FIVE, std::make_index_sequence<9>());
-  else if constexpr (N == 6) {
-    exchangeLanes(a, MEDIAN_OF_SIX, std::make_index_sequence<9>());
-    return _mm_min_pd(a[3], a[4]);
-  } else if constexpr (N == 7)
-    exchangeLanes(a, MEDIAN_OF_SEVEN, std::make_index_sequence<14>());
-  else if constexpr (N == 8)
-    exchangeLanes<8>(a, SORT_EIGHT, std::make_index_sequence<SortNetwork<8>::size()>());
-  else {
-    static_assert(N <= 16);
-    exchangeLanes<16>(a, SORT_SIXTEEN,
-                      std::make_index_sequence<SortNetwork<16>::size()>());
+  } else {
+    constexpr const auto& network = laneNetwork<N>();
+    exchangeLanes(a, network, std::make_index_sequence<pairCount(network)>());
+    if constexpr (N == 6)
+      return _mm_min_pd(a[3], a[4]);
+    else
+      return a[N / 2];
   }
-  return a[N / 2];
 }
 
 /// ownMedian of u and w, both with rows of N entries, one per lane, into
@@ -976,48 +991,27 @@ PCL_VTS_AVX2 inline void exchangeQuads(__m256d* a, std::size_t lo, std::size_t h
   a[lo] = low;
 }
 
-template <std::size_t M, std::size_t... I>
-PCL_VTS_AVX2 inline void exchangeQuads(__m256d* a, const std::uint8_t (&pairs)[M][2],
+template <class Network, std::size_t... I>
+PCL_VTS_AVX2 inline void exchangeQuads(__m256d* a, const Network& network,
                                        std::index_sequence<I...>)
 {
-  (exchangeQuads(a, pairs[I][0], pairs[I][1]), ...);
-}
-
-template <std::size_t N, std::size_t... I>
-PCL_VTS_AVX2 inline void exchangeQuads(__m256d* a,
-                                       const typename SortNetwork<N>::Table& table,
-                                       std::index_sequence<I...>)
-{
-  (exchangeQuads(a, table.pairs[I].lo, table.pairs[I].hi), ...);
+  (exchangeQuads(a, pairAt(network, I).first, pairAt(network, I).second), ...);
 }
 
 /// laneMedian in four lanes.
 template <std::size_t N>
 PCL_VTS_AVX2 inline __m256d quadMedian(__m256d* a)
 {
-  if constexpr (N == 1)
+  if constexpr (N == 1) {
     return a[0];
-  else if constexpr (N == 2)
-    exchangeQuads(a, SORT_TWO, std::make_index_sequence<1>());
-  else if constexpr (N == 3)
-    exchangeQuads(a, SORT_THREE, std::make_index_sequence<3>());
-  else if constexpr (N == 4)
-    exchangeQuads(a, SORT_FOUR, std::make_index_sequence<5>());
-  else if constexpr (N == 5)
-    exchangeQuads(a, MEDIAN_OF_FIVE, std::make_index_sequence<9>());
-  else if constexpr (N == 6) {
-    exchangeQuads(a, MEDIAN_OF_SIX, std::make_index_sequence<9>());
-    return _mm256_min_pd(a[3], a[4]);
-  } else if constexpr (N == 7)
-    exchangeQuads(a, MEDIAN_OF_SEVEN, std::make_index_sequence<14>());
-  else if constexpr (N == 8)
-    exchangeQuads<8>(a, SORT_EIGHT, std::make_index_sequence<SortNetwork<8>::size()>());
-  else {
-    static_assert(N <= 16);
-    exchangeQuads<16>(a, SORT_SIXTEEN,
-                      std::make_index_sequence<SortNetwork<16>::size()>());
+  } else {
+    constexpr const auto& network = laneNetwork<N>();
+    exchangeQuads(a, network, std::make_index_sequence<pairCount(network)>());
+    if constexpr (N == 6)
+      return _mm256_min_pd(a[3], a[4]);
+    else
+      return a[N / 2];
   }
-  return a[N / 2];
 }
 
 /// laneMedians of ids[0..4), rows of N entries, one per lane; false, nothing
@@ -1448,11 +1442,8 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
                      ClearedVertices* cleared)
 {
   const std::size_t n = own.size();
-  if (cleared == nullptr && bound.capacity() < n) {
-    std::vector<double>().swap(bound);
-    bound.reserve(n);
-    detail::populatePages(bound.data(), bound.data() + n);
-  }
+  if (cleared == nullptr)
+    detail::reserveDiscarding(bound, n);
   bound.resize(n);
   const bool count = histogram != nullptr && histogramFits(stats);
   const unsigned shift = count ? bucketShift(stats.low, stats.high) : 0;

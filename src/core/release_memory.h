@@ -95,6 +95,20 @@ inline void populatePages(const void* begin, const void* end)
 #endif
 }
 
+/// v's capacity made at least `count` for an array whose old entries are not read
+/// again: when it grows, they are dropped instead of copied (the copy would touch
+/// the new block first) and the new block's first `count` entries' pages are faulted
+/// in at once (populatePages).
+template <class Vector>
+inline void reserveDiscarding(Vector& v, std::size_t count)
+{
+  if (v.capacity() >= count)
+    return;
+  Vector().swap(v);
+  v.reserve(count);
+  populatePages(v.data(), v.data() + count);
+}
+
 /// Faults in the pages of an array written from its start on, a chunk ahead of the
 /// writes (populatePages): the next `count` elements appended to `v` (within its
 /// capacity) are resident after the call. `populated` (start it at nullptr, again
