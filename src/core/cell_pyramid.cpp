@@ -7,13 +7,12 @@
 namespace pcl_vts {
 namespace {
 
-/// Threads for `rows` rows of `columns` cells: one per 65536 cells at most.
+/// Threads for `rows` rows of `columns` cells: one per 65536 cells at most
+/// (usefulThreads), none without rows.
 unsigned rowThreads(unsigned threads, std::size_t rows, std::size_t columns)
 {
-  constexpr std::size_t MIN_CELLS_PER_THREAD = 1u << 16;
-  const std::size_t useful =
-      std::max<std::size_t>(1, rows * columns / MIN_CELLS_PER_THREAD);
-  return static_cast<unsigned>(std::min<std::size_t>({threads, useful, rows}));
+  return static_cast<unsigned>(
+      std::min<std::size_t>(usefulThreads(threads, rows * columns), rows));
 }
 
 void shape(CellPyramid::Level& level, std::uint32_t nx, std::uint32_t ny)

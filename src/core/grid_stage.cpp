@@ -28,19 +28,11 @@ namespace {
 constexpr double MAX_ABS_COORDINATE = 1e60;
 // Below this extent cell sizes and circle bounds would underflow.
 constexpr double MIN_EXTENT = 1e-80;
-// Below this many points a thread costs more than it saves (parallelRanges' rule).
-constexpr std::size_t MIN_POINTS_PER_THREAD = 1u << 16;
 // A band closes once it holds this many points or its next row would take it over
 // this many cells: its points (24 bytes each, twice) and its cell counters stay in
 // a core's cache while it is sorted. Any value gives the same grid.
 constexpr std::size_t BAND_POINTS = 1u << 15;
 constexpr std::size_t BAND_CELLS = 1u << 15;
-
-unsigned usefulThreads(unsigned threads, std::size_t n)
-{
-  return static_cast<unsigned>(std::min<std::size_t>(
-      std::max(1u, threads), std::max<std::size_t>(1, n / MIN_POINTS_PER_THREAD)));
-}
 
 /// CellGrid::column and row (the same rule, CellGrid::clampIndex) on local copies of
 /// the grid's geometry: a loop that stores 32-bit counts would otherwise reload nx and

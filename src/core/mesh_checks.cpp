@@ -494,10 +494,7 @@ inline bool finite(const Point2& p)
 bool validByFans(const TriangleMesh& mesh, unsigned threads)
 {
   const std::size_t n = mesh.xy.size(), count = mesh.triangleCount();
-  constexpr std::size_t MIN_PER_THREAD = 1u << 16; // triangles, as parallelRanges
-  const auto workers = static_cast<unsigned>(
-      std::max<std::size_t>(1, std::min<std::size_t>(threads > 0 ? threads : allCores(),
-                                                     count / MIN_PER_THREAD)));
+  const unsigned workers = usefulThreads(threads > 0 ? threads : allCores(), count);
   std::vector<FanByte> fans(n, 0);
   std::vector<std::vector<FanByte>> more(workers - 1); // the other workers' bytes
   std::vector<std::uint64_t> added(workers, 0);        // the addends, by worker

@@ -1139,8 +1139,7 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
   }
   own.reserve(n);
   detail::populatePages(own.data(), own.data() + n);
-  const auto parts = static_cast<unsigned>(
-      std::min<std::size_t>(threads, std::max<std::size_t>(1, n >> 16)));
+  const unsigned parts = usefulThreads(threads, n);
 #if defined(__SSE2__)
   // One range appends its chunks (no pass of zeros before), several write their
   // slots.
@@ -1450,8 +1449,7 @@ void ringLowerBounds(const VertexRows& rows, const std::vector<double>& own,
   const std::size_t words = (n + 63) / 64;
   if (cleared != nullptr)
     cleared->bits.assign(words, 0);
-  const auto parts = static_cast<unsigned>(
-      std::min<std::size_t>(threads, std::max<std::size_t>(1, n >> 16)));
+  const unsigned parts = usefulThreads(threads, n);
   // One histogram per range, summed after (the same counts on any threads). The
   // ranges are of 64 vertices (a word of cleared bits each).
   std::vector<std::vector<std::size_t>> part_counts(count ? parts : 0);
@@ -1821,9 +1819,8 @@ void remeasureOwnSpacing(const TriangleMesh& mesh, const std::vector<bool>& chan
   };
   // Each range of halfedges collects its own, then they are joined in range order
   // (sorted below, so the order would not matter anyway).
-  const auto parts = static_cast<unsigned>(
-      std::min<std::size_t>(threads > 0 ? threads : allCores(),
-                            std::max<std::size_t>(1, mesh.triangles.size() >> 16)));
+  const unsigned parts =
+      usefulThreads(threads > 0 ? threads : allCores(), mesh.triangles.size());
   std::vector<std::vector<std::pair<VertexId, double>>> found(parts);
   parallelChunks(parts, mesh.triangles.size(),
                  [&](std::size_t begin, std::size_t end, unsigned t) {

@@ -356,8 +356,7 @@ classifyTriangles(const TriangleMesh& mesh, const detail::VertexRows& rows,
     return s;
   };
   // The triangles the bound does not clear, per range in triangle order.
-  const auto parts = static_cast<unsigned>(
-      std::min<std::size_t>(threads, std::max<std::size_t>(1, count >> 16)));
+  const unsigned parts = usefulThreads(threads, count);
   // A triangle without a cleared corner is cleared without a root or a division
   // when its squared edges and squared circumradius (the product of the squared
   // edges over four squared areas, the same area classifyTriangle computes) are
@@ -642,8 +641,7 @@ void detail::compactTriangles(TriangleMesh& mesh,
     return static_cast<TriangleId>(id);
   };
   const std::size_t kept = count - before.back();
-  const auto parts = static_cast<unsigned>(
-      std::min<std::size_t>(threads, std::max<std::size_t>(1, count >> 16)));
+  const unsigned parts = usefulThreads(threads, count);
   struct Moved {
     TriangleId to;
     VertexId corners[3];

@@ -5,6 +5,7 @@
 #include <pcl_vts/tiling/tiled_mesh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -28,14 +29,11 @@ TileFrame frameOfMesh(const TriangleMesh& mesh,
 
 namespace {
 
-/// The chunks a pass over n items is split into on `threads` threads: one per thread,
-/// each of 65536 items or more (below that, threads cost more than they save).
-unsigned chunksFor(unsigned threads, std::size_t n)
-{
-  return static_cast<unsigned>(
-      std::max<std::size_t>(1, std::min<std::size_t>(threads, n >> 16)));
-}
-
+/// True when the mesh has twins for all its halfedges, mutual and joining the same two
+/// vertices the other way, and no triangle repeats a vertex: then they can be carried
+/// along instead of rebuilt. One pass without a branch per halfedge: each twin in
+/// range, not the halfedge itself, naming it back and starting where it ends (the
+/// twin's own test gives the other end: the pair runs both ways).
 bool twinsToCarry(const TriangleMesh& mesh, unsigned threads)
 {
   const std::vector<VertexId>& tri = mesh.triangles;
@@ -48,7 +46,7 @@ bool twinsToCarry(const TriangleMesh& mesh, unsigned threads)
     const std::size_t at = t < count ? t : e; // read in range either way
     return t == INVALID_ID || (t < count && t != e && twin[at] == e && tri[at] == to);
   };
-  const unsigned chunks = chunksFor(threads, count / 3);
+  const unsigned chunks = usefulThreads(threads, count / 3);
   std::vector<std::uint8_t> all(chunks, 0);
   parallelChunks(
       chunks, count / 3, [&](std::size_t begin, std::size_t end, unsigned chunk) {
@@ -82,7 +80,7 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted,
   // call into the library a vertex); on several chunks the later passes count their
   // chunks again.
   constexpr std::size_t DIGITS = (1u << 11) + 1;
-  const unsigned chunks = chunksFor(threads, nv);
+  const unsigned chunks = usefulThreads(threads, nv);
   // counts[c]: chunk c's keys by digit, the three passes' after one another (+1: the
   // offsets are summed in place).
   std::vector<std::array<std::size_t, 3 * DIGITS>> counts(chunks);
@@ -196,7 +194,7 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted,
     turn[t] = static_cast<std::uint8_t>(k);
     return g[0];
   };
-  if (chunksFor(threads, nt) == 1) { // the count in the same pass
+  if (usefulThreads(threads, nt) == 1) { // the count in the same pass
     for (std::size_t t = 0; t < nt; ++t)
       ++start[rename(t) + std::size_t{1}];
   } else {

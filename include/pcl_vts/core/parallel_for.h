@@ -79,16 +79,24 @@ void parallelChunks(unsigned threads, std::size_t n, const Chunk& chunk)
   });
 }
 
+/// The threads worth running on n indices: at most `threads` (0 counts as 1), each
+/// with 65536 indices or more (below that, threads cost more than they save), and
+/// at least one.
+inline unsigned usefulThreads(unsigned threads, std::size_t n)
+{
+  constexpr std::size_t MIN_PER_THREAD = std::size_t{1} << 16;
+  return static_cast<unsigned>(std::min<std::size_t>(
+      std::max(1u, threads), std::max<std::size_t>(1, n / MIN_PER_THREAD)));
+}
+
 /// chunk(begin, end) over contiguous ranges covering [0, n), each by one thread;
-/// ranges too small to pay for threads (under 65536 indices a thread) stay on the
-/// calling thread. For loops that reuse a buffer across a range's indices.
+/// ranges too small to pay for threads (usefulThreads) stay on the calling thread.
+/// For loops that reuse a buffer across a range's indices.
 template <typename Chunk>
 void parallelRanges(unsigned threads, std::size_t n, const Chunk& chunk)
 {
-  constexpr std::size_t MIN_PER_THREAD = 1u << 16; // below this, threads cost more
-  const std::size_t useful = std::max<std::size_t>(1, n / MIN_PER_THREAD);
   parallelChunks(
-      static_cast<unsigned>(std::min<std::size_t>(threads, useful)), n,
+      usefulThreads(threads, n), n,
       [&](std::size_t begin, std::size_t end, unsigned) { chunk(begin, end); });
 }
 
