@@ -506,14 +506,6 @@ bool validByFans(const TriangleMesh& mesh, unsigned threads)
     const VertexId* const corners = mesh.triangles.data();
     const HalfedgeId* const twins = mesh.halfedges.data();
     const Point2* const xy = mesh.xy.data();
-    const std::size_t corner_count = mesh.triangles.size();
-    // A twin in range whose twin is this halfedge and that starts where this one
-    // ends: its own test then gives the other end (the pair runs both ways).
-    auto twinGood = [&](std::size_t e, VertexId to) {
-      const HalfedgeId twin = twins[e];
-      return twin == INVALID_ID || (twin < corner_count && twin != e &&
-                                    twins[twin] == e && corners[twin] == to);
-    };
     std::uint64_t sum = 0;
     bool finite_all = true;
 #if defined(__SSE2__)
@@ -527,9 +519,7 @@ bool validByFans(const TriangleMesh& mesh, unsigned threads)
       for (; t < stop; ++t) {
         const std::size_t e = 3 * t;
         const VertexId a = corners[e], b = corners[e + 1], c = corners[e + 2];
-        if (!(a < n && b < n && c < n) ||
-            int{twinGood(e, b)} + int{twinGood(e + 1, c)} + int{twinGood(e + 2, a)} !=
-                3 ||
+        if (!triangleTwinsGood(mesh, t) ||
             orient2d(xy[a], xy[b], xy[c]) != Sign::POSITIVE) {
           failed.store(true, std::memory_order_relaxed);
           return;
