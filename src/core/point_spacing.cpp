@@ -961,21 +961,17 @@ bool laneMediansOfRows(const Point2* xy, const Entry* ring, const Index* start,
   return any_lane;
 }
 
-/// laneMediansOfRows for rows of `size` entries, 1 <= size <= MAX_LANE_ROW: the
-/// size picks its instance once for all its vertices.
-template <typename Index, typename Entry, typename Scalar, std::size_t... S>
-bool laneMediansOfRows(std::size_t size, std::index_sequence<S...>, const Point2* xy,
-                       const Entry* ring, const Index* start, const VertexId* ids,
-                       std::size_t count, double* medians, std::size_t first,
-                       __m128d& low, __m128d& high, Scalar& scalar)
+/// f(std::integral_constant<std::size_t, size>()) for 1 <= size <= sizeof...(S), its
+/// value (false for another size): a row size picks its instance of the lanes'
+/// medians once for all its vertices.
+template <typename F, std::size_t... S>
+bool forRowSize(std::size_t size, std::index_sequence<S...>, const F& f)
 {
-  bool any_lane = false;
+  bool result = false;
   (void)((size == S + 1 &&
-          (any_lane = laneMediansOfRows<S + 1>(xy, ring, start, ids, count, medians,
-                                               first, low, high, scalar),
-           true)) ||
+          (result = f(std::integral_constant<std::size_t, S + 1>()), true)) ||
          ...);
-  return any_lane;
+  return result;
 }
 
 // Four vertices at a time in AVX2 registers, where the CPU has it (chosen at run
@@ -1100,22 +1096,6 @@ quadMediansOfRows(const Point2* xy, const Entry* ring, const Index* start,
   return any_lane;
 }
 
-/// quadMediansOfRows for rows of `size` entries, 1 <= size <= MAX_LANE_ROW.
-template <typename Index, typename Entry, typename Scalar, std::size_t... S>
-bool quadMediansOfRows(std::size_t size, std::index_sequence<S...>, const Point2* xy,
-                       const Entry* ring, const Index* start, const VertexId* ids,
-                       std::size_t count, double* medians, std::size_t first,
-                       __m128d& low, __m128d& high, Scalar& scalar)
-{
-  bool any_lane = false;
-  (void)((size == S + 1 &&
-          (any_lane = quadMediansOfRows<S + 1>(xy, ring, start, ids, count, medians,
-                                               first, low, high, scalar),
-           true)) ||
-         ...);
-  return any_lane;
-}
-
 #undef PCL_VTS_AVX2
 
 #endif
@@ -1196,12 +1176,15 @@ std::vector<double> ownMedians(const TriangleMesh& mesh, const VertexRows& rows,
           const VertexId* ids = listed[size];
           const std::size_t count = listed_count[size];
           if (size < OTHER) {
-            if (avx2 ? quadMediansOfRows(size, std::make_index_sequence<MAX_LANE_ROW>(),
-                                         xy, ring, start, ids, count, medians, first,
-                                         lanes_low, lanes_high, scalar)
-                     : laneMediansOfRows(size, std::make_index_sequence<MAX_LANE_ROW>(),
-                                         xy, ring, start, ids, count, medians, first,
-                                         lanes_low, lanes_high, scalar))
+            const auto medians_of_rows = [&](auto row_size) {
+              constexpr std::size_t N = decltype(row_size)::value;
+              return avx2 ? quadMediansOfRows<N>(xy, ring, start, ids, count, medians,
+                                                 first, lanes_low, lanes_high, scalar)
+                          : laneMediansOfRows<N>(xy, ring, start, ids, count, medians,
+                                                 first, lanes_low, lanes_high, scalar);
+            };
+            if (forRowSize(size, std::make_index_sequence<MAX_LANE_ROW>(),
+                           medians_of_rows))
               any_lane = true;
           } else
             for (std::size_t k = 0; k < count; ++k)
