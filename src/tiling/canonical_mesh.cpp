@@ -29,37 +29,50 @@ TileFrame frameOfMesh(const TriangleMesh& mesh,
 
 namespace {
 
-/// True when the mesh has twins for all its halfedges, mutual and joining the same two
-/// vertices the other way, and no triangle repeats a vertex: then they can be carried
-/// along instead of rebuilt. One pass without a branch per halfedge: each twin in
-/// range, not the halfedge itself, naming it back and starting where it ends (the
-/// twin's own test gives the other end: the pair runs both ways).
-bool twinsToCarry(const TriangleMesh& mesh, unsigned threads)
+/// What one pass over the triangles finds: whether every corner names a vertex, and
+/// whether the twins can be carried along instead of rebuilt (twins for all the
+/// halfedges, mutual and joining the same two vertices the other way, no triangle
+/// repeating a vertex). Without a branch per halfedge: each twin in range, not the
+/// halfedge itself, naming it back and starting where it ends (the twin's own test
+/// gives the other end: the pair runs both ways).
+struct TriangleScan {
+  bool corners_valid = true;
+  bool twins_to_carry = true;
+};
+
+TriangleScan scanTriangles(const TriangleMesh& mesh, unsigned threads)
 {
   const std::vector<VertexId>& tri = mesh.triangles;
   const std::vector<HalfedgeId>& twin = mesh.halfedges;
-  const std::size_t count = tri.size();
-  if (twin.size() != count || count % 3 != 0)
-    return false;
+  const std::size_t count = tri.size(), nv = mesh.vertexCount();
+  const bool twins_given = twin.size() == count;
   const auto good = [&](std::size_t e, VertexId to) {
     const HalfedgeId t = twin[e];
     const std::size_t at = t < count ? t : e; // read in range either way
     return t == INVALID_ID || (t < count && t != e && twin[at] == e && tri[at] == to);
   };
   const unsigned chunks = usefulThreads(threads, count / 3);
-  std::vector<std::uint8_t> all(chunks, 0);
+  std::vector<TriangleScan> found(chunks);
   parallelChunks(
       chunks, count / 3, [&](std::size_t begin, std::size_t end, unsigned chunk) {
-        bool chunk_all = true;
+        bool valid = true, carry = twins_given;
         for (std::size_t e = 3 * begin; e < 3 * end; e += 3) {
           const VertexId a = tri[e], b = tri[e + 1], c = tri[e + 2];
-          chunk_all &= int{a != b} + int{b != c} + int{a != c} + int{good(e, b)} +
-                           int{good(e + 1, c)} + int{good(e + 2, a)} ==
-                       6;
+          valid &= int{a < nv} + int{b < nv} + int{c < nv} == 3;
+          if (twins_given)
+            carry &= int{a != b} + int{b != c} + int{a != c} + int{good(e, b)} +
+                         int{good(e + 1, c)} + int{good(e + 2, a)} ==
+                     6;
         }
-        all[chunk] = chunk_all;
+        found[chunk] = {valid, carry};
       });
-  return std::find(all.begin(), all.end(), 0) == all.end();
+  TriangleScan all;
+  for (const TriangleScan& part : found) {
+    all.corners_valid &= part.corners_valid;
+    all.twins_to_carry &= part.twins_to_carry;
+  }
+  all.corners_valid &= count % 3 == 0;
+  return all;
 }
 
 } // namespace
@@ -175,7 +188,13 @@ Status canonicalMesh(TriangleMesh& mesh, std::vector<std::uint8_t>* inserted,
   // position -> old triangle), then each vertex's few triangles by the other two.
   // With twins to carry, nothing can fail and the triangles are renamed in place;
   // without, in a copy, so that the mesh is left as it was if the rebuild fails.
-  const bool carry = twinsToCarry(mesh, threads);
+  const TriangleScan scan = scanTriangles(mesh, threads);
+  if (!scan.corners_valid)
+    return Status::error(
+        StatusCode::INVALID_PARAMETER,
+        "canonical order: a triangle corner is not a vertex id (or the "
+        "corners are not in threes)");
+  const bool carry = scan.twins_to_carry;
   std::vector<VertexId> copy;
   if (!carry)
     copy = mesh.triangles;

@@ -1005,6 +1005,33 @@ TEST(CanonicalMesh, DamagedTwinsAreRebuiltNotCarried)
   }
 }
 
+// A corner that names no vertex is a clear error before anything moves (the
+// renaming would index past the vertices), twins given or not, on any threads.
+TEST(CanonicalMesh, ACornerThatIsNoVertexIsAnErrorAndTheMeshLeftAsItWas)
+{
+  const std::vector<double> xyz = generatePoints(Distribution::UNIFORM, 200000, 3);
+  VtsResult result;
+  ASSERT_TRUE(runVtsPipeline(xyz.data(), xyz.size() / 3, VtsOptions{}, result).ok());
+  for (const bool twins : {true, false})
+    for (const unsigned threads : {1u, 3u}) {
+      TriangleMesh mesh = result.mesh;
+      if (!twins)
+        mesh.halfedges.clear();
+      mesh.triangles[3 * (mesh.triangleCount() - 1) + 1] =
+          static_cast<VertexId>(mesh.vertexCount());
+      const TriangleMesh before = mesh;
+      std::vector<std::uint8_t> inserted(mesh.vertexCount(), 0);
+      inserted[5] = 1;
+      const std::vector<std::uint8_t> inserted_before = inserted;
+      const Status s = canonicalMesh(mesh, &inserted, threads);
+      EXPECT_EQ(s.code, StatusCode::INVALID_PARAMETER) << twins << " " << threads;
+      EXPECT_EQ(mesh.triangles, before.triangles);
+      EXPECT_EQ(mesh.halfedges, before.halfedges);
+      EXPECT_EQ(mesh.xy, before.xy);
+      EXPECT_EQ(inserted, inserted_before);
+    }
+}
+
 // The passes split over threads (counting sorts with a histogram per chunk, the
 // renaming, the rows' sorts, the gathers) give the arrays of one thread, with twins
 // carried and with twins rebuilt, on a mesh large enough for several chunks.

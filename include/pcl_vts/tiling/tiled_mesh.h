@@ -28,7 +28,8 @@ PCL_VTS_TILING_EXPORT TileFrame frameOfMesh(const TriangleMesh& mesh,
 /// code of the frame, then x, then y; each triangle rotated to start at its smallest
 /// vertex id, triangles sorted. inserted (optional, one per vertex) is permuted along.
 /// INTERNAL_ERROR, the mesh left as it was, when it is not an oriented 2-manifold
-/// (the pipeline's meshes always are). Twins already given for every halfedge (mutual,
+/// (the pipeline's meshes always are); INVALID_PARAMETER, the same, when a corner is
+/// not a vertex id. Twins already given for every halfedge (mutual,
 /// joining the same vertices the other way, as the pipeline's meshes have them) are
 /// carried along, not rebuilt: the check of the edges' use counts is then the
 /// producer's (reconstructSurface's isValidSurfaceMesh). threads (0 counts as 1):
